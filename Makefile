@@ -1,0 +1,126 @@
+# Build plumbing for the coil_winding_sim catkin package.
+#
+#   make deps     install missing Debian packages (as root; skipped when all present)
+#   make build    build the package in the catkin workspace .ws/ (git-ignored)
+#   make run      run the wire_sim tool:  make run [SCENE=config/scenes/x.yaml] [OUT=out/x] [ARGS="..."]
+#   make test     build and run all tests; non-zero exit if any test fails
+#   make format   clang-format -i all C++ sources
+#   make clean    remove the workspace .ws/
+#
+# Variables: JOBS (default 2), BUILD_TYPE (default Release), SKIP_DEPS=1 skips `deps`,
+#            TEST_TIMEOUT (seconds, default 1200): ctest timeout for tests that set none
+#            themselves (the unit tests set CWS_UNIT_TEST_TIMEOUT=1200 in CMakeLists.txt).
+
+SHELL := /bin/bash
+.SHELLFLAGS := -eu -o pipefail -c
+.DEFAULT_GOAL := build
+
+# Debian's python3 (with catkin_pkg) must win over e.g. a pyenv python3 on PATH.
+export PATH := /usr/bin:/bin:/usr/sbin:/sbin:$(PATH)
+PYTHON := /usr/bin/python3
+
+PKG := coil_winding_sim
+ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
+WS := $(ROOT)/.ws
+BUILD_DIR := $(WS)/build
+DEVEL_DIR := $(WS)/devel
+BIN_DIR := $(DEVEL_DIR)/lib/$(PKG)
+WIRE_SIM := $(BIN_DIR)/wire_sim
+UNIT_TESTS := $(BIN_DIR)/$(PKG)_unit_tests
+TEST_RESULTS := $(BUILD_DIR)/test_results
+
+JOBS ?= 2
+BUILD_TYPE ?= Release
+TEST_TIMEOUT ?= 1200
+OUT ?= out/default
+SCENE ?=
+ARGS ?=
+
+DEB_PACKAGES := \
+  catkin libroscpp-dev libtf2-ros-dev libtf2-eigen-dev libvisualization-msgs-dev \
+  libstd-srvs-dev librosbag-dev librostest-dev python3-rostest python3-roslaunch \
+  ros-base-dev libdiagnostic-updater-dev libeigen3-dev libyaml-cpp-dev libgtest-dev \
+  libbenchmark-dev python3-matplotlib python3-catkin-pkg \
+  xvfb imagemagick clang-format
+
+CATKIN_MAKE := catkin_make --directory $(WS) \
+  -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \
+  -DPYTHON_EXECUTABLE=$(PYTHON) \
+  -DCATKIN_ENABLE_TESTING=ON \
+  -DCMAKE_EXPORT_COMPILE_COMMANDS=ON
+
+.PHONY: deps build run test format format-check clean
+
+deps:
+ifeq ($(SKIP_DEPS),1)
+	@echo "deps: skipped (SKIP_DEPS=1)"
+else
+	@installed="$$(dpkg-query -W -f='$${Package} $${db:Status-Abbrev}\n' $(DEB_PACKAGES) 2>/dev/null \
+	    | awk '$$2 == "ii" {print $$1}' || true)"; \
+	missing=""; \
+	for p in $(DEB_PACKAGES); do \
+	  grep -qx "$$p" <<<"$$installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -z "$$missing" ]; then \
+	  echo "deps: all Debian packages installed"; \
+	elif [ "$$(id -u)" -eq 0 ]; then \
+	  echo "deps: installing:$$missing"; \
+	  export DEBIAN_FRONTEND=noninteractive; \
+	  apt-get update; \
+	  apt-get install -y $$missing; \
+	else \
+	  echo "deps: missing Debian packages:$$missing" >&2; \
+	  echo "deps: install them as root with:" >&2; \
+	  echo "  sudo apt-get update && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y$$missing" >&2; \
+	  exit 1; \
+	fi
+endif
+
+# Workspace layout: .ws/src/coil_winding_sim -> ../.. (this repository).
+$(WS)/src/$(PKG):
+	mkdir -p $(WS)/src
+	ln -sfn ../.. $(WS)/src/$(PKG)
+
+build: deps | $(WS)/src/$(PKG)
+	$(CATKIN_MAKE) -j$(JOBS)
+
+run: build
+	mkdir -p "$(dir $(OUT))"
+	$(WIRE_SIM) run --out "$(OUT)" $(if $(SCENE),--scene "$(SCENE)") $(ARGS)
+
+# Builds the test binaries (catkin target `tests`), then runs every registered test
+# (gtest now, rostest later) through ctest. catkin registers each test for ctest via
+# run_tests.py --return-code, so a test fails when its process exits non-zero
+# (failed case, crash, timeout) or when it wrote no JUnit result file.
+test: build
+	$(CATKIN_MAKE) -j$(JOBS) tests
+	@if [ ! -x "$(UNIT_TESTS)" ]; then \
+	  echo "test: unit test binary $(UNIT_TESTS) was not built" >&2; exit 1; \
+	fi
+	rm -rf "$(TEST_RESULTS)"
+	@rc=0; \
+	cd "$(BUILD_DIR)"; \
+	ctest -V --no-tests=error --timeout $(TEST_TIMEOUT) || rc=$$?; \
+	echo "-------------------------------------------------------------------"; \
+	catkin_test_results "$(TEST_RESULTS)" || rc=1; \
+	if [ "$$rc" -ne 0 ]; then \
+	  echo "test: FAILED. Failed gtest cases / tests:" >&2; \
+	  grep -h '^\[  FAILED  \] [A-Za-z_]' Testing/Temporary/LastTest*.log 2>/dev/null \
+	    | sed -E 's/ \([0-9]+ ms\)$$//' | sort -u >&2 || true; \
+	  last_run="$$(grep -h '^\[ RUN      \]' Testing/Temporary/LastTest*.log 2>/dev/null | tail -n 1 || true)"; \
+	  [ -z "$$last_run" ] || echo "test: last gtest case started (check it if the binary crashed or timed out): $$last_run" >&2; \
+	  exit 1; \
+	fi; \
+	echo "test: all tests passed"
+
+CXX_SOURCES = $(shell find $(addprefix $(ROOT)/,include src test) \
+  \( -name '*.cpp' -o -name '*.hpp' -o -name '*.h' -o -name '*.cc' \) 2>/dev/null)
+
+format:
+	$(if $(strip $(CXX_SOURCES)),clang-format -i $(CXX_SOURCES),@echo "format: no sources")
+
+format-check:
+	$(if $(strip $(CXX_SOURCES)),clang-format --dry-run -Werror $(CXX_SOURCES),@echo "format: no sources")
+
+clean:
+	rm -rf $(WS)

@@ -1,0 +1,21 @@
+// Viscous damping of the wire against the surrounding air (world frame):
+// translational and rotational, proportional to the length a point stands for.
+#pragma once
+
+#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/wire_types.hpp"
+
+namespace cws {
+
+class Damping : public ForceEffect {
+ public:
+  Damping(const WireConstants& c, const DampingParams& p) : c_(c), p_(p) {}
+  const char* name() const override { return "damping"; }
+  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
+
+ private:
+  WireConstants c_;
+  DampingParams p_;
+};
+
+}  // namespace cws

@@ -1,0 +1,27 @@
+// Force and moment applied to the free end (the last mass point and its
+// frame), following a piecewise-linear schedule in time.
+#pragma once
+
+#include <vector>
+
+#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/wire_types.hpp"
+
+namespace cws {
+
+class EndLoad : public ForceEffect {
+ public:
+  EndLoad(const WireConstants& c, const std::vector<LoadKeyframe>& schedule)
+      : c_(c), schedule_(schedule) {}
+  const char* name() const override { return "end_load"; }
+  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
+
+  // Interpolated force [N] and moment [N m] in the world frame at time t [s].
+  void loadAt(double t, Eigen::Vector3d& force_world, Eigen::Vector3d& moment_world) const;
+
+ private:
+  WireConstants c_;
+  std::vector<LoadKeyframe> schedule_;
+};
+
+}  // namespace cws

@@ -1,0 +1,62 @@
+// Rotational springs at the joints between neighbouring frames: the shared
+// mechanism of bending (eqs. 10-12) and torsion (eqs. 13-15).
+//
+// The curvature-twist (Darboux) vector of joint j in the material frame of
+// frame j is
+//   Omega_j = (2 / lambda_j) Im(conj(q_j) q_{j+1}) = (2 / lambda_j) G(q_j) q_{j+1}
+// (lambda_j = l; lambda_0 = l / 2 at the clamp, whose joint spans half a
+// segment: the clamp fixes the tangent at the point, the first segment is the
+// chord half a segment further), whose components 0 and 1 are the two bending curvatures (about xi and eta)
+// [1/m] and component 2 the twist rate (about zeta) [rad/m]; |Omega| lambda
+// equals 2 sin(angle / 2), the paper's spring angle to second order. With it
+// a constant moment puts the points exactly on the arc of radius EI / M. Each component
+// has its own two-line law. The moment vector m reaches the quaternions as
+// generalized forces -l m . dOmega/dq, and through the rotational constraint
+// (5) the segments and their mass points (the paper's "moment divided by the
+// length of the straight spring").
+#pragma once
+
+#include <vector>
+
+#include "coil_winding_sim/core/hysteresis.hpp"
+#include "coil_winding_sim/core/wire_types.hpp"
+
+namespace cws {
+
+class RotationalSpring : public ForceEffect {
+ public:
+  // Components [first, first + count) of Omega follow `p`.
+  RotationalSpring(const char* name, const WireConstants& c, const HysteresisParams& p,
+                   bool plastic, int first, int count);
+
+  const char* name() const override { return name_; }
+  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
+  void commit(const WireKinematics& k) override;
+  double elasticEnergy(const WireKinematics& k) const override;
+  double plasticWork(const WireKinematics& k) const override;
+
+  // Darboux vector of joint j (0 <= j <= n-2) in frame j [1/m].
+  Eigen::Vector3d darboux(const WireKinematics& k, int j) const;
+  // Moment of component m (0-based within this spring) at joint j [N m].
+  double moment(const WireKinematics& k, int j, int m) const;
+  // Permanent curvature/twist of component m at joint j [1/m] (0 if elastic).
+  double plasticValue(int j, int m) const;
+  int first() const { return first_; }
+  int count() const { return count_; }
+
+ private:
+  double stressOf(double x, int idx) const;
+  // Length of wire that joint j stands for [m].
+  double jointLength(int j) const;
+
+  const char* name_;
+  WireConstants c_;
+  TwoLineLaw law_;
+  bool plastic_;
+  int first_, count_;
+  // Per joint and component, allocated only when plastic.
+  std::vector<double> upper_, x_committed_;
+  double work_committed_ = 0.0;
+};
+
+}  // namespace cws

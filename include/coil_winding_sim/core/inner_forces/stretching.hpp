@@ -1,0 +1,40 @@
+// Stretching springs between neighbouring mass points, eqs. (7)-(9).
+#pragma once
+
+#include <vector>
+
+#include "coil_winding_sim/core/hysteresis.hpp"
+#include "coil_winding_sim/core/wire_types.hpp"
+
+namespace cws {
+
+class Stretching : public ForceEffect {
+ public:
+  // With plastic = false the law is linear (EA) and no yield state exists.
+  Stretching(const WireConstants& c, const HysteresisParams& p, bool plastic);
+
+  const char* name() const override { return "stretching"; }
+  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
+  void commit(const WireKinematics& k) override;
+  double elasticEnergy(const WireKinematics& k) const override;
+  double plasticWork(const WireKinematics& k) const override;
+
+  // Axial strain [-] and axial force [N] (tension positive) of segment j.
+  double strain(const WireKinematics& k, int j) const;
+  double axialForce(const WireKinematics& k, int j) const;
+  // Permanent strain of segment j [-] (0 when elastic).
+  double plasticStrain(int j) const;
+
+ private:
+  double stressOf(double x, int j) const;
+
+  WireConstants c_;
+  TwoLineLaw law_;
+  bool plastic_;
+  // Per segment, allocated only when plastic: upper yield point, strain at
+  // the last commit, and work done on the segment up to it [J].
+  std::vector<double> upper_, x_committed_;
+  double work_committed_ = 0.0;
+};
+
+}  // namespace cws

@@ -1,0 +1,22 @@
+// Run outputs: summary.json and wire.csv.
+#pragma once
+
+#include <ostream>
+#include <string>
+
+#include "coil_winding_sim/core/simulation.hpp"
+
+namespace cws {
+
+void writeSummaryJson(const Simulation& sim, std::ostream& out);
+void writeWireCsv(const Simulation& sim, std::ostream& out);
+
+// Writes DIR/summary.json and DIR/wire.csv (creating DIR). Each file is
+// written to a temporary name and renamed, so a failed run never leaves a
+// complete-looking file. Throws std::runtime_error naming the path.
+void writeOutputs(const Simulation& sim, const std::string& dir);
+
+// Refuses early (before a run) a directory that cannot be created or written.
+void checkOutputDir(const std::string& dir);
+
+}  // namespace cws

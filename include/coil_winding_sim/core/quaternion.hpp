@@ -1,0 +1,104 @@
+// Quaternion algebra on plain 4-vectors (q0, q1, q2, q3), scalar first.
+//
+// The frame axes xi, eta, zeta are the columns of the rotation matrix written
+// as quadratic forms of q, so that they stay polynomial (and their
+// derivatives simple) off the unit sphere too; the unit-norm constraint (4)
+// keeps |q| = 1.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace cws {
+namespace quat {
+
+using Vec4 = Eigen::Vector4d;
+using Mat34 = Eigen::Matrix<double, 3, 4>;
+
+inline Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
+// G(q): body angular velocity omega_body = 2 G(q) qdot; the paper's Q_i (3).
+// Also Im(conj(a) * b) = G(a) b.
+inline Mat34 G(const Vec4& q) {
+  Mat34 m;
+  m << -q[1], q[0], q[3], -q[2],  //
+      -q[2], -q[3], q[0], q[1],   //
+      -q[3], q[2], -q[1], q[0];
+  return m;
+}
+
+// E(q): world angular velocity omega_world = 2 E(q) qdot.
+inline Mat34 E(const Vec4& q) {
+  Mat34 m;
+  m << -q[1], q[0], -q[3], q[2],  //
+      -q[2], q[3], q[0], -q[1],   //
+      -q[3], -q[2], q[1], q[0];
+  return m;
+}
+
+// Symmetric bilinear forms whose diagonal is the frame axis: xi(q) = Bxi(q, q).
+inline Eigen::Vector3d xiBilinear(const Vec4& a, const Vec4& b) {
+  return {a[0] * b[0] + a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+          a[1] * b[2] + a[2] * b[1] + a[0] * b[3] + a[3] * b[0],
+          a[1] * b[3] + a[3] * b[1] - a[0] * b[2] - a[2] * b[0]};
+}
+inline Eigen::Vector3d etaBilinear(const Vec4& a, const Vec4& b) {
+  return {a[1] * b[2] + a[2] * b[1] - a[0] * b[3] - a[3] * b[0],
+          a[0] * b[0] - a[1] * b[1] + a[2] * b[2] - a[3] * b[3],
+          a[2] * b[3] + a[3] * b[2] + a[0] * b[1] + a[1] * b[0]};
+}
+inline Eigen::Vector3d zetaBilinear(const Vec4& a, const Vec4& b) {
+  return {a[1] * b[3] + a[3] * b[1] + a[0] * b[2] + a[2] * b[0],
+          a[2] * b[3] + a[3] * b[2] - a[0] * b[1] - a[1] * b[0],
+          a[0] * b[0] - a[1] * b[1] - a[2] * b[2] + a[3] * b[3]};
+}
+
+inline Eigen::Vector3d xi(const Vec4& q) { return xiBilinear(q, q); }
+inline Eigen::Vector3d eta(const Vec4& q) { return etaBilinear(q, q); }
+inline Eigen::Vector3d zeta(const Vec4& q) { return zetaBilinear(q, q); }
+
+// d xi / d q and d eta / d q (3x4).
+inline Mat34 xiJacobian(const Vec4& q) {
+  Mat34 m;
+  m << q[0], q[1], -q[2], -q[3],  //
+      q[3], q[2], q[1], q[0],     //
+      -q[2], q[3], -q[0], q[1];
+  return 2.0 * m;
+}
+inline Mat34 etaJacobian(const Vec4& q) {
+  Mat34 m;
+  m << -q[3], q[2], q[1], -q[0],  //
+      q[0], -q[1], q[2], -q[3],   //
+      q[1], q[0], q[3], q[2];
+  return 2.0 * m;
+}
+
+// Quaternion whose zeta axis is `dir` (need not be unit); deterministic choice
+// of xi (the world axis least parallel to dir, projected).
+inline Vec4 fromZetaDirection(const Eigen::Vector3d& dir) {
+  const Eigen::Vector3d z = dir.normalized();
+  Eigen::Vector3d ref = Eigen::Vector3d::UnitX();
+  if (std::abs(z.x()) > 0.9) ref = Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d x = (ref - ref.dot(z) * z).normalized();
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d r;
+  r.col(0) = x;
+  r.col(1) = y;
+  r.col(2) = z;
+  const Eigen::Quaterniond qe(r);
+  return {qe.w(), qe.x(), qe.y(), qe.z()};
+}
+
+// Rotation angle [rad] between two frames (relative rotation conj(a) * b).
+inline double relativeAngle(const Vec4& a, const Vec4& b) {
+  const Eigen::Vector3d v = G(a) * b;
+  const double w = a.dot(b);
+  return 2.0 * std::atan2(v.norm(), std::abs(w));
+}
+
+}  // namespace quat
+}  // namespace cws

@@ -1,0 +1,141 @@
+// A scene: every input of one simulation run, as a plain struct.
+//
+// Scenes come from YAML (see config/scenes/default.yaml for the documented
+// schema). They are validated in exactly one place, validateScene(), before
+// anything is allocated or run. All quantities are SI (REP 103).
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace cws {
+
+// A scene that cannot be run. key() names the offending YAML key path.
+class SceneError : public std::runtime_error {
+ public:
+  SceneError(const std::string& key, const std::string& why)
+      : std::runtime_error("scene key '" + key + "': " + why), key_(key) {}
+  const std::string& key() const { return key_; }
+
+ private:
+  std::string key_;
+};
+
+// Two-line (bilinear, kinematic-hardening) law of one deformation mode, per
+// unit length: generalized strain x (strain [-], curvature [1/m] or twist
+// [rad/m]) against generalized stress (force [N] or moment [N m]).
+struct HysteresisParams {
+  double elastic_rigidity = 0.0;  // slope of the elastic line [N] or [N m^2]
+  double plastic_rigidity = 0.0;  // slope of the plastic lines, <= elastic
+  double yield = 0.0;             // first yield, strain [-], [1/m] or [rad/m]
+};
+
+struct WireParams {
+  double diameter = 1.0e-3;        // [m]
+  double line_density = 7.02e-3;   // [kg/m] (Table 1, corrected)
+  double length = 0.05;            // initial wire length [m]
+  double segment_length = 1.0e-3;  // largest natural segment length [m]
+  HysteresisParams stretch{4.89e4, 1.10e3, 8.0e-4};     // EA [N], yield strain
+  HysteresisParams bend{3.06e-3, 1.13e-4, 1.6};         // EI [N m^2], [1/m]
+  HysteresisParams torsion{4.32e-3, 9.0e-5, 1.31};      // GJ [N m^2], [rad/m]
+};
+
+struct ContactParams {
+  double static_friction = 0.23;   // mu_s [-]
+  double kinetic_friction = 0.17;  // mu_d [-]
+};
+
+struct ProcessParams {
+  double core_speed_rpm = 600.0;   // [rpm]
+  double tension = 30.0;           // supply tension [N]
+  double turns = 1.75;             // core revolutions to run [-]
+  std::optional<double> duration;  // [s]; when set, overrides turns
+};
+
+struct SolverParams {
+  std::string integrator = "rkf45";
+  double rtol = 1.0e-6;           // relative tolerance [-]
+  double atol = 1.0e-11;          // absolute tolerance on positions [m]
+  double min_step = 1.0e-12;      // step floor [s]; below it the run stops
+  double max_step = 1.0e-4;       // [s]
+  double initial_step = 1.0e-7;   // [s]
+  double baumgarte_nu = 5000.0;   // constraint stabilization nu [1/s], eq. (6)
+};
+
+// Which effects a scene needs. What is off is neither computed nor allocated.
+struct PhysicsSwitches {
+  bool torsion = true;
+  bool plasticity = true;
+  bool gravity = false;
+  bool damping = false;
+};
+
+struct GravityParams {
+  Eigen::Vector3d acceleration_world{0.0, 0.0, -9.81};  // [m/s^2]
+};
+
+struct DampingParams {
+  double translational = 0.0;  // viscous force per length and speed [N s/m^2]
+  double rotational = 0.0;     // viscous moment per length and spin [N m s/m]
+};
+
+// The fixed end of the wire (mass point 0), clamped in position and direction.
+struct StartParams {
+  std::string type = "clamped";
+  std::string frame = "world";
+  Eigen::Vector3d position{0.0, 0.0, 0.0};   // [m] in `frame`
+  Eigen::Vector3d direction{1.0, 0.0, 0.0};  // wire tangent at the clamp [-]
+};
+
+// One keyframe of the free end's load schedule; values between keyframes are
+// interpolated linearly and held after the last one.
+struct LoadKeyframe {
+  double time = 0.0;                                   // [s]
+  Eigen::Vector3d force_world = Eigen::Vector3d::Zero();   // [N]
+  Eigen::Vector3d moment_world = Eigen::Vector3d::Zero();  // [N m]
+};
+
+struct EndParams {
+  std::string type = "free";
+  std::vector<LoadKeyframe> load{LoadKeyframe{}};
+};
+
+struct OutputParams {
+  double progress_interval_s = 1.0;  // wall time between progress lines [s]
+};
+
+struct Scene {
+  WireParams wire;
+  ContactParams contact;
+  ProcessParams process;
+  SolverParams solver;
+  PhysicsSwitches physics;
+  GravityParams gravity;
+  DampingParams damping;
+  StartParams start;
+  EndParams end;
+  OutputParams output;
+
+  // Number of segments and the natural segment length actually used: the
+  // wire's length divided into equal segments no longer than segment_length.
+  int segmentCount() const;
+  double naturalSegmentLength() const;
+  // Simulated time to run [s]: process.duration, else process.turns at
+  // process.core_speed_rpm.
+  double endTime() const;
+};
+
+// Checks every value; throws SceneError naming the first bad key.
+void validateScene(const Scene& scene);
+
+// Loads the defaults, then `path` (if not empty), then each "key.path=value"
+// override in order; refuses unknown keys and wrong types, then validates.
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides);
+
+// The fully resolved scene as YAML text (the schema, with values).
+std::string sceneToYamlText(const Scene& scene);
+
+}  // namespace cws

@@ -1,0 +1,36 @@
+// Interface of the time integrators (one file per method in this folder).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/time_steppers/ode_system.hpp"
+
+namespace cws {
+
+struct StepCounts {
+  long accepted = 0;
+  long rejected = 0;
+  long derivative_evaluations = 0;
+};
+
+class TimeStepper {
+ public:
+  virtual ~TimeStepper() = default;
+  virtual const char* name() const = 0;
+  // Advances (t, y) by one accepted step that does not pass t_limit [s];
+  // rejected attempts are retried with smaller steps. Calls sys.acceptStep
+  // once. Throws IntegrationError when the step falls below its floor.
+  virtual void step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) = 0;
+  // Step size the next attempt will use [s].
+  virtual double nextStep() const = 0;
+  // Size of the last accepted step [s].
+  virtual double lastStep() const = 0;
+  virtual const StepCounts& counts() const = 0;
+};
+
+// The integrator named by solver.integrator, sized for `sys`.
+std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, const OdeSystem& sys);
+
+}  // namespace cws

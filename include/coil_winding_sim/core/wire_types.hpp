@@ -1,0 +1,79 @@
+// Shared types of the discrete wire: per-point kinematics, generalized forces
+// and the interface every physical effect implements.
+//
+// Indexing (0-based): mass points 0..n-1 from the fixed end; segment j joins
+// points j and j+1; frame i (quaternion q_i) belongs to point i and, for
+// i >= 1, its zeta axis is kept parallel to segment i-1 by the rotational
+// constraint (5). Frame 0 is the clamp's frame. Joint j (0 <= j <= n-2) is
+// the rotational spring between frames j and j+1, at point j.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace cws {
+
+// Constants of one wire, derived from the scene once.
+struct WireConstants {
+  int n = 0;                       // mass points
+  double segment_length = 0.0;     // natural length l [m]
+  double point_mass = 0.0;         // M = rho L / n [kg], eq. (1)
+  double point_inertia = 0.0;      // 2/5 M r^2 [kg m^2], eq. (2)
+  double radius = 0.0;             // r [m]
+  double line_density = 0.0;       // [kg/m]
+  double point_length = 0.0;       // wire length a point stands for, M / rho [m]
+};
+
+// Positions, velocities, quaternions and quaternion rates of all n points
+// (column i is point i; point 0 is the clamped end).
+struct WireKinematics {
+  Eigen::Matrix3Xd p_world;  // [m]
+  Eigen::Matrix3Xd v_world;  // [m/s]
+  Eigen::Matrix4Xd q;        // (q0, q1, q2, q3), scalar first
+  Eigen::Matrix4Xd qd;       // [1/s]
+
+  void resize(int n) {
+    p_world.resize(3, n);
+    v_world.resize(3, n);
+    q.resize(4, n);
+    qd.resize(4, n);
+  }
+};
+
+// Generalized forces conjugate to p and q, plus power bookkeeping for the
+// energy balance.
+struct WireForces {
+  Eigen::Matrix3Xd f_world;  // [N]
+  Eigen::Matrix4Xd f_q;      // generalized force on quaternions [N m]
+  double power_external = 0.0;     // work rate of applied loads [W]
+  double power_dissipated = 0.0;   // viscous dissipation rate [W]
+
+  void resize(int n) {
+    f_world.resize(3, n);
+    f_q.resize(4, n);
+  }
+  void setZero() {
+    f_world.setZero();
+    f_q.setZero();
+    power_external = 0.0;
+    power_dissipated = 0.0;
+  }
+};
+
+// One physical effect (a spring law, gravity, damping, a load). Adding an
+// effect means adding one class; a scene that switches it off never builds it.
+class ForceEffect {
+ public:
+  virtual ~ForceEffect() = default;
+  virtual const char* name() const = 0;
+  // Adds this effect's generalized forces at time t [s]. Must not allocate
+  // and must not change history state (it runs for trial stages too).
+  virtual void addForces(double t, const WireKinematics& k, WireForces& f) const = 0;
+  // Commits history state (yield points) after an accepted step.
+  virtual void commit(const WireKinematics& /*k*/) {}
+  // Recoverable elastic energy stored now [J].
+  virtual double elasticEnergy(const WireKinematics& /*k*/) const { return 0.0; }
+  // Work turned into plastic deformation since the start [J].
+  virtual double plasticWork(const WireKinematics& /*k*/) const { return 0.0; }
+};
+
+}  // namespace cws

@@ -1,0 +1,112 @@
+#include "coil_winding_sim/core/constraints/frame_constraints.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+
+namespace cws {
+
+FrameConstraints::FrameConstraints(const WireConstants& c, double nu)
+    : c_(c),
+      nu_(nu),
+      a_blk_(c.n),
+      d_blk_(c.n),
+      off_blk_(c.n),
+      d_inv_(c.n),
+      b_blk_(c.n),
+      gamma_(c.n),
+      lambda_(c.n) {}
+
+void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& f,
+                                     const Eigen::Vector3d& a0_world,
+                                     const Eigen::Vector4d& qdd0, Eigen::Matrix3Xd& a_world,
+                                     Eigen::Matrix4Xd& qdd) {
+  const int n = c_.n;
+  const double inv_m = 1.0 / c_.point_mass;
+  const double inv_mq = 1.0 / (4.0 * c_.point_inertia);
+
+  // Unconstrained accelerations M^-1 f; the clamp's are prescribed.
+  a_world.col(0) = a0_world;
+  qdd.col(0) = qdd0;
+  for (int i = 1; i < n; ++i) {
+    a_world.col(i) = inv_m * f.f_world.col(i);
+    qdd.col(i) = inv_mq * f.f_q.col(i);
+  }
+
+  // Jacobian blocks and the stabilized right-hand side of each frame.
+  for (int i = 1; i < n; ++i) {
+    const Eigen::Vector3d d = k.p_world.col(i) - k.p_world.col(i - 1);
+    const Eigen::Vector3d dd = k.v_world.col(i) - k.v_world.col(i - 1);
+    const quat::Vec4 q = k.q.col(i);
+    const quat::Vec4 qd = k.qd.col(i);
+    const Eigen::Vector3d xi = quat::xi(q);
+    const Eigen::Vector3d eta = quat::eta(q);
+    const quat::Mat34 jx = quat::xiJacobian(q);
+    const quat::Mat34 je = quat::etaJacobian(q);
+    const Eigen::Vector3d xid = jx * qd;
+    const Eigen::Vector3d etad = je * qd;
+
+    const Eigen::Vector3d c(q.squaredNorm() - 1.0, d.dot(xi), d.dot(eta));
+    const Eigen::Vector3d cd(2.0 * q.dot(qd), dd.dot(xi) + d.dot(xid), dd.dot(eta) + d.dot(etad));
+    const Eigen::Vector3d jdot_v(2.0 * qd.squaredNorm(),
+                                 2.0 * dd.dot(xid) + 2.0 * d.dot(quat::xiBilinear(qd, qd)),
+                                 2.0 * dd.dot(etad) + 2.0 * d.dot(quat::etaBilinear(qd, qd)));
+
+    Eigen::Matrix3d& a = a_blk_[i];
+    a.row(0).setZero();
+    a.row(1) = xi.transpose();
+    a.row(2) = eta.transpose();
+    quat::Mat34& b = b_blk_[i];
+    b.row(0) = 2.0 * q.transpose();
+    b.row(1) = d.transpose() * jx;
+    b.row(2) = d.transpose() * je;
+
+    const Eigen::Vector3d j_au = a * (a_world.col(i) - a_world.col(i - 1)) + b * qdd.col(i);
+    gamma_[i] = -jdot_v - 2.0 * nu_ * cd - nu_ * nu_ * c - j_au;
+
+    // Diagonal block: point i, point i-1 unless it is the clamp, frame i.
+    const double w = (i >= 2) ? 2.0 * inv_m : inv_m;
+    d_blk_[i] = w * a * a.transpose() + inv_mq * b * b.transpose();
+  }
+  // Off-diagonal blocks couple frames i and i+1 through point i.
+  for (int i = 1; i + 1 < n; ++i) {
+    off_blk_[i] = -inv_m * a_blk_[i] * a_blk_[i + 1].transpose();
+  }
+
+  // Block Thomas algorithm on the SPD block-tridiagonal system.
+  for (int i = 1; i < n; ++i) {
+    if (i >= 2) {
+      const Eigen::Matrix3d l = off_blk_[i - 1].transpose() * d_inv_[i - 1];
+      d_blk_[i] -= l * off_blk_[i - 1];
+      gamma_[i] -= l * gamma_[i - 1];
+    }
+    d_inv_[i] = d_blk_[i].inverse();
+  }
+  for (int i = n - 1; i >= 1; --i) {
+    Eigen::Vector3d r = gamma_[i];
+    if (i + 1 < n) r -= off_blk_[i] * lambda_[i + 1];
+    lambda_[i] = d_inv_[i] * r;
+  }
+
+  // Constraint forces J^T lambda added to the accelerations.
+  for (int i = 1; i < n; ++i) {
+    Eigen::Vector3d fp = a_blk_[i].transpose() * lambda_[i];
+    if (i + 1 < n) fp -= a_blk_[i + 1].transpose() * lambda_[i + 1];
+    a_world.col(i) += inv_m * fp;
+    qdd.col(i) += inv_mq * (b_blk_[i].transpose() * lambda_[i]);
+  }
+}
+
+double FrameConstraints::maxResidual(const WireKinematics& k) const {
+  double r = 0.0;
+  for (int i = 1; i < c_.n; ++i) {
+    const Eigen::Vector3d d = k.p_world.col(i) - k.p_world.col(i - 1);
+    const quat::Vec4 q = k.q.col(i);
+    const double len = d.norm();
+    r = std::max(r, std::abs(q.squaredNorm() - 1.0));
+    r = std::max(r, std::abs(d.dot(quat::xi(q))) / len);
+    r = std::max(r, std::abs(d.dot(quat::eta(q))) / len);
+  }
+  return r;
+}
+
+}  // namespace cws

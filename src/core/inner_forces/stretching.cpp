@@ -1,0 +1,63 @@
+#include "coil_winding_sim/core/inner_forces/stretching.hpp"
+
+namespace cws {
+
+Stretching::Stretching(const WireConstants& c, const HysteresisParams& p, bool plastic)
+    : c_(c), law_(p), plastic_(plastic) {
+  if (plastic_) {
+    upper_.assign(c_.n - 1, law_.initialUpper());
+    x_committed_.assign(c_.n - 1, 0.0);
+  }
+}
+
+double Stretching::strain(const WireKinematics& k, int j) const {
+  return ((k.p_world.col(j + 1) - k.p_world.col(j)).norm() - c_.segment_length) /
+         c_.segment_length;
+}
+
+double Stretching::stressOf(double x, int j) const {
+  return plastic_ ? law_.stress(x, upper_[j]) : law_.elasticRigidity() * x;
+}
+
+double Stretching::axialForce(const WireKinematics& k, int j) const {
+  return stressOf(strain(k, j), j);
+}
+
+double Stretching::plasticStrain(int j) const {
+  return plastic_ ? law_.plasticStrain(upper_[j]) : 0.0;
+}
+
+void Stretching::addForces(double, const WireKinematics& k, WireForces& f) const {
+  // Energy l w(eps) per segment, eps = (|d| - l) / l: the tension T pulls both
+  // ends towards each other along the segment's unit tangent.
+  for (int j = 0; j + 1 < c_.n; ++j) {
+    const Eigen::Vector3d d = k.p_world.col(j + 1) - k.p_world.col(j);
+    const double len = d.norm();
+    const double x = (len - c_.segment_length) / c_.segment_length;
+    const Eigen::Vector3d pull = stressOf(x, j) / len * d;
+    f.f_world.col(j) += pull;
+    f.f_world.col(j + 1) -= pull;
+  }
+}
+
+void Stretching::commit(const WireKinematics& k) {
+  if (!plastic_) return;
+  for (int j = 0; j + 1 < c_.n; ++j) {
+    const double x = strain(k, j);
+    work_committed_ += c_.segment_length * law_.work(x_committed_[j], x, upper_[j]);
+    upper_[j] = law_.movedUpper(x, upper_[j]);
+    x_committed_[j] = x;
+  }
+}
+
+double Stretching::elasticEnergy(const WireKinematics& k) const {
+  double e = 0.0;
+  for (int j = 0; j + 1 < c_.n; ++j) e += law_.elasticEnergy(axialForce(k, j));
+  return e * c_.segment_length;
+}
+
+double Stretching::plasticWork(const WireKinematics& k) const {
+  return plastic_ ? work_committed_ - elasticEnergy(k) : 0.0;
+}
+
+}  // namespace cws

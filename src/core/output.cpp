@@ -1,0 +1,98 @@
+#include "coil_winding_sim/core/output.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+namespace cws {
+
+namespace fs = std::filesystem;
+
+namespace {
+std::string num(double v) {
+  if (!std::isfinite(v)) return "null";
+  std::ostringstream s;
+  s << std::setprecision(12) << v;
+  return s.str();
+}
+
+void writeAtomically(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.string() + ".partial";
+  {
+    std::ofstream f(tmp);
+    if (!f) throw std::runtime_error("cannot write '" + tmp.string() + "'");
+    f << text;
+    f.flush();
+    if (!f) throw std::runtime_error("failed writing '" + tmp.string() + "'");
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error("cannot rename to '" + path.string() + "': " + ec.message());
+}
+}  // namespace
+
+void writeSummaryJson(const Simulation& sim, std::ostream& out) {
+  const EnergyReport e = sim.energy();
+  const StepCounts& n = sim.stepper().counts();
+  out << "{\n"
+      << "  \"sim_time_s\": " << num(sim.time()) << ",\n"
+      << "  \"wall_time_s\": " << num(sim.wallTime()) << ",\n"
+      << "  \"real_time_factor\": " << num(sim.realTimeFactor()) << ",\n"
+      << "  \"integrator\": \"" << sim.stepper().name() << "\",\n"
+      << "  \"steps_accepted\": " << n.accepted << ",\n"
+      << "  \"steps_rejected\": " << n.rejected << ",\n"
+      << "  \"derivative_evaluations\": " << n.derivative_evaluations << ",\n"
+      << "  \"last_step_s\": " << num(sim.stepper().lastStep()) << ",\n"
+      << "  \"nodes\": " << sim.model().constants().n << ",\n"
+      << "  \"segment_length_m\": " << num(sim.model().constants().segment_length) << ",\n"
+      << "  \"max_constraint_residual\": " << num(sim.maxConstraintResidual()) << ",\n"
+      << "  \"kinetic_energy_J\": " << num(e.kinetic) << ",\n"
+      << "  \"elastic_energy_J\": " << num(e.elastic) << ",\n"
+      << "  \"dissipated_energy_J\": " << num(e.dissipated()) << ",\n"
+      << "  \"plastic_work_J\": " << num(e.plastic) << ",\n"
+      << "  \"viscous_dissipation_J\": " << num(e.viscous) << ",\n"
+      << "  \"work_done_J\": " << num(e.work_done) << ",\n"
+      << "  \"energy_imbalance_J\": " << num(e.imbalance()) << ",\n"
+      << "  \"bulging_height_m\": null,\n"
+      << "  \"max_axial_force_N\": " << num(sim.maxAxialForce()) << "\n"
+      << "}\n";
+}
+
+void writeWireCsv(const Simulation& sim, std::ostream& out) {
+  out << "index,x,y,z,axial_force_N,curvature_1pm,plastic_curvature_1pm,twist_rad_per_m,"
+         "in_contact,stick\n";
+  out << std::setprecision(12);
+  for (int i = 0; i < sim.model().constants().n; ++i) {
+    const PointReport r = sim.model().point(i);
+    out << i << ',' << r.p_world.x() << ',' << r.p_world.y() << ',' << r.p_world.z() << ','
+        << r.axial_force_N << ',' << r.curvature_1pm << ',' << r.plastic_curvature_1pm << ','
+        << r.twist_rad_per_m << ",0,0\n";
+  }
+}
+
+void checkOutputDir(const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create output directory '" + dir + "': " + ec.message());
+  const fs::path probe = fs::path(dir) / ".write_test";
+  {
+    std::ofstream f(probe);
+    if (!f) throw std::runtime_error("output directory '" + dir + "' is not writable");
+  }
+  fs::remove(probe, ec);
+}
+
+void writeOutputs(const Simulation& sim, const std::string& dir) {
+  checkOutputDir(dir);
+  std::ostringstream summary, csv;
+  writeSummaryJson(sim, summary);
+  writeWireCsv(sim, csv);
+  writeAtomically(fs::path(dir) / "wire.csv", csv.str());
+  writeAtomically(fs::path(dir) / "summary.json", summary.str());
+}
+
+}  // namespace cws

@@ -1,0 +1,416 @@
+#include "coil_winding_sim/core/scene.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace cws {
+
+namespace {
+
+// ---------------------------------------------------------------------------
+// Scene -> YAML. The defaults emitted here are also the schema: a key that a
+// default scene does not have is unknown.
+// Numbers as short plain scalars (10 significant digits round-trip the
+// scene's inputs; yaml-cpp's default prints 17).
+YAML::Node num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return YAML::Node(std::string(buf));
+}
+
+YAML::Node vec3(const Eigen::Vector3d& v) {
+  YAML::Node n(YAML::NodeType::Sequence);
+  n.SetStyle(YAML::EmitterStyle::Flow);
+  for (int i = 0; i < 3; ++i) n.push_back(num(v[i]));
+  return n;
+}
+
+YAML::Node hysteresis(const HysteresisParams& h, const char* yield_key) {
+  YAML::Node n;
+  n["elastic_rigidity"] = num(h.elastic_rigidity);
+  n["plastic_rigidity"] = num(h.plastic_rigidity);
+  n[yield_key] = num(h.yield);
+  return n;
+}
+
+YAML::Node toYaml(const Scene& s) {
+  YAML::Node root;
+  YAML::Node w;
+  w["diameter"] = num(s.wire.diameter);
+  w["line_density"] = num(s.wire.line_density);
+  w["length"] = num(s.wire.length);
+  w["segment_length"] = num(s.wire.segment_length);
+  w["stretch"] = hysteresis(s.wire.stretch, "yield_strain");
+  w["bend"] = hysteresis(s.wire.bend, "yield_curvature");
+  w["torsion"] = hysteresis(s.wire.torsion, "yield_twist");
+  root["wire"] = w;
+
+  root["contact"]["static_friction"] = num(s.contact.static_friction);
+  root["contact"]["kinetic_friction"] = num(s.contact.kinetic_friction);
+
+  root["process"]["core_speed_rpm"] = num(s.process.core_speed_rpm);
+  root["process"]["tension"] = num(s.process.tension);
+  root["process"]["turns"] = num(s.process.turns);
+  if (s.process.duration) {
+    root["process"]["duration"] = num(*s.process.duration);
+  } else {
+    root["process"]["duration"] = YAML::Node(YAML::NodeType::Null);
+  }
+
+  root["solver"]["integrator"] = s.solver.integrator;
+  root["solver"]["rtol"] = num(s.solver.rtol);
+  root["solver"]["atol"] = num(s.solver.atol);
+  root["solver"]["min_step"] = num(s.solver.min_step);
+  root["solver"]["max_step"] = num(s.solver.max_step);
+  root["solver"]["initial_step"] = num(s.solver.initial_step);
+  root["solver"]["baumgarte_nu"] = num(s.solver.baumgarte_nu);
+
+  root["physics"]["torsion"] = s.physics.torsion;
+  root["physics"]["plasticity"] = s.physics.plasticity;
+  root["physics"]["gravity"] = s.physics.gravity;
+  root["physics"]["damping"] = s.physics.damping;
+
+  root["gravity"]["acceleration"] = vec3(s.gravity.acceleration_world);
+  root["damping"]["translational"] = num(s.damping.translational);
+  root["damping"]["rotational"] = num(s.damping.rotational);
+
+  root["start"]["type"] = s.start.type;
+  root["start"]["frame"] = s.start.frame;
+  root["start"]["position"] = vec3(s.start.position);
+  root["start"]["direction"] = vec3(s.start.direction);
+
+  root["end"]["type"] = s.end.type;
+  YAML::Node load(YAML::NodeType::Sequence);
+  for (const LoadKeyframe& k : s.end.load) {
+    YAML::Node kn;
+    kn["time"] = num(k.time);
+    kn["force"] = vec3(k.force_world);
+    kn["moment"] = vec3(k.moment_world);
+    load.push_back(kn);
+  }
+  root["end"]["load"] = load;
+
+  root["output"]["progress_interval_s"] = num(s.output.progress_interval_s);
+  return root;
+}
+
+// ---------------------------------------------------------------------------
+// YAML -> Scene, every conversion naming its key.
+std::string join(const std::string& prefix, const std::string& key) {
+  return prefix.empty() ? key : prefix + "." + key;
+}
+
+std::string describe(const YAML::Node& n) {
+  switch (n.Type()) {
+    case YAML::NodeType::Null: return "nothing (null)";
+    case YAML::NodeType::Sequence: return "a list";
+    case YAML::NodeType::Map: return "a map";
+    default: return "'" + n.Scalar() + "'";
+  }
+}
+
+double readDouble(const YAML::Node& n, const std::string& key) {
+  if (!n.IsScalar()) throw SceneError(key, "expected a number, got " + describe(n));
+  double v = 0.0;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    throw SceneError(key, "expected a number, got " + describe(n));
+  }
+  if (!std::isfinite(v)) throw SceneError(key, "must be a finite number, got " + n.Scalar());
+  return v;
+}
+
+bool readBool(const YAML::Node& n, const std::string& key) {
+  if (!n.IsScalar()) throw SceneError(key, "expected true or false, got " + describe(n));
+  try {
+    return n.as<bool>();
+  } catch (const YAML::Exception&) {
+    throw SceneError(key, "expected true or false, got " + describe(n));
+  }
+}
+
+std::string readString(const YAML::Node& n, const std::string& key) {
+  if (!n.IsScalar()) throw SceneError(key, "expected a word, got " + describe(n));
+  return n.Scalar();
+}
+
+Eigen::Vector3d readVec3(const YAML::Node& n, const std::string& key) {
+  if (!n.IsSequence() || n.size() != 3) {
+    throw SceneError(key, "expected a list of three numbers [x, y, z], got " + describe(n));
+  }
+  Eigen::Vector3d v;
+  for (int i = 0; i < 3; ++i) v[i] = readDouble(n[i], key + "[" + std::to_string(i) + "]");
+  return v;
+}
+
+HysteresisParams readHysteresis(const YAML::Node& n, const std::string& key,
+                                const char* yield_key) {
+  HysteresisParams h;
+  h.elastic_rigidity = readDouble(n["elastic_rigidity"], key + ".elastic_rigidity");
+  h.plastic_rigidity = readDouble(n["plastic_rigidity"], key + ".plastic_rigidity");
+  h.yield = readDouble(n[yield_key], key + "." + yield_key);
+  return h;
+}
+
+Scene fromYaml(const YAML::Node& r) {
+  Scene s;
+  const YAML::Node w = r["wire"];
+  s.wire.diameter = readDouble(w["diameter"], "wire.diameter");
+  s.wire.line_density = readDouble(w["line_density"], "wire.line_density");
+  s.wire.length = readDouble(w["length"], "wire.length");
+  s.wire.segment_length = readDouble(w["segment_length"], "wire.segment_length");
+  s.wire.stretch = readHysteresis(w["stretch"], "wire.stretch", "yield_strain");
+  s.wire.bend = readHysteresis(w["bend"], "wire.bend", "yield_curvature");
+  s.wire.torsion = readHysteresis(w["torsion"], "wire.torsion", "yield_twist");
+
+  s.contact.static_friction = readDouble(r["contact"]["static_friction"], "contact.static_friction");
+  s.contact.kinetic_friction =
+      readDouble(r["contact"]["kinetic_friction"], "contact.kinetic_friction");
+
+  const YAML::Node p = r["process"];
+  s.process.core_speed_rpm = readDouble(p["core_speed_rpm"], "process.core_speed_rpm");
+  s.process.tension = readDouble(p["tension"], "process.tension");
+  s.process.turns = readDouble(p["turns"], "process.turns");
+  if (!p["duration"].IsNull()) s.process.duration = readDouble(p["duration"], "process.duration");
+
+  const YAML::Node so = r["solver"];
+  s.solver.integrator = readString(so["integrator"], "solver.integrator");
+  s.solver.rtol = readDouble(so["rtol"], "solver.rtol");
+  s.solver.atol = readDouble(so["atol"], "solver.atol");
+  s.solver.min_step = readDouble(so["min_step"], "solver.min_step");
+  s.solver.max_step = readDouble(so["max_step"], "solver.max_step");
+  s.solver.initial_step = readDouble(so["initial_step"], "solver.initial_step");
+  s.solver.baumgarte_nu = readDouble(so["baumgarte_nu"], "solver.baumgarte_nu");
+
+  const YAML::Node ph = r["physics"];
+  s.physics.torsion = readBool(ph["torsion"], "physics.torsion");
+  s.physics.plasticity = readBool(ph["plasticity"], "physics.plasticity");
+  s.physics.gravity = readBool(ph["gravity"], "physics.gravity");
+  s.physics.damping = readBool(ph["damping"], "physics.damping");
+
+  s.gravity.acceleration_world = readVec3(r["gravity"]["acceleration"], "gravity.acceleration");
+  s.damping.translational = readDouble(r["damping"]["translational"], "damping.translational");
+  s.damping.rotational = readDouble(r["damping"]["rotational"], "damping.rotational");
+
+  s.start.type = readString(r["start"]["type"], "start.type");
+  s.start.frame = readString(r["start"]["frame"], "start.frame");
+  s.start.position = readVec3(r["start"]["position"], "start.position");
+  s.start.direction = readVec3(r["start"]["direction"], "start.direction");
+
+  s.end.type = readString(r["end"]["type"], "end.type");
+  const YAML::Node load = r["end"]["load"];
+  if (!load.IsSequence() || load.size() == 0) {
+    throw SceneError("end.load", "expected a non-empty list of {time, force, moment}, got " +
+                                     describe(load));
+  }
+  s.end.load.clear();
+  for (std::size_t i = 0; i < load.size(); ++i) {
+    const std::string key = "end.load[" + std::to_string(i) + "]";
+    const YAML::Node k = load[i];
+    if (!k.IsMap()) throw SceneError(key, "expected a map {time, force, moment}");
+    for (const auto& kv : k) {
+      const std::string name = kv.first.Scalar();
+      if (name != "time" && name != "force" && name != "moment") {
+        throw SceneError(key + "." + name, "unknown key (allowed: time, force, moment)");
+      }
+    }
+    LoadKeyframe f;
+    f.time = readDouble(k["time"], key + ".time");
+    if (k["force"]) f.force_world = readVec3(k["force"], key + ".force");
+    if (k["moment"]) f.moment_world = readVec3(k["moment"], key + ".moment");
+    s.end.load.push_back(f);
+  }
+
+  s.output.progress_interval_s =
+      readDouble(r["output"]["progress_interval_s"], "output.progress_interval_s");
+  return s;
+}
+
+// ---------------------------------------------------------------------------
+// Merging user YAML over the defaults, refusing keys the schema lacks.
+void mergeChecked(YAML::Node base, const YAML::Node& user, const std::string& prefix) {
+  if (!user.IsMap()) {
+    throw SceneError(prefix.empty() ? "(top level)" : prefix,
+                     "expected a map of keys, got " + describe(user));
+  }
+  for (const auto& kv : user) {
+    const std::string key = kv.first.Scalar();
+    const std::string path = join(prefix, key);
+    const YAML::Node& cbase = base;
+    if (!cbase[key]) throw SceneError(path, "unknown key");
+    YAML::Node target = base[key];
+    if (target.IsMap()) {
+      mergeChecked(target, kv.second, path);
+    } else {
+      base[key] = YAML::Clone(kv.second);
+    }
+  }
+}
+
+void applyOverride(YAML::Node root, const std::string& text) {
+  const std::size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw SceneError(text, "an override must look like key.path=value");
+  }
+  const std::string path = text.substr(0, eq);
+  const std::string value = text.substr(eq + 1);
+  YAML::Node parsed;
+  try {
+    parsed = YAML::Load(value);
+  } catch (const YAML::Exception& e) {
+    throw SceneError(path, "cannot parse value '" + value + "': " + e.msg);
+  }
+  // Build a one-key nested map and merge it like a scene file.
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  for (std::string part; std::getline(ss, part, '.');) {
+    if (part.empty()) throw SceneError(path, "empty key in path");
+    parts.push_back(part);
+  }
+  YAML::Node user = parsed;
+  for (auto it = parts.rbegin(); it != parts.rend(); ++it) {
+    YAML::Node m(YAML::NodeType::Map);
+    m[*it] = user;
+    user = m;
+  }
+  mergeChecked(root, user, "");
+}
+
+void requirePositive(double v, const std::string& key) {
+  if (!(v > 0.0)) throw SceneError(key, "must be positive, got " + std::to_string(v));
+}
+void requireNonNegative(double v, const std::string& key) {
+  if (!(v >= 0.0)) throw SceneError(key, "must not be negative, got " + std::to_string(v));
+}
+
+void validateHysteresis(const HysteresisParams& h, const std::string& key,
+                        const char* yield_key) {
+  requirePositive(h.elastic_rigidity, key + ".elastic_rigidity");
+  requireNonNegative(h.plastic_rigidity, key + ".plastic_rigidity");
+  if (h.plastic_rigidity > h.elastic_rigidity) {
+    throw SceneError(key + ".plastic_rigidity",
+                     "plastic rigidity " + std::to_string(h.plastic_rigidity) +
+                         " is above the elastic rigidity " + std::to_string(h.elastic_rigidity));
+  }
+  requirePositive(h.yield, key + "." + yield_key);
+}
+
+}  // namespace
+
+int Scene::segmentCount() const {
+  return static_cast<int>(std::ceil(wire.length / wire.segment_length - 1e-9));
+}
+
+double Scene::naturalSegmentLength() const { return wire.length / segmentCount(); }
+
+double Scene::endTime() const {
+  if (process.duration) return *process.duration;
+  return process.turns / (std::abs(process.core_speed_rpm) / 60.0);
+}
+
+void validateScene(const Scene& s) {
+  requirePositive(s.wire.diameter, "wire.diameter");
+  requirePositive(s.wire.line_density, "wire.line_density");
+  requirePositive(s.wire.length, "wire.length");
+  requirePositive(s.wire.segment_length, "wire.segment_length");
+  if (s.wire.segment_length > s.wire.length) {
+    throw SceneError("wire.segment_length", "is longer than wire.length");
+  }
+  if (s.wire.length / s.wire.segment_length > 1.0e6) {
+    throw SceneError("wire.segment_length", "gives more than 1e6 segments");
+  }
+  validateHysteresis(s.wire.stretch, "wire.stretch", "yield_strain");
+  validateHysteresis(s.wire.bend, "wire.bend", "yield_curvature");
+  validateHysteresis(s.wire.torsion, "wire.torsion", "yield_twist");
+
+  requireNonNegative(s.contact.static_friction, "contact.static_friction");
+  requireNonNegative(s.contact.kinetic_friction, "contact.kinetic_friction");
+  if (s.contact.kinetic_friction > s.contact.static_friction) {
+    throw SceneError("contact.kinetic_friction", "kinetic friction is above static friction");
+  }
+
+  requireNonNegative(s.process.tension, "process.tension");
+  requireNonNegative(s.process.turns, "process.turns");
+  if (s.process.duration) {
+    requirePositive(*s.process.duration, "process.duration");
+  } else {
+    requirePositive(s.process.turns, "process.turns");
+    if (s.process.core_speed_rpm == 0.0) {
+      throw SceneError("process.duration",
+                       "must be given when process.core_speed_rpm is 0 (turns never end)");
+    }
+  }
+
+  if (s.solver.integrator != "rkf45") {
+    throw SceneError("solver.integrator", "unknown integrator '" + s.solver.integrator +
+                                              "' (available: rkf45)");
+  }
+  requirePositive(s.solver.rtol, "solver.rtol");
+  requirePositive(s.solver.atol, "solver.atol");
+  requirePositive(s.solver.min_step, "solver.min_step");
+  requirePositive(s.solver.max_step, "solver.max_step");
+  if (s.solver.max_step < s.solver.min_step) {
+    throw SceneError("solver.max_step", "is below solver.min_step");
+  }
+  if (s.solver.initial_step < s.solver.min_step || s.solver.initial_step > s.solver.max_step) {
+    throw SceneError("solver.initial_step", "must lie between solver.min_step and solver.max_step");
+  }
+  requireNonNegative(s.solver.baumgarte_nu, "solver.baumgarte_nu");
+
+  requireNonNegative(s.damping.translational, "damping.translational");
+  requireNonNegative(s.damping.rotational, "damping.rotational");
+
+  if (s.start.type != "clamped") {
+    throw SceneError("start.type", "unknown type '" + s.start.type + "' (available: clamped)");
+  }
+  if (s.start.frame != "world") {
+    throw SceneError("start.frame", "unknown frame '" + s.start.frame + "' (available: world)");
+  }
+  if (!(s.start.direction.norm() > 1e-12)) {
+    throw SceneError("start.direction", "must not be the zero vector");
+  }
+
+  if (s.end.type != "free") {
+    throw SceneError("end.type", "unknown type '" + s.end.type + "' (available: free)");
+  }
+  for (std::size_t i = 0; i < s.end.load.size(); ++i) {
+    const std::string key = "end.load[" + std::to_string(i) + "].time";
+    requireNonNegative(s.end.load[i].time, key);
+    if (i > 0 && !(s.end.load[i].time > s.end.load[i - 1].time)) {
+      throw SceneError(key, "keyframe times must increase strictly");
+    }
+  }
+  requirePositive(s.output.progress_interval_s, "output.progress_interval_s");
+}
+
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
+  YAML::Node root = toYaml(Scene{});
+  if (!path.empty()) {
+    YAML::Node user;
+    try {
+      user = YAML::LoadFile(path);
+    } catch (const YAML::BadFile&) {
+      throw SceneError("(file)", "cannot open scene file '" + path + "'");
+    } catch (const YAML::Exception& e) {
+      throw SceneError("(file)", "'" + path + "' is not valid YAML: " + e.what());
+    }
+    if (!user.IsNull()) mergeChecked(root, user, "");
+  }
+  for (const std::string& o : overrides) applyOverride(root, o);
+  Scene s = fromYaml(root);
+  validateScene(s);
+  return s;
+}
+
+std::string sceneToYamlText(const Scene& scene) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(10);
+  out << toYaml(scene);
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace cws

@@ -1,0 +1,57 @@
+#include "coil_winding_sim/core/simulation.hpp"
+
+#include <chrono>
+#include <cmath>
+
+namespace cws {
+
+namespace {
+Scene validated(const Scene& s) {
+  validateScene(s);
+  return s;
+}
+}  // namespace
+
+Simulation::Simulation(const Scene& scene) : scene_(validated(scene)) {
+  model_ = std::make_unique<WireModel>(scene_);
+  stepper_ = makeTimeStepper(scene_.solver, *model_);
+  y_ = model_->initialState();
+  t_end_ = scene_.endTime();
+  afterStep();
+}
+
+void Simulation::afterStep() {
+  max_residual_ = std::max(max_residual_, model_->maxConstraintResidual());
+  const int segments = model_->constants().n - 1;
+  for (int j = 0; j < segments; ++j) {
+    max_axial_force_ = std::max(max_axial_force_, std::abs(model_->axialForce(j)));
+  }
+}
+
+void Simulation::step(double t_limit) {
+  stepper_->step(*model_, t_, y_, t_limit);
+  if (!y_.allFinite()) {
+    throw IntegrationError("the state became non-finite at t = " + std::to_string(t_) + " s");
+  }
+  afterStep();
+}
+
+void Simulation::run(const std::function<void(const Simulation&)>& progress) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const double wall0 = wall_s_;
+  auto last_report = start;
+  const auto interval = std::chrono::duration<double>(scene_.output.progress_interval_s);
+  while (t_ < t_end_) {
+    step(t_end_);
+    const auto now = Clock::now();
+    if (progress && now - last_report >= interval) {
+      wall_s_ = wall0 + std::chrono::duration<double>(now - start).count();
+      progress(*this);
+      last_report = now;
+    }
+  }
+  wall_s_ = wall0 + std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace cws

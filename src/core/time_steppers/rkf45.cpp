@@ -1,0 +1,96 @@
+#include "coil_winding_sim/core/time_steppers/rkf45.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace cws {
+
+namespace {
+// Fehlberg's coefficients.
+constexpr double kC[6] = {0.0, 1.0 / 4.0, 3.0 / 8.0, 12.0 / 13.0, 1.0, 1.0 / 2.0};
+constexpr double kA[6][5] = {
+    {0, 0, 0, 0, 0},
+    {1.0 / 4.0, 0, 0, 0, 0},
+    {3.0 / 32.0, 9.0 / 32.0, 0, 0, 0},
+    {1932.0 / 2197.0, -7200.0 / 2197.0, 7296.0 / 2197.0, 0, 0},
+    {439.0 / 216.0, -8.0, 3680.0 / 513.0, -845.0 / 4104.0, 0},
+    {-8.0 / 27.0, 2.0, -3544.0 / 2565.0, 1859.0 / 4104.0, -11.0 / 40.0}};
+constexpr double kB5[6] = {16.0 / 135.0,      0.0, 6656.0 / 12825.0, 28561.0 / 56430.0,
+                           -9.0 / 50.0,       2.0 / 55.0};
+constexpr double kB4[6] = {25.0 / 216.0, 0.0, 1408.0 / 2565.0, 2197.0 / 4104.0, -1.0 / 5.0, 0.0};
+}  // namespace
+
+Rkf45::Rkf45(const SolverParams& p, int size) : p_(p), h_(p.initial_step) {
+  for (auto& k : k_) k.resize(size);
+  y_stage_.resize(size);
+  y_new_.resize(size);
+  err_.resize(size);
+}
+
+double Rkf45::attempt(OdeSystem& sys, double t, const Eigen::VectorXd& y, double h) {
+  for (int s = 0; s < 6; ++s) {
+    y_stage_ = y;
+    for (int j = 0; j < s; ++j) {
+      if (kA[s][j] != 0.0) y_stage_.noalias() += (h * kA[s][j]) * k_[j];
+    }
+    sys.derivative(t + kC[s] * h, y_stage_, k_[s]);
+    ++counts_.derivative_evaluations;
+  }
+  y_new_ = y;
+  err_.setZero();
+  for (int s = 0; s < 6; ++s) {
+    y_new_.noalias() += (h * kB5[s]) * k_[s];
+    err_.noalias() += (h * (kB5[s] - kB4[s])) * k_[s];
+  }
+  // Max norm of the error scaled by atol + rtol |y|.
+  const Eigen::VectorXd& atol = sys.absoluteTolerance();
+  const Eigen::VectorXd& rweight = sys.relativeToleranceWeight();
+  double norm = 0.0;
+  for (Eigen::Index i = 0; i < y.size(); ++i) {
+    const double scale =
+        atol[i] + rweight[i] * p_.rtol * std::max(std::abs(y[i]), std::abs(y_new_[i]));
+    const double e = std::abs(err_[i]) / scale;
+    if (!(e <= norm)) norm = e;  // NaN propagates as a failure
+  }
+  return norm;
+}
+
+void Rkf45::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) {
+  for (;;) {
+    double h = std::min(h_, p_.max_step);
+    const bool clipped = t + h >= t_limit;
+    if (clipped) h = t_limit - t;
+    const double e = attempt(sys, t, y, h);
+    if (e <= 1.0) {
+      ++counts_.accepted;
+      t = clipped ? t_limit : t + h;
+      y.swap(y_new_);
+      h_last_ = h;
+      sys.acceptStep(t, y);
+      // Grow by at most 5x; a clipped step does not shrink the next one.
+      const double grow = (e > 0.0) ? 0.9 * std::pow(e, -0.2) : 5.0;
+      const double h_next = h * std::min(5.0, std::max(0.2, grow));
+      h_ = std::min(p_.max_step, clipped ? std::max(h_, h_next) : h_next);
+      return;
+    }
+    ++counts_.rejected;
+    const double shrink = std::isfinite(e) ? std::max(0.1, 0.9 * std::pow(e, -0.25)) : 0.25;
+    h_ = h * shrink;
+    if (h_ < p_.min_step) {
+      std::ostringstream msg;
+      msg << "step size fell below solver.min_step = " << p_.min_step << " s at t = " << t
+          << " s (error norm " << e << " at step " << h
+          << " s): the scene is too stiff or unstable for rkf45; "
+             "lower solver.min_step, loosen solver.rtol/atol, or check the scene";
+      throw IntegrationError(msg.str());
+    }
+  }
+}
+
+std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, const OdeSystem& sys) {
+  if (p.integrator == "rkf45") return std::make_unique<Rkf45>(p, sys.size());
+  throw std::invalid_argument("unknown integrator '" + p.integrator + "'");
+}
+
+}  // namespace cws

@@ -1,0 +1,120 @@
+// wire_sim: command-line front end of the simulation core.
+//
+//   wire_sim run [--scene FILE] [--set key.path=value ...] [--out DIR]
+//   wire_sim print-scene [--scene FILE] [--set key.path=value ...]
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "coil_winding_sim/core/output.hpp"
+#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/simulation.hpp"
+
+#ifndef CWS_DEFAULT_SCENE
+#define CWS_DEFAULT_SCENE ""
+#endif
+
+namespace {
+
+const char* kUsage =
+    "usage: wire_sim run [--scene FILE] [--set key.path=value ...] [--out DIR]\n"
+    "       wire_sim print-scene [--scene FILE] [--set key.path=value ...]\n"
+    "Without --scene the package's default scene is used; --out defaults to out/run.\n";
+
+struct Args {
+  std::string command;
+  std::string scene;
+  std::vector<std::string> overrides;
+  std::string out = "out/run";
+};
+
+// Exit codes: 0 success, 1 the run failed, 2 bad command line or scene.
+int usageError(const std::string& msg) {
+  std::cerr << "wire_sim: " << msg << "\n" << kUsage;
+  return 2;
+}
+
+std::string defaultScene() {
+  // Installed or source-tree default scene; empty means built-in defaults.
+  const std::string path = CWS_DEFAULT_SCENE;
+  if (!path.empty() && std::filesystem::exists(path)) return path;
+  return "";
+}
+
+int run(const Args& a) {
+  const cws::Scene scene = cws::loadScene(a.scene.empty() ? defaultScene() : a.scene, a.overrides);
+  if (a.command == "print-scene") {
+    std::cout << cws::sceneToYamlText(scene);
+    return 0;
+  }
+  // Refuse an unusable output directory before running, and remove results
+  // of an earlier run so that a failed run leaves no valid-looking summary.
+  cws::checkOutputDir(a.out);
+  std::filesystem::remove(std::filesystem::path(a.out) / "summary.json");
+  std::filesystem::remove(std::filesystem::path(a.out) / "wire.csv");
+
+  cws::Simulation sim(scene);
+  std::cerr << "wire_sim: " << sim.model().constants().n << " points, "
+            << sim.stepper().name() << ", until t = " << sim.endTime() << " s\n";
+  sim.run([](const cws::Simulation& s) {
+    const double rtf = s.realTimeFactor();
+    const double remaining = rtf > 0.0 ? (s.endTime() - s.time()) / rtf : 0.0;
+    std::fprintf(stderr, "  t = %.6f s of %.6f s, real-time factor %.3g, ~%.0f s left, step %.3g s\n",
+                 s.time(), s.endTime(), rtf, remaining, s.stepper().lastStep());
+  });
+  cws::writeOutputs(sim, a.out);
+  const cws::EnergyReport e = sim.energy();
+  std::printf(
+      "done: t = %.6g s in %.3g s wall (real-time factor %.3g), %ld steps (%ld rejected)\n"
+      "      max constraint residual %.3g, max axial force %.4g N, energy imbalance %.3g J\n"
+      "      results in %s/summary.json and %s/wire.csv\n",
+      sim.time(), sim.wallTime(), sim.realTimeFactor(), sim.stepper().counts().accepted,
+      sim.stepper().counts().rejected, sim.maxConstraintResidual(), sim.maxAxialForce(),
+      e.imbalance(), a.out.c_str(), a.out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+    std::cout << kUsage;
+    return args.empty() ? 2 : 0;
+  }
+  Args a;
+  a.command = args[0];
+  if (a.command != "run" && a.command != "print-scene") {
+    return usageError("unknown command '" + a.command + "'");
+  }
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    const std::string& opt = args[i];
+    auto value = [&](std::string& dst) -> bool {
+      if (i + 1 >= args.size()) return false;
+      dst = args[++i];
+      return true;
+    };
+    if (opt == "--scene") {
+      if (!value(a.scene)) return usageError("--scene needs a file");
+    } else if (opt == "--set") {
+      std::string kv;
+      if (!value(kv)) return usageError("--set needs key.path=value");
+      a.overrides.push_back(kv);
+    } else if (opt == "--out" && a.command == "run") {
+      if (!value(a.out)) return usageError("--out needs a directory");
+    } else {
+      return usageError("unknown option '" + opt + "'");
+    }
+  }
+  try {
+    return run(a);
+  } catch (const cws::SceneError& e) {
+    std::cerr << "wire_sim: bad scene: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "wire_sim: run failed: " << e.what() << "\n";
+    return 1;
+  }
+}
