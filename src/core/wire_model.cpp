@@ -141,6 +141,12 @@ PointReport WireModel::point(int i) const {
   return r;
 }
 
+std::vector<double> WireModel::history() const {
+  std::vector<double> h;
+  for (const ForceEffect* e : all_) e->appendHistory(h);
+  return h;
+}
+
 std::vector<const ForceEffect*> WireModel::effects() const {
   return std::vector<const ForceEffect*>(all_.begin(), all_.end());
 }

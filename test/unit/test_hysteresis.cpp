@@ -16,7 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -32,6 +32,9 @@ struct LawCase {
   const char* name;
   HysteresisParams p;
 };
+
+// gtest prints a parameter with this (instead of its bytes).
+void PrintTo(const LawCase& c, std::ostream* os) { *os << c.name; }
 
 // Table 1 (elastic / plastic rigidity) and the yields of wire-data.md.
 const LawCase kStretch{"stretch", {4.89e4, 1.10e3, 8.0e-4}};   // EA [N], strain

@@ -65,6 +65,9 @@ class WireModel : public OdeSystem {
   PointReport point(int i) const;
   double axialForce(int j) const;  // segment j at the last accepted step [N]
 
+  // History state of all effects, concatenated (empty without plasticity).
+  std::vector<double> history() const;
+
   // Effects built for this scene, in evaluation order (for inspection).
   std::vector<const ForceEffect*> effects() const;
   const Stretching& stretching() const { return *stretching_; }

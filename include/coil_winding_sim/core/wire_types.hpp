@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 namespace cws {
 
@@ -70,6 +71,9 @@ class ForceEffect {
   virtual void addForces(double t, const WireKinematics& k, WireForces& f) const = 0;
   // Commits history state (yield points) after an accepted step.
   virtual void commit(const WireKinematics& /*k*/) {}
+  // Appends the history state (yield points and the work bookkeeping) to
+  // `out`; nothing for an effect without history. For snapshots and tests.
+  virtual void appendHistory(std::vector<double>& /*out*/) const {}
   // Recoverable elastic energy stored now [J].
   virtual double elasticEnergy(const WireKinematics& /*k*/) const { return 0.0; }
   // Work turned into plastic deformation since the start [J].

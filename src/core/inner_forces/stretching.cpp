@@ -60,4 +60,11 @@ double Stretching::plasticWork(const WireKinematics& k) const {
   return plastic_ ? work_committed_ - elasticEnergy(k) : 0.0;
 }
 
+void Stretching::appendHistory(std::vector<double>& out) const {
+  if (!plastic_) return;
+  out.insert(out.end(), upper_.begin(), upper_.end());
+  out.insert(out.end(), x_committed_.begin(), x_committed_.end());
+  out.push_back(work_committed_);
+}
+
 }  // namespace cws

@@ -1,0 +1,51 @@
+// Scenes and helpers shared by the physics tests.
+#pragma once
+
+#include "coil_winding_sim/core/quaternion.hpp"
+#include "coil_winding_sim/core/simulation.hpp"
+
+namespace cws_test {
+
+// A Table-1 wire of length L [m] in `segments` equal segments, clamped at the
+// origin along +x, no gravity, no damping, no end load.
+inline cws::Scene cantilever(double length, int segments) {
+  cws::Scene s;
+  s.wire.length = length;
+  s.wire.segment_length = length / segments;
+  s.physics.gravity = false;
+  s.physics.damping = false;
+  s.end.load = {cws::LoadKeyframe{}};
+  s.solver.rtol = 1e-6;
+  s.solver.atol = 1e-11;
+  return s;
+}
+
+// Quasi-static loading: the end load ramps from zero to (force, moment) over
+// t_ramp and holds until t_end; viscous damping near critical for the first
+// bending mode of a 0.1 m wire lets the motion die out.
+inline cws::Scene rampedStatic(cws::Scene s, const Eigen::Vector3d& force_world,
+                               const Eigen::Vector3d& moment_world, double t_ramp, double t_end) {
+  s.physics.damping = true;
+  s.damping.translational = 4.0;   // [N s/m^2]
+  s.damping.rotational = 1.0e-6;   // [N m s/m]
+  cws::LoadKeyframe a, b;
+  b.time = t_ramp;
+  b.force_world = force_world;
+  b.moment_world = moment_world;
+  s.end.load = {a, b};
+  s.process.duration = t_end;
+  return s;
+}
+
+inline Eigen::Vector3d tipPosition(const cws::Simulation& sim) {
+  const auto& k = sim.model().committed();
+  return k.p_world.col(k.p_world.cols() - 1);
+}
+
+// Rotation angle between the clamp frame and the last frame [rad].
+inline double tipFrameAngle(const cws::Simulation& sim) {
+  const auto& k = sim.model().committed();
+  return cws::quat::relativeAngle(k.q.col(0), k.q.col(k.q.cols() - 1));
+}
+
+}  // namespace cws_test
