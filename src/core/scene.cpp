@@ -105,10 +105,14 @@ std::string join(const std::string& prefix, const std::string& key) {
 
 std::string describe(const YAML::Node& n) {
   switch (n.Type()) {
-    case YAML::NodeType::Null: return "nothing (null)";
-    case YAML::NodeType::Sequence: return "a list";
-    case YAML::NodeType::Map: return "a map";
-    default: return "'" + n.Scalar() + "'";
+    case YAML::NodeType::Null:
+      return "nothing (null)";
+    case YAML::NodeType::Sequence:
+      return "a list";
+    case YAML::NodeType::Map:
+      return "a map";
+    default:
+      return "'" + n.Scalar() + "'";
   }
 }
 
@@ -167,7 +171,8 @@ Scene fromYaml(const YAML::Node& r) {
   s.wire.bend = readHysteresis(w["bend"], "wire.bend", "yield_curvature");
   s.wire.torsion = readHysteresis(w["torsion"], "wire.torsion", "yield_twist");
 
-  s.contact.static_friction = readDouble(r["contact"]["static_friction"], "contact.static_friction");
+  s.contact.static_friction =
+      readDouble(r["contact"]["static_friction"], "contact.static_friction");
   s.contact.kinetic_friction =
       readDouble(r["contact"]["kinetic_friction"], "contact.kinetic_friction");
 
@@ -204,8 +209,8 @@ Scene fromYaml(const YAML::Node& r) {
   s.end.type = readString(r["end"]["type"], "end.type");
   const YAML::Node load = r["end"]["load"];
   if (!load.IsSequence() || load.size() == 0) {
-    throw SceneError("end.load", "expected a non-empty list of {time, force, moment}, got " +
-                                     describe(load));
+    throw SceneError("end.load",
+                     "expected a non-empty list of {time, force, moment}, got " + describe(load));
   }
   s.end.load.clear();
   for (std::size_t i = 0; i < load.size(); ++i) {
@@ -287,8 +292,7 @@ void requireNonNegative(double v, const std::string& key) {
   if (!(v >= 0.0)) throw SceneError(key, "must not be negative, got " + std::to_string(v));
 }
 
-void validateHysteresis(const HysteresisParams& h, const std::string& key,
-                        const char* yield_key) {
+void validateHysteresis(const HysteresisParams& h, const std::string& key, const char* yield_key) {
   requirePositive(h.elastic_rigidity, key + ".elastic_rigidity");
   requireNonNegative(h.plastic_rigidity, key + ".plastic_rigidity");
   if (h.plastic_rigidity > h.elastic_rigidity) {
@@ -346,8 +350,8 @@ void validateScene(const Scene& s) {
   }
 
   if (s.solver.integrator != "rkf45") {
-    throw SceneError("solver.integrator", "unknown integrator '" + s.solver.integrator +
-                                              "' (available: rkf45)");
+    throw SceneError("solver.integrator",
+                     "unknown integrator '" + s.solver.integrator + "' (available: rkf45)");
   }
   requirePositive(s.solver.rtol, "solver.rtol");
   requirePositive(s.solver.atol, "solver.atol");

@@ -25,8 +25,7 @@ WireConstants constantsOf(const Scene& s) {
 }
 }  // namespace
 
-WireModel::WireModel(const Scene& s)
-    : c_(constantsOf(s)), constraints_(c_, s.solver.baumgarte_nu) {
+WireModel::WireModel(const Scene& s) : c_(constantsOf(s)), constraints_(c_, s.solver.baumgarte_nu) {
   const bool plastic = s.physics.plasticity;
   stretching_ = std::make_unique<Stretching>(c_, s.wire.stretch, plastic);
   bending_ = std::make_unique<Bending>(c_, s.wire.bend, plastic);
@@ -93,8 +92,8 @@ void WireModel::derivative(double t, const Eigen::VectorXd& y, Eigen::VectorXd& 
   unpack(t, y, kin_);
   forces_.setZero();
   for (const ForceEffect* e : all_) e->addForces(t, kin_, forces_);
-  constraints_.accelerations(kin_, forces_, Eigen::Vector3d::Zero(), Eigen::Vector4d::Zero(),
-                             acc_, qdd_);
+  constraints_.accelerations(kin_, forces_, Eigen::Vector3d::Zero(), Eigen::Vector4d::Zero(), acc_,
+                             qdd_);
   dydt.segment(0, 7 * m) = y.segment(7 * m, 7 * m);
   Eigen::Map<Eigen::Matrix3Xd>(dydt.data() + 7 * m, 3, m) = acc_.rightCols(m);
   Eigen::Map<Eigen::Matrix4Xd>(dydt.data() + 10 * m, 4, m) = qdd_.rightCols(m);

@@ -56,12 +56,13 @@ int run(const Args& a) {
   std::filesystem::remove(std::filesystem::path(a.out) / "wire.csv");
 
   cws::Simulation sim(scene);
-  std::cerr << "wire_sim: " << sim.model().constants().n << " points, "
-            << sim.stepper().name() << ", until t = " << sim.endTime() << " s\n";
+  std::cerr << "wire_sim: " << sim.model().constants().n << " points, " << sim.stepper().name()
+            << ", until t = " << sim.endTime() << " s\n";
   sim.run([](const cws::Simulation& s) {
     const double rtf = s.realTimeFactor();
     const double remaining = rtf > 0.0 ? (s.endTime() - s.time()) / rtf : 0.0;
-    std::fprintf(stderr, "  t = %.6f s of %.6f s, real-time factor %.3g, ~%.0f s left, step %.3g s\n",
+    std::fprintf(stderr,
+                 "  t = %.6f s of %.6f s, real-time factor %.3g, ~%.0f s left, step %.3g s\n",
                  s.time(), s.endTime(), rtf, remaining, s.stepper().lastStep());
   });
   cws::writeOutputs(sim, a.out);

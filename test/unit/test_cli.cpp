@@ -7,7 +7,6 @@
 #ifdef CWS_WIRE_SIM_EXE
 
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -61,18 +60,17 @@ const char* kQuietScene =
     "    - {time: 0.0, force: [0, 0, 0], moment: [0, 0, 0]}\n";
 
 // Small wire: 0.01 m in segments of 2 mm is 5 segments, 6 nodes.
-const std::vector<std::string> kSmallRun{"--set", "wire.length=0.01", "--set",
-                                         "wire.segment_length=0.002", "--set",
-                                         "process.duration=2e-4"};
+const std::vector<std::string> kSmallRun{"--set", "wire.length=0.01",
+                                         "--set", "wire.segment_length=0.002",
+                                         "--set", "process.duration=2e-4"};
 
 class WireSimCli : public ::testing::Test {
  protected:
   void SetUp() override {
     static std::atomic<int> counter{0};
     const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("cws_test_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + "_" +
-            info->name());
+    dir_ = fs::temp_directory_path() / ("cws_test_cli_" + std::to_string(::getpid()) + "_" +
+                                        std::to_string(counter++) + "_" + info->name());
     fs::remove_all(dir_);
     ASSERT_TRUE(fs::create_directories(dir_));
     ASSERT_TRUE(fs::exists(CWS_WIRE_SIM_EXE)) << "wire_sim not found at " << CWS_WIRE_SIM_EXE;
@@ -277,9 +275,9 @@ TEST_F(WireSimCli, FailedRunAfterSuccessLeavesNoSummary) {
   const fs::path out = dir_ / "out";
   ASSERT_EQ(runSmall(out.string()).status, 0);
   ASSERT_TRUE(fs::exists(out / "summary.json"));
-  const RunResult r = runSmall(
-      out.string(), {"--set", "end.load=[{time: 0, force: [0, 1, 0]}]", "--set",
-                     "solver.min_step=1e-4", "--set", "solver.initial_step=1e-4"});
+  const RunResult r =
+      runSmall(out.string(), {"--set", "end.load=[{time: 0, force: [0, 1, 0]}]", "--set",
+                              "solver.min_step=1e-4", "--set", "solver.initial_step=1e-4"});
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_TRUE(contains(r.err, "min_step")) << r.err;
   EXPECT_FALSE(fs::exists(out / "summary.json"));

@@ -48,14 +48,16 @@ double measuredFirstPeriod(int segments, int periods) {
 TEST(Dynamics, FirstCantileverFrequencyConverges) {
   const cws::Scene s;
   const double omega1 =
-      1.8751 * 1.8751 * std::sqrt(s.wire.bend.elastic_rigidity / (s.wire.line_density * std::pow(kL, 4)));
+      1.8751 * 1.8751 *
+      std::sqrt(s.wire.bend.elastic_rigidity / (s.wire.line_density * std::pow(kL, 4)));
   double previous_error = 1.0;
   for (int segments : {5, 10, 20}) {
     const double period = measuredFirstPeriod(segments, 3);
     const double omega = 2.0 * kPi / period;
     const double error = std::abs(omega / omega1 - 1.0);
-    std::printf("vibration: %d points, omega1 %.2f rad/s, closed form %.2f rad/s, rel. error %.3e\n",
-                segments + 1, omega, omega1, error);
+    std::printf(
+        "vibration: %d points, omega1 %.2f rad/s, closed form %.2f rad/s, rel. error %.3e\n",
+        segments + 1, omega, omega1, error);
     EXPECT_LT(error, previous_error);
     previous_error = error;
   }

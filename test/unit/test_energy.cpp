@@ -62,9 +62,10 @@ TEST(Energy, BalanceHoldsInAPlasticDampedRun) {
   cws::Simulation sim(s);
   sim.run();
   const cws::EnergyReport e = sim.energy();
-  std::printf("plastic run: W %.6e J, KE %.6e J, U %.6e J, plastic %.6e J, viscous %.6e J, "
-              "rel. imbalance %.3e\n",
-              e.work_done, e.kinetic, e.elastic, e.plastic, e.viscous, relativeImbalance(e));
+  std::printf(
+      "plastic run: W %.6e J, KE %.6e J, U %.6e J, plastic %.6e J, viscous %.6e J, "
+      "rel. imbalance %.3e\n",
+      e.work_done, e.kinetic, e.elastic, e.plastic, e.viscous, relativeImbalance(e));
   EXPECT_GT(e.plastic, 0.1 * e.work_done) << "the run was meant to yield";
   EXPECT_GT(e.viscous, 0.0);
   EXPECT_LT(relativeImbalance(e), 1e-5);

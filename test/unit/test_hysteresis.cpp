@@ -37,9 +37,9 @@ struct LawCase {
 void PrintTo(const LawCase& c, std::ostream* os) { *os << c.name; }
 
 // Table 1 (elastic / plastic rigidity) and the yields of wire-data.md.
-const LawCase kStretch{"stretch", {4.89e4, 1.10e3, 8.0e-4}};   // EA [N], strain
-const LawCase kBend{"bend", {3.06e-3, 1.13e-4, 1.6}};          // EI [N m^2], 1/m
-const LawCase kTorsion{"torsion", {4.32e-3, 9.0e-5, 1.31}};    // GJ [N m^2], rad/m
+const LawCase kStretch{"stretch", {4.89e4, 1.10e3, 8.0e-4}};  // EA [N], strain
+const LawCase kBend{"bend", {3.06e-3, 1.13e-4, 1.6}};         // EI [N m^2], 1/m
+const LawCase kTorsion{"torsion", {4.32e-3, 9.0e-5, 1.31}};   // GJ [N m^2], rad/m
 
 // ---------------------------------------------------------------------------
 // Independent reference: return mapping for 1-D plasticity with linear
@@ -348,8 +348,7 @@ TEST_P(TwoLineLawTable1, PlasticStrainIsZeroStressPointOfElasticLine) {
   // Mirror: compression to -3a leaves the negated plastic strain.
   Driven d{TwoLineLaw(p)};
   for (int i = 1; i <= 20; ++i) d.go(-3.0 * a * i / 20);
-  EXPECT_NEAR(d.law.plasticStrain(d.x_u), -(3.0 * a - (k_e * a + 2.0 * k_p * a) / k_e),
-              1e-12 * a);
+  EXPECT_NEAR(d.law.plasticStrain(d.x_u), -(3.0 * a - (k_e * a + 2.0 * k_p * a) / k_e), 1e-12 * a);
 }
 
 // work(x0, x1, x_u) against numerical quadrature of stress(x, x_u), across
@@ -363,13 +362,13 @@ TEST_P(TwoLineLawTable1, WorkEqualsQuadratureOfStress) {
     double x0, x1;  // in units of a
   };
   const std::vector<Interval> intervals{
-      {-4.0, 5.0},   {5.0, -4.0},   // across both yield points
-      {-0.9, 6.3},   {6.3, -0.9},   // across the upper one only (lower at 0.7)
-      {0.2, 2.5},    {2.5, 0.2},    // across the lower one only
-      {1.1, 2.6},    {2.6, 1.1},    // inside the elastic range
-      {3.0, 7.5},    {-6.0, -1.0},  // on the upper / lower plastic line only
-      {0.7, 2.7},    {2.7, 0.7},    // exactly from yield point to yield point
-      {1.3, 1.3}};                  // empty
+      {-4.0, 5.0}, {5.0, -4.0},   // across both yield points
+      {-0.9, 6.3}, {6.3, -0.9},   // across the upper one only (lower at 0.7)
+      {0.2, 2.5},  {2.5, 0.2},    // across the lower one only
+      {1.1, 2.6},  {2.6, 1.1},    // inside the elastic range
+      {3.0, 7.5},  {-6.0, -1.0},  // on the upper / lower plastic line only
+      {0.7, 2.7},  {2.7, 0.7},    // exactly from yield point to yield point
+      {1.3, 1.3}};                // empty
   for (double x_u_in_a : {1.0, 2.7, -0.4}) {
     const double x_u = x_u_in_a * a;
     for (const Interval& iv : intervals) {
@@ -379,9 +378,9 @@ TEST_P(TwoLineLawTable1, WorkEqualsQuadratureOfStress) {
       const double w = law.work(x0, x1, x_u);
       const double q = trapezoid(law, x_u, x0, x1, n);
       const double h = std::abs(x1 - x0) / n;
-      const double tol = 2.0 * (k_e - k_p) * h * h / 8.0 +
-                         1e-12 * k_e * std::max({std::abs(x0), std::abs(x1), a}) *
-                             std::max(std::abs(x1 - x0), a);
+      const double tol =
+          2.0 * (k_e - k_p) * h * h / 8.0 +
+          1e-12 * k_e * std::max({std::abs(x0), std::abs(x1), a}) * std::max(std::abs(x1 - x0), a);
       EXPECT_NEAR(w, q, tol) << "x_u = " << x_u_in_a << " a, [" << iv.x0 << ", " << iv.x1
                              << "] a (shifted)";
       // Reversing the direction negates the work.
@@ -406,7 +405,7 @@ TEST_P(TwoLineLawTable1, ClosedCycleDissipatesParallelogramArea) {
     for (int i = 1; i <= 37; ++i) d.go(X * i / 37);
     const double w_start = d.w;
     const double s_start = d.law.stress(X, d.x_u);
-    for (int i = 1; i <= 101; ++i) d.go(X - 2.0 * X * i / 101);  // to -X
+    for (int i = 1; i <= 101; ++i) d.go(X - 2.0 * X * i / 101);   // to -X
     for (int i = 1; i <= 103; ++i) d.go(-X + 2.0 * X * i / 103);  // back to X
     EXPECT_NEAR(d.law.stress(X, d.x_u), s_start, 1e-12 * k_e * X);
     EXPECT_NEAR(d.w - w_start, 4.0 * C * (X - a), 1e-11 * k_e * X * X) << "X = " << X_in_a << " a";

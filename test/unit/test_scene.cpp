@@ -5,7 +5,6 @@
 // line density (7.02e-3 kg/m) and the yields of shared/reference/wire-data.md;
 // they are not read back from the code.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <atomic>
@@ -27,9 +26,8 @@ class SceneFiles : public ::testing::Test {
   void SetUp() override {
     static std::atomic<int> counter{0};
     const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("cws_test_scene_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) +
-            "_" + info->name());
+    dir_ = fs::temp_directory_path() / ("cws_test_scene_" + std::to_string(::getpid()) + "_" +
+                                        std::to_string(counter++) + "_" + info->name());
     fs::remove_all(dir_);
     ASSERT_TRUE(fs::create_directories(dir_));
   }
@@ -245,8 +243,8 @@ TEST_F(SceneFiles, PartialFileKeepsOtherDefaults) {
 
 // Overrides apply in order, after the file, so the last one wins.
 TEST_F(SceneFiles, OverridesApplyInOrderAndWinOverFile) {
-  const std::string path = write(
-      "s.yaml", "process:\n  tension: 50\n  turns: 3\nwire:\n  length: 0.02\n");
+  const std::string path =
+      write("s.yaml", "process:\n  tension: 50\n  turns: 3\nwire:\n  length: 0.02\n");
   const cws::Scene s = cws::loadScene(
       path, {"process.tension=60", "wire.length=0.03", "process.tension=70",
              "gravity.acceleration=[1, 2, 3]", "physics.gravity=true", "process.duration=1e-3"});
@@ -262,11 +260,10 @@ TEST_F(SceneFiles, OverridesApplyInOrderAndWinOverFile) {
 }
 
 TEST_F(SceneFiles, EndLoadListFromFile) {
-  const cws::Scene s = cws::loadScene(
-      write("s.yaml",
-            "end:\n  load:\n    - {time: 0, force: [0, 0, 1]}\n"
-            "    - {time: 0.5, moment: [0, 0.25, 0]}\n"),
-      {});
+  const cws::Scene s = cws::loadScene(write("s.yaml",
+                                            "end:\n  load:\n    - {time: 0, force: [0, 0, 1]}\n"
+                                            "    - {time: 0.5, moment: [0, 0.25, 0]}\n"),
+                                      {});
   ASSERT_EQ(s.end.load.size(), 2u);
   EXPECT_EQ(s.end.load[0].time, 0.0);
   expectVec(s.end.load[0].force_world, Eigen::Vector3d(0, 0, 1), "force0");
@@ -386,8 +383,7 @@ TEST_F(SceneFiles, RefusesOverrideOfUnknownKey) {
   expectRefused("", {"nosuch=1"}, "nosuch", "unknown key");
   expectRefused("", {"wire.stretch.yield=1"}, "wire.stretch.yield", "unknown key");
   // A later bad override is refused even after good ones.
-  expectRefused("", {"process.tension=40", "process.tensoin=41"}, "process.tensoin",
-                "unknown key");
+  expectRefused("", {"process.tension=40", "process.tensoin=41"}, "process.tensoin", "unknown key");
 }
 
 TEST_F(SceneFiles, RefusesOverrideOfWrongType) {

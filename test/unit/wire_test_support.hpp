@@ -26,8 +26,8 @@ inline cws::Scene cantilever(double length, int segments) {
 inline cws::Scene rampedStatic(cws::Scene s, const Eigen::Vector3d& force_world,
                                const Eigen::Vector3d& moment_world, double t_ramp, double t_end) {
   s.physics.damping = true;
-  s.damping.translational = 4.0;   // [N s/m^2]
-  s.damping.rotational = 1.0e-6;   // [N m s/m]
+  s.damping.translational = 4.0;  // [N s/m^2]
+  s.damping.rotational = 1.0e-6;  // [N m s/m]
   cws::LoadKeyframe a, b;
   b.time = t_ramp;
   b.force_world = force_world;

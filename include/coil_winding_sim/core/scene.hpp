@@ -34,13 +34,13 @@ struct HysteresisParams {
 };
 
 struct WireParams {
-  double diameter = 1.0e-3;        // [m]
-  double line_density = 7.02e-3;   // [kg/m] (Table 1, corrected)
-  double length = 0.05;            // initial wire length [m]
-  double segment_length = 1.0e-3;  // largest natural segment length [m]
-  HysteresisParams stretch{4.89e4, 1.10e3, 8.0e-4};     // EA [N], yield strain
-  HysteresisParams bend{3.06e-3, 1.13e-4, 1.6};         // EI [N m^2], [1/m]
-  HysteresisParams torsion{4.32e-3, 9.0e-5, 1.31};      // GJ [N m^2], [rad/m]
+  double diameter = 1.0e-3;                          // [m]
+  double line_density = 7.02e-3;                     // [kg/m] (Table 1, corrected)
+  double length = 0.05;                              // initial wire length [m]
+  double segment_length = 1.0e-3;                    // largest natural segment length [m]
+  HysteresisParams stretch{4.89e4, 1.10e3, 8.0e-4};  // EA [N], yield strain
+  HysteresisParams bend{3.06e-3, 1.13e-4, 1.6};      // EI [N m^2], [1/m]
+  HysteresisParams torsion{4.32e-3, 9.0e-5, 1.31};   // GJ [N m^2], [rad/m]
 };
 
 struct ContactParams {
@@ -57,12 +57,12 @@ struct ProcessParams {
 
 struct SolverParams {
   std::string integrator = "rkf45";
-  double rtol = 1.0e-6;           // relative tolerance [-]
-  double atol = 1.0e-11;          // absolute tolerance on positions [m]
-  double min_step = 1.0e-12;      // step floor [s]; below it the run stops
-  double max_step = 1.0e-4;       // [s]
-  double initial_step = 1.0e-7;   // [s]
-  double baumgarte_nu = 5000.0;   // constraint stabilization nu [1/s], eq. (6)
+  double rtol = 1.0e-6;          // relative tolerance [-]
+  double atol = 1.0e-11;         // absolute tolerance on positions [m]
+  double min_step = 1.0e-12;     // step floor [s]; below it the run stops
+  double max_step = 1.0e-4;      // [s]
+  double initial_step = 1.0e-7;  // [s]
+  double baumgarte_nu = 5000.0;  // constraint stabilization nu [1/s], eq. (6)
 };
 
 // Which effects a scene needs. What is off is neither computed nor allocated.
@@ -93,7 +93,7 @@ struct StartParams {
 // One keyframe of the free end's load schedule; values between keyframes are
 // interpolated linearly and held after the last one.
 struct LoadKeyframe {
-  double time = 0.0;                                   // [s]
+  double time = 0.0;                                       // [s]
   Eigen::Vector3d force_world = Eigen::Vector3d::Zero();   // [N]
   Eigen::Vector3d moment_world = Eigen::Vector3d::Zero();  // [N m]
 };

@@ -22,11 +22,11 @@
 namespace cws {
 
 struct EnergyReport {
-  double kinetic = 0.0;            // [J]
-  double elastic = 0.0;            // recoverable [J]
-  double plastic = 0.0;            // work into plastic deformation [J]
-  double viscous = 0.0;            // dissipated by damping [J]
-  double work_done = 0.0;          // by applied loads and gravity [J]
+  double kinetic = 0.0;    // [J]
+  double elastic = 0.0;    // recoverable [J]
+  double plastic = 0.0;    // work into plastic deformation [J]
+  double viscous = 0.0;    // dissipated by damping [J]
+  double work_done = 0.0;  // by applied loads and gravity [J]
   double dissipated() const { return plastic + viscous; }
   // kinetic + elastic + dissipated - work_done (0 for an exact solution).
   double imbalance() const { return kinetic + elastic + dissipated() - work_done; }

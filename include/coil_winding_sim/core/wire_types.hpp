@@ -15,13 +15,13 @@ namespace cws {
 
 // Constants of one wire, derived from the scene once.
 struct WireConstants {
-  int n = 0;                       // mass points
-  double segment_length = 0.0;     // natural length l [m]
-  double point_mass = 0.0;         // M = rho L / n [kg], eq. (1)
-  double point_inertia = 0.0;      // 2/5 M r^2 [kg m^2], eq. (2)
-  double radius = 0.0;             // r [m]
-  double line_density = 0.0;       // [kg/m]
-  double point_length = 0.0;       // wire length a point stands for, M / rho [m]
+  int n = 0;                    // mass points
+  double segment_length = 0.0;  // natural length l [m]
+  double point_mass = 0.0;      // M = rho L / n [kg], eq. (1)
+  double point_inertia = 0.0;   // 2/5 M r^2 [kg m^2], eq. (2)
+  double radius = 0.0;          // r [m]
+  double line_density = 0.0;    // [kg/m]
+  double point_length = 0.0;    // wire length a point stands for, M / rho [m]
 };
 
 // Positions, velocities, quaternions and quaternion rates of all n points
@@ -43,10 +43,10 @@ struct WireKinematics {
 // Generalized forces conjugate to p and q, plus power bookkeeping for the
 // energy balance.
 struct WireForces {
-  Eigen::Matrix3Xd f_world;  // [N]
-  Eigen::Matrix4Xd f_q;      // generalized force on quaternions [N m]
-  double power_external = 0.0;     // work rate of applied loads [W]
-  double power_dissipated = 0.0;   // viscous dissipation rate [W]
+  Eigen::Matrix3Xd f_world;       // [N]
+  Eigen::Matrix4Xd f_q;           // generalized force on quaternions [N m]
+  double power_external = 0.0;    // work rate of applied loads [W]
+  double power_dissipated = 0.0;  // viscous dissipation rate [W]
 
   void resize(int n) {
     f_world.resize(3, n);

@@ -17,9 +17,8 @@ FrameConstraints::FrameConstraints(const WireConstants& c, double nu)
       lambda_(c.n) {}
 
 void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& f,
-                                     const Eigen::Vector3d& a0_world,
-                                     const Eigen::Vector4d& qdd0, Eigen::Matrix3Xd& a_world,
-                                     Eigen::Matrix4Xd& qdd) {
+                                     const Eigen::Vector3d& a0_world, const Eigen::Vector4d& qdd0,
+                                     Eigen::Matrix3Xd& a_world, Eigen::Matrix4Xd& qdd) {
   const int n = c_.n;
   const double inv_m = 1.0 / c_.point_mass;
   const double inv_mq = 1.0 / (4.0 * c_.point_inertia);

@@ -11,8 +11,7 @@ Stretching::Stretching(const WireConstants& c, const HysteresisParams& p, bool p
 }
 
 double Stretching::strain(const WireKinematics& k, int j) const {
-  return ((k.p_world.col(j + 1) - k.p_world.col(j)).norm() - c_.segment_length) /
-         c_.segment_length;
+  return ((k.p_world.col(j + 1) - k.p_world.col(j)).norm() - c_.segment_length) / c_.segment_length;
 }
 
 double Stretching::stressOf(double x, int j) const {

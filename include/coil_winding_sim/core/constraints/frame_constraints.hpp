@@ -27,9 +27,8 @@ class FrameConstraints {
   // Accelerations of all points [m/s^2] and quaternion second derivatives
   // [1/s^2] from the generalized forces; point 0 and frame 0 follow the given
   // prescribed accelerations (the clamp).
-  void accelerations(const WireKinematics& k, const WireForces& f,
-                     const Eigen::Vector3d& a0_world, const Eigen::Vector4d& qdd0,
-                     Eigen::Matrix3Xd& a_world, Eigen::Matrix4Xd& qdd);
+  void accelerations(const WireKinematics& k, const WireForces& f, const Eigen::Vector3d& a0_world,
+                     const Eigen::Vector4d& qdd0, Eigen::Matrix3Xd& a_world, Eigen::Matrix4Xd& qdd);
 
   // Largest constraint residual over all frames [-]: |q|^2 - 1, and the
   // sines of the angles between zeta_i and segment i-1 in the xi and eta

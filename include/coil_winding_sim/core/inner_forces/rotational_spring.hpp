@@ -6,13 +6,12 @@
 //   Omega_j = (2 / lambda_j) Im(conj(q_j) q_{j+1}) = (2 / lambda_j) G(q_j) q_{j+1}
 // (lambda_j = l; lambda_0 = l / 2 at the clamp, whose joint spans half a
 // segment: the clamp fixes the tangent at the point, the first segment is the
-// chord half a segment further), whose components 0 and 1 are the two bending curvatures (about xi and eta)
-// [1/m] and component 2 the twist rate (about zeta) [rad/m]; |Omega| lambda
-// equals 2 sin(angle / 2), the paper's spring angle to second order. With it
-// a constant moment puts the points exactly on the arc of radius EI / M. Each component
-// has its own two-line law. The moment vector m reaches the quaternions as
-// generalized forces -l m . dOmega/dq, and through the rotational constraint
-// (5) the segments and their mass points (the paper's "moment divided by the
+// chord half a segment further), whose components 0 and 1 are the two bending curvatures (about xi
+// and eta) [1/m] and component 2 the twist rate (about zeta) [rad/m]; |Omega| lambda equals 2
+// sin(angle / 2), the paper's spring angle to second order. With it a constant moment puts the
+// points exactly on the arc of radius EI / M. Each component has its own two-line law. The moment
+// vector m reaches the quaternions as generalized forces -l m . dOmega/dq, and through the
+// rotational constraint (5) the segments and their mass points (the paper's "moment divided by the
 // length of the straight spring").
 #pragma once
 
