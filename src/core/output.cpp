@@ -70,7 +70,7 @@ void writeWireCsv(const Simulation& sim, std::ostream& out) {
     const PointReport r = sim.model().point(i);
     out << i << ',' << r.p_world.x() << ',' << r.p_world.y() << ',' << r.p_world.z() << ','
         << r.axial_force_N << ',' << r.curvature_1pm << ',' << r.plastic_curvature_1pm << ','
-        << r.twist_rad_per_m << ",0,0\n";
+        << r.twist_rad_per_m << ',' << int(r.in_contact) << ',' << int(r.stick) << '\n';
   }
 }
 

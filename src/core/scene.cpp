@@ -50,6 +50,26 @@ YAML::Node toYaml(const Scene& s) {
 
   root["contact"]["static_friction"] = num(s.contact.static_friction);
   root["contact"]["kinetic_friction"] = num(s.contact.kinetic_friction);
+  root["contact"]["stiffness"] = num(s.contact.stiffness);
+  root["contact"]["stick_stiffness"] = num(s.contact.stick_stiffness);
+  root["contact"]["stick_speed"] = num(s.contact.stick_speed);
+
+  root["core"]["position"] = vec3(s.core.position_world);
+  root["core"]["axis"] = vec3(s.core.axis_world);
+  root["core"]["start_at_speed"] = s.core.start_at_speed;
+  root["core"]["max_angular_acceleration"] = num(s.core.max_angular_acceleration);
+  YAML::Node cyl(YAML::NodeType::Sequence);
+  for (const CylinderParams& c : s.core.cylinders) {
+    YAML::Node cn;
+    YAML::Node center(YAML::NodeType::Sequence);
+    center.SetStyle(YAML::EmitterStyle::Flow);
+    center.push_back(num(c.center_core.x()));
+    center.push_back(num(c.center_core.y()));
+    cn["center"] = center;
+    cn["radius"] = num(c.radius);
+    cyl.push_back(cn);
+  }
+  root["core"]["cylinders"] = cyl;
 
   root["process"]["core_speed_rpm"] = num(s.process.core_speed_rpm);
   root["process"]["tension"] = num(s.process.tension);
@@ -72,6 +92,8 @@ YAML::Node toYaml(const Scene& s) {
   root["physics"]["plasticity"] = s.physics.plasticity;
   root["physics"]["gravity"] = s.physics.gravity;
   root["physics"]["damping"] = s.physics.damping;
+  root["physics"]["contact"] = s.physics.contact;
+  root["physics"]["friction"] = s.physics.friction;
 
   root["gravity"]["acceleration"] = vec3(s.gravity.acceleration_world);
   root["damping"]["translational"] = num(s.damping.translational);
@@ -175,6 +197,42 @@ Scene fromYaml(const YAML::Node& r) {
       readDouble(r["contact"]["static_friction"], "contact.static_friction");
   s.contact.kinetic_friction =
       readDouble(r["contact"]["kinetic_friction"], "contact.kinetic_friction");
+  s.contact.stiffness = readDouble(r["contact"]["stiffness"], "contact.stiffness");
+  s.contact.stick_stiffness =
+      readDouble(r["contact"]["stick_stiffness"], "contact.stick_stiffness");
+  s.contact.stick_speed = readDouble(r["contact"]["stick_speed"], "contact.stick_speed");
+
+  const YAML::Node core = r["core"];
+  s.core.position_world = readVec3(core["position"], "core.position");
+  s.core.axis_world = readVec3(core["axis"], "core.axis");
+  s.core.start_at_speed = readBool(core["start_at_speed"], "core.start_at_speed");
+  s.core.max_angular_acceleration =
+      readDouble(core["max_angular_acceleration"], "core.max_angular_acceleration");
+  const YAML::Node cyl = core["cylinders"];
+  if (!cyl.IsSequence()) {
+    throw SceneError("core.cylinders", "expected a list of {center, radius}, got " + describe(cyl));
+  }
+  for (std::size_t i = 0; i < cyl.size(); ++i) {
+    const std::string key = "core.cylinders[" + std::to_string(i) + "]";
+    const YAML::Node c = cyl[i];
+    if (!c.IsMap()) throw SceneError(key, "expected a map {center, radius}");
+    for (const auto& kv : c) {
+      const std::string name = kv.first.Scalar();
+      if (name != "center" && name != "radius") {
+        throw SceneError(key + "." + name, "unknown key (allowed: center, radius)");
+      }
+    }
+    CylinderParams cp;
+    const YAML::Node center = c["center"];
+    if (!center.IsSequence() || center.size() != 2) {
+      throw SceneError(key + ".center", "expected a list of two numbers [x, y], got " +
+                                            describe(center));
+    }
+    cp.center_core = {readDouble(center[0], key + ".center[0]"),
+                      readDouble(center[1], key + ".center[1]")};
+    if (c["radius"]) cp.radius = readDouble(c["radius"], key + ".radius");
+    s.core.cylinders.push_back(cp);
+  }
 
   const YAML::Node p = r["process"];
   s.process.core_speed_rpm = readDouble(p["core_speed_rpm"], "process.core_speed_rpm");
@@ -196,6 +254,8 @@ Scene fromYaml(const YAML::Node& r) {
   s.physics.plasticity = readBool(ph["plasticity"], "physics.plasticity");
   s.physics.gravity = readBool(ph["gravity"], "physics.gravity");
   s.physics.damping = readBool(ph["damping"], "physics.damping");
+  s.physics.contact = readBool(ph["contact"], "physics.contact");
+  s.physics.friction = readBool(ph["friction"], "physics.friction");
 
   s.gravity.acceleration_world = readVec3(r["gravity"]["acceleration"], "gravity.acceleration");
   s.damping.translational = readDouble(r["damping"]["translational"], "damping.translational");
@@ -337,6 +397,37 @@ void validateScene(const Scene& s) {
     throw SceneError("contact.kinetic_friction", "kinetic friction is above static friction");
   }
 
+  requirePositive(s.contact.stiffness, "contact.stiffness");
+  requirePositive(s.contact.stick_stiffness, "contact.stick_stiffness");
+  requirePositive(s.contact.stick_speed, "contact.stick_speed");
+
+  if (!(s.core.axis_world.norm() > 1e-12)) {
+    throw SceneError("core.axis", "must not be the zero vector");
+  }
+  requirePositive(s.core.max_angular_acceleration, "core.max_angular_acceleration");
+  for (std::size_t i = 0; i < s.core.cylinders.size(); ++i) {
+    requirePositive(s.core.cylinders[i].radius,
+                    "core.cylinders[" + std::to_string(i) + "].radius");
+  }
+  if (s.physics.contact && s.core.cylinders.empty()) {
+    throw SceneError("core.cylinders", "physics.contact needs at least one cylinder");
+  }
+  if (s.physics.friction && !s.physics.contact) {
+    throw SceneError("physics.friction", "friction needs physics.contact");
+  }
+  if (s.physics.contact) {
+    // No tunnelling: a segment must not pass a cylinder between two contact
+    // checks of its points; the stated bound is l <= the smallest radius.
+    for (std::size_t i = 0; i < s.core.cylinders.size(); ++i) {
+      if (s.naturalSegmentLength() > s.core.cylinders[i].radius) {
+        throw SceneError("wire.segment_length",
+                         "segments longer than the radius of core.cylinders[" +
+                             std::to_string(i) + "] could pass through it; use at most " +
+                             std::to_string(s.core.cylinders[i].radius) + " m");
+      }
+    }
+  }
+
   requireNonNegative(s.process.tension, "process.tension");
   requireNonNegative(s.process.turns, "process.turns");
   if (s.process.duration) {
@@ -371,8 +462,9 @@ void validateScene(const Scene& s) {
   if (s.start.type != "clamped") {
     throw SceneError("start.type", "unknown type '" + s.start.type + "' (available: clamped)");
   }
-  if (s.start.frame != "world") {
-    throw SceneError("start.frame", "unknown frame '" + s.start.frame + "' (available: world)");
+  if (s.start.frame != "world" && s.start.frame != "core") {
+    throw SceneError("start.frame",
+                     "unknown frame '" + s.start.frame + "' (available: world, core)");
   }
   if (!(s.start.direction.norm() > 1e-12)) {
     throw SceneError("start.direction", "must not be the zero vector");

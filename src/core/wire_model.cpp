@@ -1,5 +1,6 @@
 #include "coil_winding_sim/core/wire_model.hpp"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
 
@@ -25,7 +26,16 @@ WireConstants constantsOf(const Scene& s) {
 }
 }  // namespace
 
-WireModel::WireModel(const Scene& s) : c_(constantsOf(s)), constraints_(c_, s.solver.baumgarte_nu) {
+WireModel::WireModel(const Scene& s)
+    : c_(constantsOf(s)),
+      clamp_in_core_(s.start.frame == "core"),
+      constraints_(c_, s.solver.baumgarte_nu) {
+  // The core exists only for scenes that touch it or hold the wire on it.
+  if (s.physics.contact || clamp_in_core_) {
+    const double omega_cmd = s.process.core_speed_rpm * 2.0 * M_PI / 60.0;
+    core_ = std::make_unique<RotatingCore>(s.core, s.core.start_at_speed ? omega_cmd : 0.0,
+                                           omega_cmd);
+  }
   const bool plastic = s.physics.plasticity;
   stretching_ = std::make_unique<Stretching>(c_, s.wire.stretch, plastic);
   bending_ = std::make_unique<Bending>(c_, s.wire.bend, plastic);
@@ -38,18 +48,27 @@ WireModel::WireModel(const Scene& s) : c_(constantsOf(s)), constraints_(c_, s.so
     external_.push_back(std::make_unique<Gravity>(c_, s.gravity.acceleration_world));
   }
   if (s.physics.damping) external_.push_back(std::make_unique<Damping>(c_, s.damping));
+  if (s.physics.contact) {
+    auto contact = std::make_unique<Contact>(c_, s, *core_);
+    contact_ = contact.get();
+    external_.push_back(std::move(contact));
+  }
   external_.push_back(std::make_unique<EndLoad>(c_, s.end.load));
   for (auto& e : external_) all_.push_back(e.get());
 
-  // Straight wire along the clamp direction, all frames equal to the clamp's.
+  // Straight wire along the clamp direction, all frames equal to the clamp's,
+  // at rest (a clamp on a turning core starts the wire with its motion).
   const int m = c_.n - 1;
-  const Eigen::Vector3d dir = s.start.direction.normalized();
-  p0_world_ = s.start.position;
-  q0_ = quat::fromZetaDirection(dir);
+  p0_ = s.start.position;
+  q0_ = quat::fromZetaDirection(s.start.direction);
+  Eigen::Vector3d p0_world, v0_world, a0_world;
+  Eigen::Vector4d q0_world;
+  clamp(0.0, p0_world, v0_world, a0_world, q0_world);
+  const Eigen::Vector3d dir = quat::zeta(q0_world);
   y0_.setZero(14 * m + 2);
   for (int i = 1; i < c_.n; ++i) {
-    y0_.segment<3>(3 * (i - 1)) = p0_world_ + i * c_.segment_length * dir;
-    y0_.segment<4>(3 * m + 4 * (i - 1)) = q0_;
+    y0_.segment<3>(3 * (i - 1)) = p0_world + i * c_.segment_length * dir;
+    y0_.segment<4>(3 * m + 4 * (i - 1)) = q0_world;
   }
 
   // Tolerances: positions atol [m]; quaternions atol / l (the same
@@ -74,13 +93,33 @@ WireModel::WireModel(const Scene& s) : c_(constantsOf(s)), constraints_(c_, s.so
   unpack(0.0, y0_, committed_);
 }
 
-void WireModel::unpack(double, const Eigen::VectorXd& y, WireKinematics& k) const {
+void WireModel::clamp(double t, Eigen::Vector3d& p0_world, Eigen::Vector3d& v0_world,
+                      Eigen::Vector3d& a0_world, Eigen::Vector4d& q0) const {
+  if (!clamp_in_core_) {
+    p0_world = p0_;
+    v0_world.setZero();
+    a0_world.setZero();
+    q0 = q0_;
+    return;
+  }
+  // Held on the turning core: the clamp moves with the core material.
+  p0_world = core_->pointWorld(t, p0_);
+  v0_world = core_->velocityWorld(t, p0_world);
+  a0_world = core_->accelerationWorld(t, p0_world);
+  const Eigen::Quaterniond qc(q0_[0], q0_[1], q0_[2], q0_[3]);
+  const Eigen::Quaterniond qw = core_->quaternionWorldCore(t) * qc;
+  q0 = {qw.w(), qw.x(), qw.y(), qw.z()};
+}
+
+void WireModel::unpack(double t, const Eigen::VectorXd& y, WireKinematics& k) const {
   const int m = c_.n - 1;
-  // The clamp holds point 0 and frame 0 still (world frame).
-  k.p_world.col(0) = p0_world_;
-  k.v_world.col(0).setZero();
-  k.q.col(0) = q0_;
-  k.qd.col(0).setZero();
+  Eigen::Vector3d p0, v0, a0;
+  Eigen::Vector4d q0;
+  clamp(t, p0, v0, a0, q0);
+  k.p_world.col(0) = p0;
+  k.v_world.col(0) = v0;
+  k.q.col(0) = q0;
+  k.qd.col(0).setZero();  // frame 0 enters only the joint-0 spring, by position
   k.p_world.rightCols(m) = Eigen::Map<const Eigen::Matrix3Xd>(y.data(), 3, m);
   k.q.rightCols(m) = Eigen::Map<const Eigen::Matrix4Xd>(y.data() + 3 * m, 4, m);
   k.v_world.rightCols(m) = Eigen::Map<const Eigen::Matrix3Xd>(y.data() + 7 * m, 3, m);
@@ -103,7 +142,8 @@ void WireModel::derivative(double t, const Eigen::VectorXd& y, Eigen::VectorXd& 
 
 void WireModel::acceptStep(double t, const Eigen::VectorXd& y) {
   unpack(t, y, committed_);
-  for (ForceEffect* e : all_) e->commit(committed_);
+  for (ForceEffect* e : all_) e->commit(t, committed_);
+  if (core_) core_->commit(t);
 }
 
 EnergyReport WireModel::energy(const Eigen::VectorXd& y) const {
@@ -130,6 +170,10 @@ PointReport WireModel::point(int i) const {
   const WireKinematics& k = committed_;
   r.p_world = k.p_world.col(i);
   r.axial_force_N = axialForce(i == 0 ? 0 : i - 1);
+  if (contact_) {
+    r.in_contact = contact_->inContact(i);
+    r.stick = contact_->stuck(i);
+  }
   if (i + 1 < c_.n) {
     const Eigen::Vector3d omega = bending_->darboux(k, i);
     r.curvature_1pm = omega.head<2>().norm();

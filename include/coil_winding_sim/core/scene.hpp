@@ -46,6 +46,25 @@ struct WireParams {
 struct ContactParams {
   double static_friction = 0.23;   // mu_s [-]
   double kinetic_friction = 0.17;  // mu_d [-]
+  double stiffness = 2.0e6;        // virtual spring k_j per mass point [N/m], eq. (18)
+  double stick_stiffness = 2.0e6;  // tangential spring holding a stuck point [N/m]
+  double stick_speed = 1.0e-3;     // slip returns to stick below this speed [m/s]
+};
+
+// One cylinder of the core, parallel to the core axis.
+struct CylinderParams {
+  Eigen::Vector2d center_core{0.0, 0.0};  // axis position in the core's xy plane [m]
+  double radius = 2.5e-3;                 // [m]
+};
+
+// The rigid core: turns about its z axis, which passes through `position`
+// along `axis` (world frame).
+struct CoreParams {
+  Eigen::Vector3d position_world{0.0, 0.0, 0.0};  // [m]
+  Eigen::Vector3d axis_world{0.0, 0.0, 1.0};      // [-], normalized on use
+  bool start_at_speed = true;  // true: turning at process.core_speed_rpm from t = 0
+  double max_angular_acceleration = 2.0e4;        // speed changes follow this [rad/s^2]
+  std::vector<CylinderParams> cylinders;
 };
 
 struct ProcessParams {
@@ -71,6 +90,8 @@ struct PhysicsSwitches {
   bool plasticity = true;
   bool gravity = false;
   bool damping = false;
+  bool contact = false;   // virtual springs on the core's cylinders (needs core.cylinders)
+  bool friction = false;  // static/kinetic friction on contact (needs contact)
 };
 
 struct GravityParams {
@@ -110,6 +131,7 @@ struct OutputParams {
 struct Scene {
   WireParams wire;
   ContactParams contact;
+  CoreParams core;
   ProcessParams process;
   SolverParams solver;
   PhysicsSwitches physics;

@@ -15,6 +15,8 @@
 #include "coil_winding_sim/core/inner_forces/bending.hpp"
 #include "coil_winding_sim/core/inner_forces/stretching.hpp"
 #include "coil_winding_sim/core/inner_forces/twisting.hpp"
+#include "coil_winding_sim/core/external_forces/contact.hpp"
+#include "coil_winding_sim/core/rotating_core.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/time_steppers/ode_system.hpp"
 #include "coil_winding_sim/core/wire_types.hpp"
@@ -39,6 +41,8 @@ struct PointReport {
   double curvature_1pm = 0.0;          // |bending curvature| at joint i
   double plastic_curvature_1pm = 0.0;  // |permanent bending curvature| at joint i
   double twist_rad_per_m = 0.0;        // twist rate at joint i
+  bool in_contact = false;             // touching a core cylinder
+  bool stick = false;                  // held by static friction
 };
 
 class WireModel : public OdeSystem {
@@ -73,11 +77,22 @@ class WireModel : public OdeSystem {
   const Stretching& stretching() const { return *stretching_; }
   const Bending& bending() const { return *bending_; }
   const Twisting* twisting() const { return twisting_.get(); }
+  // Null when the scene needs no core (no contact, clamp in the world frame).
+  const RotatingCore* core() const { return core_.get(); }
+  RotatingCore* core() { return core_.get(); }
+  const Contact* contact() const { return contact_; }
 
  private:
+  // Clamp state of point 0 and frame 0 at time t (world frame).
+  void clamp(double t, Eigen::Vector3d& p0_world, Eigen::Vector3d& v0_world,
+             Eigen::Vector3d& a0_world, Eigen::Vector4d& q0) const;
+
   WireConstants c_;
-  Eigen::Vector3d p0_world_;
-  Eigen::Vector4d q0_;
+  bool clamp_in_core_;
+  Eigen::Vector3d p0_;     // clamp position, world or core frame [m]
+  Eigen::Vector4d q0_;     // clamp orientation, world or core frame
+  std::unique_ptr<RotatingCore> core_;
+  const Contact* contact_ = nullptr;
   std::unique_ptr<Stretching> stretching_;
   std::unique_ptr<Bending> bending_;
   std::unique_ptr<Twisting> twisting_;  // null when physics.torsion is off

@@ -69,8 +69,8 @@ class ForceEffect {
   // Adds this effect's generalized forces at time t [s]. Must not allocate
   // and must not change history state (it runs for trial stages too).
   virtual void addForces(double t, const WireKinematics& k, WireForces& f) const = 0;
-  // Commits history state (yield points) after an accepted step.
-  virtual void commit(const WireKinematics& /*k*/) {}
+  // Commits history state (yield points, stick) after an accepted step at t [s].
+  virtual void commit(double /*t*/, const WireKinematics& /*k*/) {}
   // Appends the history state (yield points and the work bookkeeping) to
   // `out`; nothing for an effect without history. For snapshots and tests.
   virtual void appendHistory(std::vector<double>& /*out*/) const {}

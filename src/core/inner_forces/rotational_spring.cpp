@@ -47,7 +47,7 @@ void RotationalSpring::addForces(double, const WireKinematics& k, WireForces& f)
   }
 }
 
-void RotationalSpring::commit(const WireKinematics& k) {
+void RotationalSpring::commit(double, const WireKinematics& k) {
   if (!plastic_) return;
   for (int j = 0; j + 1 < c_.n; ++j) {
     const Eigen::Vector3d omega = darboux(k, j);

@@ -39,7 +39,7 @@ void Stretching::addForces(double, const WireKinematics& k, WireForces& f) const
   }
 }
 
-void Stretching::commit(const WireKinematics& k) {
+void Stretching::commit(double, const WireKinematics& k) {
   if (!plastic_) return;
   for (int j = 0; j + 1 < c_.n; ++j) {
     const double x = strain(k, j);

@@ -15,7 +15,7 @@ class Stretching : public ForceEffect {
 
   const char* name() const override { return "stretching"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
-  void commit(const WireKinematics& k) override;
+  void commit(double t, const WireKinematics& k) override;
   void appendHistory(std::vector<double>& out) const override;
   double elasticEnergy(const WireKinematics& k) const override;
   double plasticWork(const WireKinematics& k) const override;

@@ -1,0 +1,69 @@
+// Contact of the wire's mass points with the core's cylinders: virtual
+// springs on the surfaces and static/kinetic friction against the moving
+// surface, eqs. (16)-(20).
+//
+// Penetration h is measured from the wire's surface: h = R + r - distance of
+// the point from the cylinder axis; the normal force is k h n (eq. 18).
+// Friction (when switched on) uses the relative velocity to the surface,
+// v_h = tangential part of (v - u_j) (eqs. 16-17). Stick is represented by an
+// anchor: a stuck point is tied to a material point of the core (stored in
+// the core frame) by a stiff tangential spring; the point stays stuck while
+// that spring's force is within mu_s N (eqs. 19-20: the point does not move
+// along the surface). When it exceeds mu_s N the point slips and feels
+// mu_d N against v_h (eq. 18). A slipping point sticks again, with a new
+// anchor where it is, once |v_h| falls below contact.stick_speed. Stick and
+// slip change only on accepted steps; within a step the trial state follows
+// the committed one (the paper's "the calculation is redone").
+#pragma once
+
+#include <vector>
+
+#include "coil_winding_sim/core/rotating_core.hpp"
+#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/wire_types.hpp"
+
+namespace cws {
+
+class Contact : public ForceEffect {
+ public:
+  Contact(const WireConstants& c, const Scene& s, const RotatingCore& core);
+
+  const char* name() const override { return "contact"; }
+  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
+  void commit(double t, const WireKinematics& k) override;
+  void appendHistory(std::vector<double>& out) const override;
+  // Energy in the normal springs at the last commit [J].
+  double elasticEnergy(const WireKinematics& k) const override;
+
+  // At the last commit: is point i touching a cylinder, is it stuck.
+  bool inContact(int i) const { return cylinder_[i] >= 0; }
+  bool stuck(int i) const { return friction_ && stuck_[i] != 0; }
+  // Deepest penetration over all points at the last commit [m].
+  double maxPenetration() const { return max_penetration_; }
+
+ private:
+  // Deepest cylinder touching point p at time t: its index (-1 if none), the
+  // penetration [m] and the outward normal.
+  int touch(double t, const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n_world) const;
+  // Tangential friction force on point i [N] given the committed stick state;
+  // sets `slipping` when the stick spring would exceed mu_s N.
+  Eigen::Vector3d friction(int i, double t, const Eigen::Vector3d& p_world,
+                           const Eigen::Vector3d& vh_world, const Eigen::Vector3d& n_world,
+                           double normal_force, bool& slipping) const;
+
+  WireConstants c_;
+  ContactParams p_;
+  const RotatingCore& core_;
+  std::vector<Eigen::Vector3d> centers_core_;
+  std::vector<double> radii_;
+  bool friction_;
+  // Per point, committed: cylinder in contact (-1: none); with friction the
+  // stick flag and the anchor in the core frame.
+  std::vector<int> cylinder_;
+  std::vector<char> stuck_;
+  std::vector<Eigen::Vector3d> anchor_core_;
+  double max_penetration_ = 0.0;
+  double elastic_committed_ = 0.0;
+};
+
+}  // namespace cws

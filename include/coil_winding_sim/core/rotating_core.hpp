@@ -1,0 +1,57 @@
+// The rigid core: turns about its axis at the commanded angular velocity,
+// changing speed at most at max_angular_acceleration.
+//
+// Between commits the motion is an explicit function of time (constant
+// acceleration up to the command, then constant speed), so trial stages of a
+// step evaluate it without changing it; commit() moves the reference to an
+// accepted time.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "coil_winding_sim/core/scene.hpp"
+
+namespace cws {
+
+class RotatingCore {
+ public:
+  // omega_* in [rad/s], positive counter-clockwise about the axis.
+  RotatingCore(const CoreParams& p, double omega_initial, double omega_command);
+
+  // New commanded speed [rad/s], effective from the last committed time.
+  void setCommand(double omega_command) { omega_cmd_ = omega_command; }
+  double command() const { return omega_cmd_; }
+
+  double omega(double t) const;  // [rad/s]
+  double angle(double t) const;  // [rad], 0 at t = 0
+  double angularAcceleration(double t) const;  // [rad/s^2]
+  // Moves the reference state to time t (an accepted step).
+  void commit(double t);
+
+  // Rotation of the core frame in the world frame at time t.
+  Eigen::Matrix3d rotationWorldCore(double t) const;
+  // The same as a quaternion, continuous in t (no sign jumps), so that frames
+  // carried by the core stay in one hemisphere with the wire's frames.
+  Eigen::Quaterniond quaternionWorldCore(double t) const;
+  Eigen::Vector3d pointWorld(double t, const Eigen::Vector3d& p_core) const;
+  Eigen::Vector3d pointCore(double t, const Eigen::Vector3d& p_world) const;
+  // Velocity [m/s] of the core material at the world point p_world.
+  Eigen::Vector3d velocityWorld(double t, const Eigen::Vector3d& p_world) const;
+  // Acceleration [m/s^2] of the core material at the world point p_world.
+  Eigen::Vector3d accelerationWorld(double t, const Eigen::Vector3d& p_world) const;
+
+  const Eigen::Vector3d& axisWorld() const { return axis_world_; }
+  const Eigen::Vector3d& originWorld() const { return origin_world_; }
+
+ private:
+  Eigen::Vector3d origin_world_, axis_world_;
+  Eigen::Matrix3d rot_world_core0_;  // the core frame at angle 0
+  Eigen::Quaterniond q_world_core0_;
+  double alpha_max_;
+  double omega_cmd_;
+  // Reference state at the last commit.
+  double t0_ = 0.0, angle0_ = 0.0, omega0_ = 0.0;
+};
+
+}  // namespace cws

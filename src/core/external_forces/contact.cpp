@@ -1,0 +1,124 @@
+#include "coil_winding_sim/core/external_forces/contact.hpp"
+
+#include <cmath>
+
+namespace cws {
+
+Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& core)
+    : c_(c), p_(s.contact), core_(core), friction_(s.physics.friction) {
+  for (const CylinderParams& cyl : s.core.cylinders) {
+    centers_core_.emplace_back(cyl.center_core.x(), cyl.center_core.y(), 0.0);
+    radii_.push_back(cyl.radius);
+  }
+  cylinder_.assign(c_.n, -1);
+  if (friction_) {
+    stuck_.assign(c_.n, 0);
+    anchor_core_.assign(c_.n, Eigen::Vector3d::Zero());
+  }
+}
+
+int Contact::touch(double t, const Eigen::Vector3d& p_world, double& h,
+                   Eigen::Vector3d& n_world) const {
+  int best = -1;
+  h = 0.0;
+  const Eigen::Vector3d& a = core_.axisWorld();
+  for (std::size_t j = 0; j < radii_.size(); ++j) {
+    const Eigen::Vector3d d = p_world - core_.pointWorld(t, centers_core_[j]);
+    const Eigen::Vector3d d_perp = d - d.dot(a) * a;
+    const double dist = d_perp.norm();
+    const double depth = radii_[j] + c_.radius - dist;
+    if (depth > h && dist > 0.0) {
+      h = depth;
+      n_world = d_perp / dist;
+      best = static_cast<int>(j);
+    }
+  }
+  return best;
+}
+
+Eigen::Vector3d Contact::friction(int i, double t, const Eigen::Vector3d& p_world,
+                                  const Eigen::Vector3d& vh_world, const Eigen::Vector3d& n_world,
+                                  double normal_force, bool& slipping) const {
+  slipping = true;
+  if (stuck_[i]) {
+    // Stick: a tangential spring to the anchor, within the static limit.
+    const Eigen::Vector3d delta = p_world - core_.pointWorld(t, anchor_core_[i]);
+    const Eigen::Vector3d f_t = -p_.stick_stiffness * (delta - delta.dot(n_world) * n_world);
+    if (f_t.norm() <= p_.static_friction * normal_force) {
+      slipping = false;
+      return f_t;
+    }
+  }
+  // Slip: kinetic friction against the relative tangential velocity.
+  const double speed = vh_world.norm();
+  if (speed == 0.0) return Eigen::Vector3d::Zero();
+  return (-p_.kinetic_friction * normal_force / speed) * vh_world;
+}
+
+void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const {
+  for (int i = 1; i < c_.n; ++i) {
+    const Eigen::Vector3d p = k.p_world.col(i);
+    double h;
+    Eigen::Vector3d n;
+    if (touch(t, p, h, n) < 0) continue;
+    const double normal = p_.stiffness * h;
+    Eigen::Vector3d f_c = normal * n;
+    const Eigen::Vector3d u = core_.velocityWorld(t, p);
+    if (friction_) {
+      const Eigen::Vector3d v_rel = k.v_world.col(i) - u;
+      const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
+      bool slipping;
+      const Eigen::Vector3d f_t = friction(i, t, p, vh, n, normal, slipping);
+      f_c += f_t;
+      // Friction power, counted as dissipated (also what a stick spring holds).
+      f.power_dissipated -= f_t.dot(vh);
+    }
+    f.f_world.col(i) += f_c;
+    // The moving surface does work on the wire.
+    f.power_external += f_c.dot(u);
+  }
+}
+
+void Contact::commit(double t, const WireKinematics& k) {
+  max_penetration_ = 0.0;
+  elastic_committed_ = 0.0;
+  for (int i = 1; i < c_.n; ++i) {
+    const Eigen::Vector3d p = k.p_world.col(i);
+    double h;
+    Eigen::Vector3d n;
+    const int cyl = touch(t, p, h, n);
+    const bool changed_cylinder = cyl != cylinder_[i];
+    cylinder_[i] = cyl;
+    if (cyl >= 0) {
+      max_penetration_ = std::max(max_penetration_, h);
+      elastic_committed_ += 0.5 * p_.stiffness * h * h;
+    }
+    if (!friction_) continue;
+    if (cyl < 0 || changed_cylinder) stuck_[i] = 0;
+    if (cyl < 0) continue;
+    const Eigen::Vector3d v_rel = k.v_world.col(i) - core_.velocityWorld(t, p);
+    const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
+    bool slipping;
+    friction(i, t, p, vh, n, p_.stiffness * h, slipping);
+    if (stuck_[i] && slipping) {
+      stuck_[i] = 0;  // the static limit was exceeded
+    } else if (!stuck_[i] && vh.norm() < p_.stick_speed) {
+      stuck_[i] = 1;  // slow enough: stick where it is
+      anchor_core_[i] = core_.pointCore(t, p);
+    }
+  }
+}
+
+void Contact::appendHistory(std::vector<double>& out) const {
+  for (int i = 0; i < c_.n; ++i) {
+    out.push_back(cylinder_[i]);
+    if (friction_) {
+      out.push_back(stuck_[i]);
+      out.insert(out.end(), anchor_core_[i].data(), anchor_core_[i].data() + 3);
+    }
+  }
+}
+
+double Contact::elasticEnergy(const WireKinematics&) const { return elastic_committed_; }
+
+}  // namespace cws

@@ -1,0 +1,124 @@
+// The rotating core's kinematics and frictionless contact, against closed
+// forms: constant-acceleration ramps, rigid-body velocities, and the tip
+// reaction of a propped cantilever (Euler-Bernoulli superposition).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "wire_test_support.hpp"
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+TEST(RotatingCore, SpeedRampFollowsTheAccelerationLimit) {
+  cws::CoreParams p;
+  p.max_angular_acceleration = 100.0;  // [rad/s^2]
+  cws::RotatingCore core(p, 0.0, 50.0);
+  // Ramp for 0.5 s, then constant speed: angle = a t^2 / 2, then w (t - 0.25).
+  EXPECT_NEAR(core.omega(0.2), 20.0, 1e-12);
+  EXPECT_NEAR(core.angle(0.2), 0.5 * 100.0 * 0.04, 1e-12);
+  EXPECT_NEAR(core.omega(1.0), 50.0, 1e-12);
+  EXPECT_NEAR(core.angle(1.0), 50.0 * (1.0 - 0.25), 1e-12);
+  EXPECT_EQ(core.angularAcceleration(0.3), 100.0);
+  EXPECT_EQ(core.angularAcceleration(0.6), 0.0);
+  // A commit mid-ramp and a new, lower command: decelerate from there.
+  core.commit(0.2);
+  core.setCommand(-10.0);  // 30 rad/s below: 0.3 s at -100 rad/s^2
+  EXPECT_NEAR(core.omega(0.4), 0.0, 1e-12);
+  EXPECT_NEAR(core.omega(0.6), -10.0, 1e-12);
+  const double angle_at_05 = 2.0 + 20.0 * 0.3 - 0.5 * 100.0 * 0.09;
+  EXPECT_NEAR(core.angle(0.5), angle_at_05, 1e-12);
+  EXPECT_NEAR(core.angle(0.7), angle_at_05 - 10.0 * 0.2, 1e-12);
+}
+
+TEST(RotatingCore, MaterialPointsMoveRigidly) {
+  cws::CoreParams p;
+  p.position_world = {0.01, -0.02, 0.03};
+  p.axis_world = {0.0, 0.0, 2.0};
+  cws::RotatingCore core(p, 2.0 * kPi * 10.0, 2.0 * kPi * 10.0);  // 600 rpm
+  const Eigen::Vector3d p_core(0.004, 0.003, 0.001);
+  // A quarter turn takes 25 ms; the radius stays 5 mm and z is kept.
+  const Eigen::Vector3d a = core.pointWorld(0.0, p_core) - p.position_world;
+  const Eigen::Vector3d b = core.pointWorld(0.025, p_core) - p.position_world;
+  EXPECT_NEAR(a.head<2>().norm(), 0.005, 1e-15);
+  EXPECT_NEAR(a.head<2>().dot(b.head<2>()), 0.0, 1e-15);
+  EXPECT_NEAR(a.head<2>().x() * b.head<2>().y() - a.head<2>().y() * b.head<2>().x(), 2.5e-5,
+              1e-15);  // counter-clockwise
+  EXPECT_NEAR(a.z(), b.z(), 1e-15);
+  // Velocity by finite difference of the motion.
+  const double t = 0.013, dt = 1e-7;
+  const Eigen::Vector3d x = core.pointWorld(t, p_core);
+  const Eigen::Vector3d fd = (core.pointWorld(t + dt, p_core) - core.pointWorld(t - dt, p_core)) / (2 * dt);
+  EXPECT_LT((core.velocityWorld(t, x) - fd).norm(), 1e-8);
+  EXPECT_LT((core.pointCore(t, x) - p_core).norm(), 1e-15);
+  // Quaternion and matrix agree.
+  EXPECT_LT((core.quaternionWorldCore(t).toRotationMatrix() - core.rotationWorldCore(t)).norm(),
+            1e-14);
+}
+
+TEST(Contact, ProppedCantileverTipReaction) {
+  // A horizontal wire clamped at the origin along +x, sagging in gravity, its
+  // tip resting on a still cylinder whose top is at the clamp's height. Beam
+  // theory: a load P at distance a from the clamp of a cantilever propped at
+  // its tip L gives the prop reaction P a^2 (3L - a) / (2 L^3); summed over
+  // the point weights M g (eq. 1 masses).
+  const double length = 0.1, radius = 0.01;
+  const int segments = 10;
+  cws::Scene s = cws_test::cantilever(length, segments);
+  s.physics.gravity = true;
+  s.physics.plasticity = false;
+  s.physics.contact = true;
+  s.physics.damping = true;
+  s.damping.translational = 4.0;
+  s.damping.rotational = 1e-6;
+  s.process.core_speed_rpm = 0.0;
+  s.process.duration = 0.08;
+  const double r_wire = 0.5 * s.wire.diameter;
+  s.core.position_world = {length, 0.0, -(radius + r_wire)};
+  s.core.axis_world = {0.0, 1.0, 0.0};
+  s.core.cylinders = {cws::CylinderParams{{0.0, 0.0}, radius}};
+  cws::Simulation sim(s);
+  sim.run();
+
+  const double m_point = s.wire.line_density * length / (segments + 1);
+  double expected = 0.0;
+  for (int i = 1; i <= segments; ++i) {
+    const double a = i * length / segments;
+    expected += m_point * 9.81 * a * a * (3 * length - a) / (2 * std::pow(length, 3));
+  }
+  // The reaction from the tip's penetration, measured from the geometry.
+  const Eigen::Vector3d tip = cws_test::tipPosition(sim);
+  const Eigen::Vector3d d = tip - s.core.position_world;
+  const double h = radius + r_wire - Eigen::Vector2d(d.x(), d.z()).norm();
+  const double reaction = s.contact.stiffness * h;
+  std::printf("propped cantilever: tip reaction %.6e N, beam theory %.6e N, rel. error %.2e, "
+              "penetration %.2e of the wire radius\n",
+              reaction, expected, reaction / expected - 1.0, h / r_wire);
+  EXPECT_NEAR(reaction / expected, 1.0, 0.01);
+  EXPECT_TRUE(sim.model().point(segments).in_contact);
+  EXPECT_FALSE(sim.model().point(segments - 1).in_contact);
+  EXPECT_LT(sim.model().contact()->maxPenetration(), 0.01 * r_wire);
+}
+
+TEST(Contact, SceneNeedsACylinderAndShortSegments) {
+  cws::Scene s = cws_test::cantilever(0.1, 10);
+  s.physics.contact = true;
+  try {
+    cws::validateScene(s);
+    FAIL() << "contact without cylinders must be refused";
+  } catch (const cws::SceneError& e) {
+    EXPECT_EQ(e.key(), "core.cylinders");
+  }
+  s.core.cylinders = {cws::CylinderParams{{0.0, 0.0}, 2.5e-3}};  // radius < l = 10 mm
+  try {
+    cws::validateScene(s);
+    FAIL() << "segments longer than the cylinder radius must be refused";
+  } catch (const cws::SceneError& e) {
+    EXPECT_EQ(e.key(), "wire.segment_length");
+  }
+  s.physics.contact = false;
+  s.physics.friction = true;
+  EXPECT_THROW(cws::validateScene(s), cws::SceneError);
+}
