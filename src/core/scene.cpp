@@ -225,8 +225,8 @@ Scene fromYaml(const YAML::Node& r) {
     CylinderParams cp;
     const YAML::Node center = c["center"];
     if (!center.IsSequence() || center.size() != 2) {
-      throw SceneError(key + ".center", "expected a list of two numbers [x, y], got " +
-                                            describe(center));
+      throw SceneError(key + ".center",
+                       "expected a list of two numbers [x, y], got " + describe(center));
     }
     cp.center_core = {readDouble(center[0], key + ".center[0]"),
                       readDouble(center[1], key + ".center[1]")};
@@ -406,8 +406,7 @@ void validateScene(const Scene& s) {
   }
   requirePositive(s.core.max_angular_acceleration, "core.max_angular_acceleration");
   for (std::size_t i = 0; i < s.core.cylinders.size(); ++i) {
-    requirePositive(s.core.cylinders[i].radius,
-                    "core.cylinders[" + std::to_string(i) + "].radius");
+    requirePositive(s.core.cylinders[i].radius, "core.cylinders[" + std::to_string(i) + "].radius");
   }
   if (s.physics.contact && s.core.cylinders.empty()) {
     throw SceneError("core.cylinders", "physics.contact needs at least one cylinder");
@@ -421,8 +420,8 @@ void validateScene(const Scene& s) {
     for (std::size_t i = 0; i < s.core.cylinders.size(); ++i) {
       if (s.naturalSegmentLength() > s.core.cylinders[i].radius) {
         throw SceneError("wire.segment_length",
-                         "segments longer than the radius of core.cylinders[" +
-                             std::to_string(i) + "] could pass through it; use at most " +
+                         "segments longer than the radius of core.cylinders[" + std::to_string(i) +
+                             "] could pass through it; use at most " +
                              std::to_string(s.core.cylinders[i].radius) + " m");
       }
     }

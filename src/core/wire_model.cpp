@@ -33,8 +33,8 @@ WireModel::WireModel(const Scene& s)
   // The core exists only for scenes that touch it or hold the wire on it.
   if (s.physics.contact || clamp_in_core_) {
     const double omega_cmd = s.process.core_speed_rpm * 2.0 * M_PI / 60.0;
-    core_ = std::make_unique<RotatingCore>(s.core, s.core.start_at_speed ? omega_cmd : 0.0,
-                                           omega_cmd);
+    core_ =
+        std::make_unique<RotatingCore>(s.core, s.core.start_at_speed ? omega_cmd : 0.0, omega_cmd);
   }
   const bool plastic = s.physics.plasticity;
   stretching_ = std::make_unique<Stretching>(c_, s.wire.stretch, plastic);
@@ -111,7 +111,7 @@ void WireModel::clamp(double t, Eigen::Vector3d& p0_world, Eigen::Vector3d& v0_w
   q0 = {qw.w(), qw.x(), qw.y(), qw.z()};
 }
 
-void WireModel::unpack(double t, const Eigen::VectorXd& y, WireKinematics& k) const {
+Eigen::Vector3d WireModel::unpack(double t, const Eigen::VectorXd& y, WireKinematics& k) const {
   const int m = c_.n - 1;
   Eigen::Vector3d p0, v0, a0;
   Eigen::Vector4d q0;
@@ -124,11 +124,12 @@ void WireModel::unpack(double t, const Eigen::VectorXd& y, WireKinematics& k) co
   k.q.rightCols(m) = Eigen::Map<const Eigen::Matrix4Xd>(y.data() + 3 * m, 4, m);
   k.v_world.rightCols(m) = Eigen::Map<const Eigen::Matrix3Xd>(y.data() + 7 * m, 3, m);
   k.qd.rightCols(m) = Eigen::Map<const Eigen::Matrix4Xd>(y.data() + 10 * m, 4, m);
+  return a0;
 }
 
 void WireModel::derivative(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt) {
   const int m = c_.n - 1;
-  unpack(t, y, kin_);
+  const Eigen::Vector3d a0_world = unpack(t, y, kin_);
   forces_.setZero();
   for (const ForceEffect* e : all_) e->addForces(t, kin_, forces_);
   constraints_.accelerations(kin_, forces_, Eigen::Vector3d::Zero(), Eigen::Vector4d::Zero(), acc_,

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "coil_winding_sim/core/scene.hpp"
+#include "temp_dir_test.hpp"
 
 namespace {
 
@@ -64,27 +65,11 @@ const std::vector<std::string> kSmallRun{"--set", "wire.length=0.01",
                                          "--set", "wire.segment_length=0.002",
                                          "--set", "process.duration=2e-4"};
 
-class WireSimCli : public ::testing::Test {
+class WireSimCli : public cws_test::TempDirTest {
  protected:
   void SetUp() override {
-    static std::atomic<int> counter{0};
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("cws_test_cli_" + std::to_string(::getpid()) + "_" +
-                                        std::to_string(counter++) + "_" + info->name());
-    fs::remove_all(dir_);
-    ASSERT_TRUE(fs::create_directories(dir_));
+    cws_test::TempDirTest::SetUp();
     ASSERT_TRUE(fs::exists(CWS_WIRE_SIM_EXE)) << "wire_sim not found at " << CWS_WIRE_SIM_EXE;
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
-  std::string write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream f(p);
-    f << text;
-    return p.string();
   }
 
   // Runs wire_sim with `args`, stdout and stderr captured to files in dir_.
@@ -111,8 +96,6 @@ class WireSimCli : public ::testing::Test {
     args.push_back(out);
     return run(args);
   }
-
-  fs::path dir_;
 };
 
 bool contains(const std::string& text, const std::string& what) {

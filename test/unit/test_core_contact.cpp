@@ -50,7 +50,8 @@ TEST(RotatingCore, MaterialPointsMoveRigidly) {
   // Velocity by finite difference of the motion.
   const double t = 0.013, dt = 1e-7;
   const Eigen::Vector3d x = core.pointWorld(t, p_core);
-  const Eigen::Vector3d fd = (core.pointWorld(t + dt, p_core) - core.pointWorld(t - dt, p_core)) / (2 * dt);
+  const Eigen::Vector3d fd =
+      (core.pointWorld(t + dt, p_core) - core.pointWorld(t - dt, p_core)) / (2 * dt);
   EXPECT_LT((core.velocityWorld(t, x) - fd).norm(), 1e-8);
   EXPECT_LT((core.pointCore(t, x) - p_core).norm(), 1e-15);
   // Quaternion and matrix agree.
@@ -93,9 +94,10 @@ TEST(Contact, ProppedCantileverTipReaction) {
   const Eigen::Vector3d d = tip - s.core.position_world;
   const double h = radius + r_wire - Eigen::Vector2d(d.x(), d.z()).norm();
   const double reaction = s.contact.stiffness * h;
-  std::printf("propped cantilever: tip reaction %.6e N, beam theory %.6e N, rel. error %.2e, "
-              "penetration %.2e of the wire radius\n",
-              reaction, expected, reaction / expected - 1.0, h / r_wire);
+  std::printf(
+      "propped cantilever: tip reaction %.6e N, beam theory %.6e N, rel. error %.2e, "
+      "penetration %.2e of the wire radius\n",
+      reaction, expected, reaction / expected - 1.0, h / r_wire);
   EXPECT_NEAR(reaction / expected, 1.0, 0.01);
   EXPECT_TRUE(sim.model().point(segments).in_contact);
   EXPECT_FALSE(sim.model().point(segments - 1).in_contact);

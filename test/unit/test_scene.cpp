@@ -15,36 +15,15 @@
 #include <vector>
 
 #include "coil_winding_sim/core/scene.hpp"
+#include "temp_dir_test.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
 // A fresh directory per test, removed afterwards.
-class SceneFiles : public ::testing::Test {
+class SceneFiles : public cws_test::TempDirTest {
  protected:
-  void SetUp() override {
-    static std::atomic<int> counter{0};
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("cws_test_scene_" + std::to_string(::getpid()) + "_" +
-                                        std::to_string(counter++) + "_" + info->name());
-    fs::remove_all(dir_);
-    ASSERT_TRUE(fs::create_directories(dir_));
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
-  std::string write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream f(p);
-    f << text;
-    f.close();
-    EXPECT_TRUE(f) << "cannot write " << p;
-    return p.string();
-  }
-
   // Loads `yaml` (as a scene file, if not empty) with `overrides` and expects
   // a SceneError naming `key`, whose message names the key and contains
   // `why` (a word of the reason).
@@ -61,8 +40,6 @@ class SceneFiles : public ::testing::Test {
       EXPECT_NE(what.find(why), std::string::npos) << "what(): " << what << "\nmissing: " << why;
     }
   }
-
-  fs::path dir_;
 };
 
 void expectVec(const Eigen::Vector3d& actual, const Eigen::Vector3d& expected,

@@ -23,8 +23,8 @@ class RotatingCore {
   void setCommand(double omega_command) { omega_cmd_ = omega_command; }
   double command() const { return omega_cmd_; }
 
-  double omega(double t) const;  // [rad/s]
-  double angle(double t) const;  // [rad], 0 at t = 0
+  double omega(double t) const;                // [rad/s]
+  double angle(double t) const;                // [rad], 0 at t = 0
   double angularAcceleration(double t) const;  // [rad/s^2]
   // Moves the reference state to time t (an accepted step).
   void commit(double t);

@@ -62,8 +62,8 @@ struct CylinderParams {
 struct CoreParams {
   Eigen::Vector3d position_world{0.0, 0.0, 0.0};  // [m]
   Eigen::Vector3d axis_world{0.0, 0.0, 1.0};      // [-], normalized on use
-  bool start_at_speed = true;  // true: turning at process.core_speed_rpm from t = 0
-  double max_angular_acceleration = 2.0e4;        // speed changes follow this [rad/s^2]
+  bool start_at_speed = true;               // true: turning at process.core_speed_rpm from t = 0
+  double max_angular_acceleration = 2.0e4;  // speed changes follow this [rad/s^2]
   std::vector<CylinderParams> cylinders;
 };
 

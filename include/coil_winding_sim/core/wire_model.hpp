@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
+#include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/inner_forces/bending.hpp"
 #include "coil_winding_sim/core/inner_forces/stretching.hpp"
 #include "coil_winding_sim/core/inner_forces/twisting.hpp"
-#include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/rotating_core.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/time_steppers/ode_system.hpp"
@@ -59,8 +59,9 @@ class WireModel : public OdeSystem {
   const Eigen::VectorXd& initialState() const { return y0_; }
   const WireConstants& constants() const { return c_; }
 
-  // Kinematics of all points (point 0 included) for a state.
-  void unpack(double t, const Eigen::VectorXd& y, WireKinematics& k) const;
+  // Kinematics of all points (point 0 included) for a state; returns the
+  // clamp's (point 0's) acceleration [m/s^2].
+  Eigen::Vector3d unpack(double t, const Eigen::VectorXd& y, WireKinematics& k) const;
   // Kinematics at the last accepted step.
   const WireKinematics& committed() const { return committed_; }
 
@@ -89,8 +90,8 @@ class WireModel : public OdeSystem {
 
   WireConstants c_;
   bool clamp_in_core_;
-  Eigen::Vector3d p0_;     // clamp position, world or core frame [m]
-  Eigen::Vector4d q0_;     // clamp orientation, world or core frame
+  Eigen::Vector3d p0_;  // clamp position, world or core frame [m]
+  Eigen::Vector4d q0_;  // clamp orientation, world or core frame
   std::unique_ptr<RotatingCore> core_;
   const Contact* contact_ = nullptr;
   std::unique_ptr<Stretching> stretching_;

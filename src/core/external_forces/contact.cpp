@@ -10,6 +10,7 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
     centers_core_.emplace_back(cyl.center_core.x(), cyl.center_core.y(), 0.0);
     radii_.push_back(cyl.radius);
   }
+  centers_world_.resize(radii_.size());
   cylinder_.assign(c_.n, -1);
   if (friction_) {
     stuck_.assign(c_.n, 0);
@@ -17,13 +18,18 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
   }
 }
 
-int Contact::touch(double t, const Eigen::Vector3d& p_world, double& h,
-                   Eigen::Vector3d& n_world) const {
+void Contact::placeCylinders(double t) const {
+  for (std::size_t j = 0; j < radii_.size(); ++j) {
+    centers_world_[j] = core_.pointWorld(t, centers_core_[j]);
+  }
+}
+
+int Contact::touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n_world) const {
   int best = -1;
   h = 0.0;
   const Eigen::Vector3d& a = core_.axisWorld();
   for (std::size_t j = 0; j < radii_.size(); ++j) {
-    const Eigen::Vector3d d = p_world - core_.pointWorld(t, centers_core_[j]);
+    const Eigen::Vector3d d = p_world - centers_world_[j];
     const Eigen::Vector3d d_perp = d - d.dot(a) * a;
     const double dist = d_perp.norm();
     const double depth = radii_[j] + c_.radius - dist;
@@ -56,11 +62,12 @@ Eigen::Vector3d Contact::friction(int i, double t, const Eigen::Vector3d& p_worl
 }
 
 void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const {
+  placeCylinders(t);
   for (int i = 1; i < c_.n; ++i) {
     const Eigen::Vector3d p = k.p_world.col(i);
     double h;
     Eigen::Vector3d n;
-    if (touch(t, p, h, n) < 0) continue;
+    if (touch(p, h, n) < 0) continue;
     const double normal = p_.stiffness * h;
     Eigen::Vector3d f_c = normal * n;
     const Eigen::Vector3d u = core_.velocityWorld(t, p);
@@ -82,11 +89,12 @@ void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const 
 void Contact::commit(double t, const WireKinematics& k) {
   max_penetration_ = 0.0;
   elastic_committed_ = 0.0;
+  placeCylinders(t);
   for (int i = 1; i < c_.n; ++i) {
     const Eigen::Vector3d p = k.p_world.col(i);
     double h;
     Eigen::Vector3d n;
-    const int cyl = touch(t, p, h, n);
+    const int cyl = touch(p, h, n);
     const bool changed_cylinder = cyl != cylinder_[i];
     cylinder_[i] = cyl;
     if (cyl >= 0) {

@@ -42,9 +42,11 @@ class Contact : public ForceEffect {
   double maxPenetration() const { return max_penetration_; }
 
  private:
-  // Deepest cylinder touching point p at time t: its index (-1 if none), the
-  // penetration [m] and the outward normal.
-  int touch(double t, const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n_world) const;
+  // Places the cylinder axes in the world at time t, once per evaluation.
+  void placeCylinders(double t) const;
+  // Deepest cylinder touching point p (as placed): its index (-1 if none),
+  // the penetration [m] and the outward normal.
+  int touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n_world) const;
   // Tangential friction force on point i [N] given the committed stick state;
   // sets `slipping` when the stick spring would exceed mu_s N.
   Eigen::Vector3d friction(int i, double t, const Eigen::Vector3d& p_world,
@@ -56,6 +58,7 @@ class Contact : public ForceEffect {
   const RotatingCore& core_;
   std::vector<Eigen::Vector3d> centers_core_;
   std::vector<double> radii_;
+  mutable std::vector<Eigen::Vector3d> centers_world_;  // scratch, sized once
   bool friction_;
   // Per point, committed: cylinder in contact (-1: none); with friction the
   // stick flag and the anchor in the core frame.
