@@ -132,8 +132,7 @@ void WireModel::derivative(double t, const Eigen::VectorXd& y, Eigen::VectorXd& 
   const Eigen::Vector3d a0_world = unpack(t, y, kin_);
   forces_.setZero();
   for (const ForceEffect* e : all_) e->addForces(t, kin_, forces_);
-  constraints_.accelerations(kin_, forces_, a0_world, Eigen::Vector4d::Zero(), acc_,
-                             qdd_);
+  constraints_.accelerations(kin_, forces_, a0_world, Eigen::Vector4d::Zero(), acc_, qdd_);
   dydt.segment(0, 7 * m) = y.segment(7 * m, 7 * m);
   Eigen::Map<Eigen::Matrix3Xd>(dydt.data() + 7 * m, 3, m) = acc_.rightCols(m);
   Eigen::Map<Eigen::Matrix4Xd>(dydt.data() + 10 * m, 4, m) = qdd_.rightCols(m);

@@ -156,13 +156,15 @@ TEST(CoreClamp, SpinningWireCarriesCentrifugalTension) {
   }
   const double m_point = s.wire.line_density * length / (segments + 1);
   double expected = 0.0;
-  for (int i = 1; i <= segments; ++i) expected += m_point * omega * omega * (r0 + i * length / segments);
+  for (int i = 1; i <= segments; ++i)
+    expected += m_point * omega * omega * (r0 + i * length / segments);
   const double measured = sum / weight;
   const Eigen::Vector3d tip_core = tip_sum / weight;
-  std::printf("spinning wire: root axial force %.5f N, rigid rotation %.5f N, rel. error %.2e; "
-              "mean tip (core frame) %.5f, %.2e m; largest constraint residual %.2e\n",
-              measured, expected, measured / expected - 1.0, tip_core.x(), tip_core.y(),
-              sim.maxConstraintResidual());
+  std::printf(
+      "spinning wire: root axial force %.5f N, rigid rotation %.5f N, rel. error %.2e; "
+      "mean tip (core frame) %.5f, %.2e m; largest constraint residual %.2e\n",
+      measured, expected, measured / expected - 1.0, tip_core.x(), tip_core.y(),
+      sim.maxConstraintResidual());
   EXPECT_NEAR(measured / expected, 1.0, 0.02);
   // The wire points where the core's x axis points, on average.
   EXPECT_NEAR(tip_core.x(), r0 + length, 2e-4);

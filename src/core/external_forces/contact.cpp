@@ -12,6 +12,7 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
   }
   centers_world_.resize(radii_.size());
   cylinder_.assign(c_.n, -1);
+  friction_force_.assign(c_.n, Eigen::Vector3d::Zero());
   if (friction_) {
     stuck_.assign(c_.n, 0);
     anchor_core_.assign(c_.n, Eigen::Vector3d::Zero());
@@ -101,13 +102,14 @@ void Contact::commit(double t, const WireKinematics& k) {
       max_penetration_ = std::max(max_penetration_, h);
       elastic_committed_ += 0.5 * p_.stiffness * h * h;
     }
+    friction_force_[i].setZero();
     if (!friction_) continue;
     if (cyl < 0 || changed_cylinder) stuck_[i] = 0;
     if (cyl < 0) continue;
     const Eigen::Vector3d v_rel = k.v_world.col(i) - core_.velocityWorld(t, p);
     const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
     bool slipping;
-    friction(i, t, p, vh, n, p_.stiffness * h, slipping);
+    friction_force_[i] = friction(i, t, p, vh, n, p_.stiffness * h, slipping);
     if (stuck_[i] && slipping) {
       stuck_[i] = 0;  // the static limit was exceeded
     } else if (!stuck_[i] && vh.norm() < p_.stick_speed) {

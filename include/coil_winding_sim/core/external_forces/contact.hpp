@@ -5,7 +5,9 @@
 // Penetration h is measured from the wire's surface: h = R + r - distance of
 // the point from the cylinder axis; the normal force is k h n (eq. 18).
 // Friction (when switched on) uses the relative velocity to the surface,
-// v_h = tangential part of (v - u_j) (eqs. 16-17). Stick is represented by an
+// v_h = tangential part of (v - u_j) (eqs. 16-17), with u_j the core's
+// rigid-body velocity at the mass point: wire carried round by the core (its
+// centre at radius R + r) has no relative velocity. Stick is represented by an
 // anchor: a stuck point is tied to a material point of the core (stored in
 // the core frame) by a stiff tangential spring; the point stays stuck while
 // that spring's force is within mu_s N (eqs. 19-20: the point does not move
@@ -38,6 +40,8 @@ class Contact : public ForceEffect {
   // At the last commit: is point i touching a cylinder, is it stuck.
   bool inContact(int i) const { return cylinder_[i] >= 0; }
   bool stuck(int i) const { return friction_ && stuck_[i] != 0; }
+  // Friction force on point i at the last commit [N], world frame.
+  const Eigen::Vector3d& frictionForce(int i) const { return friction_force_[i]; }
   // Deepest penetration over all points at the last commit [m].
   double maxPenetration() const { return max_penetration_; }
 
@@ -65,6 +69,7 @@ class Contact : public ForceEffect {
   std::vector<int> cylinder_;
   std::vector<char> stuck_;
   std::vector<Eigen::Vector3d> anchor_core_;
+  std::vector<Eigen::Vector3d> friction_force_;  // output only
   double max_penetration_ = 0.0;
   double elastic_committed_ = 0.0;
 };

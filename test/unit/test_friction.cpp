@@ -1,0 +1,161 @@
+// Static and kinetic friction against closed forms: the tip of a clamped
+// wire is pressed onto a cylinder whose surface slides along the wire's axis
+// beneath it. The friction force on the tip is carried to the clamp as the
+// wire's axial force, so the axial force of segment 0 measures it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "wire_test_support.hpp"
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kL = 0.1;        // wire length [m]
+constexpr double kRadius = 0.01;  // cylinder radius [m]
+constexpr double kPress = 1.0;    // tip force pressing onto the cylinder [N]
+
+// The tip rests on the top of a cylinder (axis along y, under the tip) that
+// turns so that the core material at the tip's centre (radius R + r) moves at
+// `surface_speed` [m/s] in +x, away from the clamp. (Contact uses the core's
+// rigid-body velocity at the mass point, u_j of eqs. 16-17, so that wire
+// carried by the core has no relative velocity.)
+cws::Scene pressedTip(double surface_speed, double duration) {
+  cws::Scene s = cws_test::cantilever(kL, 10);
+  s.physics.plasticity = false;
+  s.physics.contact = true;
+  s.physics.friction = true;
+  s.physics.damping = true;
+  s.damping.translational = 4.0;
+  s.damping.rotational = 1e-6;
+  const double r_wire = 0.5 * s.wire.diameter;
+  s.core.position_world = {kL, 0.0, -(kRadius + r_wire)};
+  s.core.axis_world = {0.0, 1.0, 0.0};  // +y: the top moves in +x
+  s.core.cylinders = {cws::CylinderParams{{0.0, 0.0}, kRadius}};
+  s.process.core_speed_rpm = surface_speed / (kRadius + r_wire) * 60.0 / (2.0 * kPi);
+  cws::LoadKeyframe a, b;
+  b.time = 0.002;
+  b.force_world = {0.0, 0.0, -kPress};
+  s.end.load = {a, b};
+  s.process.duration = duration;
+  return s;
+}
+
+// Normal force on the tip [N] from its penetration, from the geometry.
+double normalForce(const cws::Simulation& sim) {
+  const cws::Scene& s = sim.scene();
+  const Eigen::Vector3d d = cws_test::tipPosition(sim) - s.core.position_world;
+  const double h = kRadius + 0.5 * s.wire.diameter - Eigen::Vector2d(d.x(), d.z()).norm();
+  return s.contact.stiffness * h;
+}
+}  // namespace
+
+TEST(Friction, SlidingSurfaceDragsWithKineticFriction) {
+  // 0.05 m/s is far above contact.stick_speed: the tip slides all along and
+  // the wire carries mu_d N (eq. 18).
+  cws::Simulation sim(pressedTip(0.05, 0.03));
+  sim.run();
+  const int tip = sim.model().constants().n - 1;
+  const double n = normalForce(sim);
+  const double expected = sim.scene().contact.kinetic_friction * n;
+  const double axial = sim.model().axialForce(0);
+  std::printf("kinetic: normal %.5f N, axial %.5f N, mu_d N %.5f N, rel. error %.2e\n", n, axial,
+              expected, axial / expected - 1.0);
+  EXPECT_NEAR(n, kPress, 0.01 * kPress);
+  EXPECT_NEAR(axial / expected, 1.0, 0.01);
+  EXPECT_TRUE(sim.model().point(tip).in_contact);
+  EXPECT_FALSE(sim.model().point(tip).stick);
+}
+
+TEST(Friction, StickHoldsBelowStaticLimitThenSlips) {
+  // The surface creeps at 1e-4 m/s, below contact.stick_speed: the tip sticks
+  // and is dragged along, loading the wire through the stick spring and the
+  // wire's axial stiffness in series (k = 1 / (1/k_t + L/EA)), until the
+  // friction force reaches mu_s N (eqs. 19-20); then it slips.
+  const double v_s = 1e-4;
+  cws::Scene s = pressedTip(v_s, 0.006);
+  cws::Simulation sim(s);
+  // Let the press settle before the creep is measured: the surface is
+  // already moving, so record time and force when the tip first sticks under
+  // full load.
+  const int tip = sim.model().constants().n - 1;
+  const double mu_s_n = s.contact.static_friction * kPress;
+  double peak = 0.0, t_first_slip = -1.0;
+  bool loaded = false;
+  double t_loaded = 0.0, f_loaded = 0.0;
+  double max_rate_error = 0.0;
+  const double k_series =
+      1.0 / (1.0 / s.contact.stick_stiffness + kL / s.wire.stretch.elastic_rigidity);
+  while (sim.time() < sim.endTime()) {
+    sim.step(sim.endTime());
+    const double f = sim.model().axialForce(0);
+    const bool stuck = sim.model().point(tip).stick;
+    if (!loaded && sim.time() > 0.003 && stuck) {
+      loaded = true;
+      t_loaded = sim.time();
+      f_loaded = f;
+    }
+    if (loaded && t_first_slip < 0.0) {
+      if (stuck) {
+        peak = std::max(peak, f);
+        // While stuck the force grows at k v_s (after 0.2 ms of transients).
+        if (sim.time() > t_loaded + 2e-4 && f < 0.9 * mu_s_n) {
+          const double predicted = f_loaded + k_series * v_s * (sim.time() - t_loaded);
+          max_rate_error = std::max(max_rate_error, std::abs(f - predicted) / mu_s_n);
+        }
+      } else {
+        t_first_slip = sim.time();
+      }
+    }
+  }
+  std::printf(
+      "static: first slip at t = %.5f s, peak axial force %.5f N, mu_s N %.5f N "
+      "(rel. error %.2e), stuck loading follows k v_s within %.2e of mu_s N\n",
+      t_first_slip, peak, mu_s_n, peak / mu_s_n - 1.0, max_rate_error);
+  ASSERT_TRUE(loaded) << "the tip never stuck";
+  ASSERT_GT(t_first_slip, 0.0) << "the tip never slipped";
+  EXPECT_NEAR(peak / mu_s_n, 1.0, 0.02);
+  EXPECT_LT(max_rate_error, 0.01);
+}
+
+TEST(Friction, StickSlipRepeatsAtTheStaticLimit) {
+  // Creeping surface: after a slip the tip's sliding speed falls below
+  // contact.stick_speed, it sticks again where it is, is loaded again and
+  // slips again at mu_s N: a stick-slip sawtooth whose peaks of the friction
+  // force are mu_s N, N measured from the penetration. (The clamp's axial
+  // force rings after each slip, so the friction force is read at the tip.)
+  cws::Scene s = pressedTip(1e-4, 0.02);
+  cws::Simulation sim(s);
+  const int tip = sim.model().constants().n - 1;
+  const double mu_s = s.contact.static_friction;
+  std::vector<double> peaks;
+  double peak = 0.0;
+  bool was_stuck = false;
+  int sticks = 0;
+  while (sim.time() < sim.endTime()) {
+    sim.step(sim.endTime());
+    const bool stuck = sim.model().point(tip).stick;
+    if (sim.time() < 0.003) {  // the press settles
+      was_stuck = stuck;
+      continue;
+    }
+    if (stuck) {
+      peak = std::max(peak, sim.model().contact()->frictionForce(tip).norm() / normalForce(sim));
+    }
+    if (stuck && !was_stuck) ++sticks;
+    if (!stuck && was_stuck) {
+      peaks.push_back(peak);
+      peak = 0.0;
+    }
+    was_stuck = stuck;
+  }
+  std::printf("stick-slip: %zu slips, %d re-sticks, peak friction / normal force", peaks.size(),
+              sticks);
+  for (double p : peaks) std::printf(" %.4f", p);
+  std::printf(" (mu_s = %.4f)\n", mu_s);
+  ASSERT_GE(peaks.size(), 2u);
+  EXPECT_GE(sticks, 2);
+  for (double p : peaks) EXPECT_NEAR(p / mu_s, 1.0, 0.02);
+}
