@@ -1,5 +1,8 @@
 #include "coil_winding_sim/core/scene.hpp"
 
+#include "coil_winding_sim/core/core_geometry.hpp"
+#include "coil_winding_sim/core/rotating_core.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -73,6 +76,7 @@ YAML::Node toYaml(const Scene& s) {
 
   root["process"]["core_speed_rpm"] = num(s.process.core_speed_rpm);
   root["process"]["tension"] = num(s.process.tension);
+  root["process"]["traverse_pitch"] = num(s.process.traverse_pitch);
   root["process"]["turns"] = num(s.process.turns);
   if (s.process.duration) {
     root["process"]["duration"] = num(*s.process.duration);
@@ -94,6 +98,10 @@ YAML::Node toYaml(const Scene& s) {
   root["physics"]["damping"] = s.physics.damping;
   root["physics"]["contact"] = s.physics.contact;
   root["physics"]["friction"] = s.physics.friction;
+  root["physics"]["supply"] = s.physics.supply;
+  root["physics"]["planar"] = s.physics.planar;
+  root["supply"]["port_position"] = vec3(s.supply.port_position_world);
+  root["supply"]["max_points"] = s.supply.max_points;
 
   root["gravity"]["acceleration"] = vec3(s.gravity.acceleration_world);
   root["damping"]["translational"] = num(s.damping.translational);
@@ -237,6 +245,7 @@ Scene fromYaml(const YAML::Node& r) {
   const YAML::Node p = r["process"];
   s.process.core_speed_rpm = readDouble(p["core_speed_rpm"], "process.core_speed_rpm");
   s.process.tension = readDouble(p["tension"], "process.tension");
+  s.process.traverse_pitch = readDouble(p["traverse_pitch"], "process.traverse_pitch");
   s.process.turns = readDouble(p["turns"], "process.turns");
   if (!p["duration"].IsNull()) s.process.duration = readDouble(p["duration"], "process.duration");
 
@@ -256,6 +265,16 @@ Scene fromYaml(const YAML::Node& r) {
   s.physics.damping = readBool(ph["damping"], "physics.damping");
   s.physics.contact = readBool(ph["contact"], "physics.contact");
   s.physics.friction = readBool(ph["friction"], "physics.friction");
+  s.physics.supply = readBool(ph["supply"], "physics.supply");
+  s.physics.planar = readBool(ph["planar"], "physics.planar");
+  s.supply.port_position_world = readVec3(r["supply"]["port_position"], "supply.port_position");
+  {
+    const double mp = readDouble(r["supply"]["max_points"], "supply.max_points");
+    if (mp != std::floor(mp) || mp < 0.0 || mp > 1e7) {
+      throw SceneError("supply.max_points", "must be a whole number from 0 to 1e7");
+    }
+    s.supply.max_points = static_cast<int>(mp);
+  }
 
   s.gravity.acceleration_world = readVec3(r["gravity"]["acceleration"], "gravity.acceleration");
   s.damping.translational = readDouble(r["damping"]["translational"], "damping.translational");
@@ -425,6 +444,46 @@ void validateScene(const Scene& s) {
                              std::to_string(s.core.cylinders[i].radius) + " m");
       }
     }
+  }
+
+  if (!std::isfinite(s.process.traverse_pitch)) {
+    throw SceneError("process.traverse_pitch", "must be finite");
+  }
+  if (s.physics.supply) {
+    if (s.core.cylinders.empty()) {
+      throw SceneError("core.cylinders",
+                       "physics.supply winds wire onto a core: give at least one cylinder");
+    }
+    // The port must lie outside the core (the convex hull of its cylinders).
+    const Eigen::Vector3d axis = s.core.axis_world.normalized();
+    const RotatingCore core(s.core, 0.0, 0.0);
+    const Eigen::Vector3d port_core = core.pointCore(0.0, s.supply.port_position_world);
+    const double gap = CoreSection(s.core.cylinders).signedDistance(port_core.head<2>());
+    if (gap <= 0.5 * s.wire.diameter) {
+      throw SceneError("supply.port_position",
+                       "lies inside the core (the convex hull of core.cylinders, widened by the "
+                       "wire radius)");
+    }
+    Eigen::Vector3d clamp_world = s.start.position;
+    if (s.start.frame == "core") clamp_world = core.pointWorld(0.0, s.start.position);
+    if ((s.supply.port_position_world - clamp_world).norm() < 2.0 * s.wire.segment_length) {
+      throw SceneError("supply.port_position",
+                       "is closer to the clamp than two segments (wire.segment_length)");
+    }
+    if (s.physics.planar && s.process.traverse_pitch != 0.0) {
+      throw SceneError("process.traverse_pitch",
+                       "must be 0 with physics.planar (the port cannot leave the plane)");
+    }
+    if (s.physics.planar &&
+        std::abs((s.supply.port_position_world - clamp_world).dot(axis)) > 1e-12) {
+      throw SceneError("supply.port_position",
+                       "must lie in the plane of the clamp normal to core.axis with physics.planar");
+    }
+  }
+  if (s.physics.planar && s.physics.gravity &&
+      std::abs(s.gravity.acceleration_world.dot(s.core.axis_world.normalized())) > 1e-12) {
+    throw SceneError("gravity.acceleration",
+                     "must lie in the plane normal to core.axis with physics.planar");
   }
 
   requireNonNegative(s.process.tension, "process.tension");

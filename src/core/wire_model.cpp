@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "coil_winding_sim/core/external_forces/damping.hpp"
 #include "coil_winding_sim/core/external_forces/end_load.hpp"
@@ -11,15 +12,61 @@
 namespace cws {
 
 namespace {
+constexpr int kPerPoint = 14;  // p (3), q (4), v (3), qdot (4)
+constexpr int kAux = 2;        // W_ext, E_visc
+
+// Offset of free point i (i >= 1) in the state vector.
+inline int offsetOf(int i) { return kAux + kPerPoint * (i - 1); }
+
+bool needsCore(const Scene& s) {
+  return s.physics.contact || s.physics.supply || s.start.frame == "core";
+}
+
+double coreSpeedCommand(const Scene& s) { return s.process.core_speed_rpm * 2.0 * M_PI / 60.0; }
+
+// Clamp position at t = 0 in the world frame.
+Eigen::Vector3d clampStartWorld(const Scene& s) {
+  if (s.start.frame != "core") return s.start.position;
+  const RotatingCore core(s.core, 0.0, 0.0);
+  return core.pointWorld(0.0, s.start.position);
+}
+
+// Number of points, segment length, masses and storage of the wire.
 WireConstants constantsOf(const Scene& s) {
   WireConstants c;
-  const int segments = s.segmentCount();
-  c.n = segments + 1;
-  c.segment_length = s.naturalSegmentLength();
   c.line_density = s.wire.line_density;
   c.radius = 0.5 * s.wire.diameter;
-  // Eq. (1): M = rho L / n.
-  c.point_mass = s.wire.line_density * s.wire.length / c.n;
+  if (!s.physics.supply) {
+    // A wire of fixed length: eq. (1), M = rho L / n.
+    c.n = s.segmentCount() + 1;
+    c.segment_length = s.naturalSegmentLength();
+    c.point_mass = s.wire.line_density * s.wire.length / c.n;
+    c.capacity = c.n;
+  } else {
+    // A drawn-in wire: straight from the clamp towards the port, segments of
+    // exactly segment_length, the last point within one segment of the port;
+    // every point (new ones too) carries rho l, eq. (1) for n -> infinity.
+    c.segment_length = s.wire.segment_length;
+    const double span = (s.supply.port_position_world - clampStartWorld(s)).norm();
+    c.n = static_cast<int>(std::ceil(span / c.segment_length - 1e-9));
+    c.point_mass = s.wire.line_density * c.segment_length;
+    if (s.supply.max_points > 0) {
+      c.capacity = std::max(c.n, s.supply.max_points);
+    } else {
+      // Wound length <= core angle x largest radius of the core, plus the
+      // free span; 20 % margin.
+      double r_max = 0.0;
+      const Eigen::Vector3d axis = s.core.axis_world.normalized();
+      for (const CylinderParams& cyl : s.core.cylinders) {
+        r_max = std::max(r_max, cyl.center_core.norm() + cyl.radius + c.radius);
+      }
+      const double angle = std::abs(coreSpeedCommand(s)) * s.endTime();
+      Eigen::Vector3d port_rel = s.supply.port_position_world - s.core.position_world;
+      port_rel -= port_rel.dot(axis) * axis;
+      const double fed = angle * r_max + 2.0 * port_rel.norm();
+      c.capacity = c.n + static_cast<int>(std::ceil(1.2 * fed / c.segment_length)) + 8;
+    }
+  }
   c.point_inertia = 0.4 * c.point_mass * c.radius * c.radius;
   c.point_length = c.point_mass / c.line_density;
   return c;
@@ -30,12 +77,15 @@ WireModel::WireModel(const Scene& s)
     : c_(constantsOf(s)),
       clamp_in_core_(s.start.frame == "core"),
       constraints_(c_, s.solver.baumgarte_nu) {
-  // The core exists only for scenes that touch it or hold the wire on it.
-  if (s.physics.contact || clamp_in_core_) {
-    const double omega_cmd = s.process.core_speed_rpm * 2.0 * M_PI / 60.0;
-    core_ =
-        std::make_unique<RotatingCore>(s.core, s.core.start_at_speed ? omega_cmd : 0.0, omega_cmd);
+  // The core exists only for scenes that touch it, draw wire onto it or hold
+  // the wire on it.
+  if (needsCore(s)) {
+    const double omega_cmd = coreSpeedCommand(s);
+    core_ = std::make_unique<RotatingCore>(s.core, s.core.start_at_speed ? omega_cmd : 0.0,
+                                           omega_cmd);
   }
+  if (s.physics.planar) planar_normal_world_ = s.core.axis_world.normalized();
+
   const bool plastic = s.physics.plasticity;
   stretching_ = std::make_unique<Stretching>(c_, s.wire.stretch, plastic);
   bending_ = std::make_unique<Bending>(c_, s.wire.bend, plastic);
@@ -53,44 +103,61 @@ WireModel::WireModel(const Scene& s)
     contact_ = contact.get();
     external_.push_back(std::move(contact));
   }
+  if (s.physics.supply) {
+    auto supply = std::make_unique<Supply>(c_, s, core_.get());
+    supply_ = supply.get();
+    external_.push_back(std::move(supply));
+  }
   external_.push_back(std::make_unique<EndLoad>(c_, s.end.load));
   for (auto& e : external_) all_.push_back(e.get());
 
-  // Straight wire along the clamp direction, all frames equal to the clamp's,
-  // at rest (a clamp on a turning core starts the wire with its motion).
-  const int m = c_.n - 1;
+  // Straight wire, at rest, all frames equal: along the clamp direction, or
+  // with a supply from the clamp towards the port.
   p0_ = s.start.position;
-  q0_ = quat::fromZetaDirection(s.start.direction);
+  Eigen::Vector3d dir_world = s.start.direction;
+  if (supply_) {
+    dir_world = s.supply.port_position_world - clampStartWorld(s);
+    q0_ = quat::fromZetaDirection(
+        clamp_in_core_ ? Eigen::Vector3d(core_->rotationWorldCore(0.0).transpose() * dir_world)
+                       : dir_world);
+  } else {
+    q0_ = quat::fromZetaDirection(s.start.direction);
+  }
   Eigen::Vector3d p0_world, v0_world, a0_world;
   Eigen::Vector4d q0_world;
   clamp(0.0, p0_world, v0_world, a0_world, q0_world);
   const Eigen::Vector3d dir = quat::zeta(q0_world);
-  y0_.setZero(14 * m + 2);
+  y0_.setZero(capacity());
   for (int i = 1; i < c_.n; ++i) {
-    y0_.segment<3>(3 * (i - 1)) = p0_world + i * c_.segment_length * dir;
-    y0_.segment<4>(3 * m + 4 * (i - 1)) = q0_world;
+    y0_.segment<3>(offsetOf(i)) = p0_world + i * c_.segment_length * dir;
+    y0_.segment<4>(offsetOf(i) + 3) = q0_world;
   }
 
   // Tolerances: positions atol [m]; quaternions atol / l (the same
   // displacement over one segment); rates those divided by max_step (the
-  // error that would move a point by atol within the largest step).
+  // error that would move a point by atol within the largest step). rtol
+  // scales everything but positions, whose size depends on the origin.
   const double inf = std::numeric_limits<double>::infinity();
-  atol_.resize(y0_.size());
-  atol_.segment(0, 3 * m).setConstant(s.solver.atol);
-  atol_.segment(3 * m, 4 * m).setConstant(s.solver.atol / c_.segment_length);
-  atol_.segment(7 * m, 3 * m).setConstant(s.solver.atol / s.solver.max_step);
-  atol_.segment(10 * m, 4 * m).setConstant(s.solver.atol / c_.segment_length / s.solver.max_step);
-  atol_.tail(2).setConstant(inf);
-  // rtol scales everything but positions, whose size depends on the origin.
-  rweight_.setOnes(y0_.size());
-  rweight_.segment(0, 3 * m).setZero();
+  const double atol = s.solver.atol, l = c_.segment_length, h = s.solver.max_step;
+  atol_.resize(capacity());
+  rweight_.setOnes(capacity());
+  atol_.head(kAux).setConstant(inf);
+  for (int i = 1; i < c_.capacity; ++i) {
+    const int o = offsetOf(i);
+    atol_.segment<3>(o).setConstant(atol);
+    atol_.segment<4>(o + 3).setConstant(atol / l);
+    atol_.segment<3>(o + 7).setConstant(atol / h);
+    atol_.segment<4>(o + 10).setConstant(atol / l / h);
+    rweight_.segment<3>(o).setZero();
+  }
 
-  kin_.resize(c_.n);
-  committed_.resize(c_.n);
-  forces_.resize(c_.n);
-  acc_.resize(3, c_.n);
-  qdd_.resize(4, c_.n);
+  kin_.resize(c_.capacity);
+  committed_.resize(c_.capacity);
+  forces_.resize(c_.capacity);
+  acc_.resize(3, c_.capacity);
+  qdd_.resize(4, c_.capacity);
   unpack(0.0, y0_, committed_);
+  if (supply_) port_distance0_ = portDistance(0.0, committed_);
 }
 
 void WireModel::clamp(double t, Eigen::Vector3d& p0_world, Eigen::Vector3d& v0_world,
@@ -111,8 +178,7 @@ void WireModel::clamp(double t, Eigen::Vector3d& p0_world, Eigen::Vector3d& v0_w
   q0 = {qw.w(), qw.x(), qw.y(), qw.z()};
 }
 
-Eigen::Vector3d WireModel::unpack(double t, const Eigen::VectorXd& y, WireKinematics& k) const {
-  const int m = c_.n - 1;
+Eigen::Vector3d WireModel::unpack(double t, ConstRef y, WireKinematics& k) const {
   Eigen::Vector3d p0, v0, a0;
   Eigen::Vector4d q0;
   clamp(t, p0, v0, a0, q0);
@@ -120,34 +186,90 @@ Eigen::Vector3d WireModel::unpack(double t, const Eigen::VectorXd& y, WireKinema
   k.v_world.col(0) = v0;
   k.q.col(0) = q0;
   k.qd.col(0).setZero();  // frame 0 enters only the joint-0 spring, by position
-  k.p_world.rightCols(m) = Eigen::Map<const Eigen::Matrix3Xd>(y.data(), 3, m);
-  k.q.rightCols(m) = Eigen::Map<const Eigen::Matrix4Xd>(y.data() + 3 * m, 4, m);
-  k.v_world.rightCols(m) = Eigen::Map<const Eigen::Matrix3Xd>(y.data() + 7 * m, 3, m);
-  k.qd.rightCols(m) = Eigen::Map<const Eigen::Matrix4Xd>(y.data() + 10 * m, 4, m);
+  for (int i = 1; i < c_.n; ++i) {
+    const int o = offsetOf(i);
+    k.p_world.col(i) = y.segment<3>(o);
+    k.q.col(i) = y.segment<4>(o + 3);
+    k.v_world.col(i) = y.segment<3>(o + 7);
+    k.qd.col(i) = y.segment<4>(o + 10);
+  }
   return a0;
 }
 
-void WireModel::derivative(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt) {
-  const int m = c_.n - 1;
+void WireModel::derivative(double t, ConstRef y, Ref dydt) {
   const Eigen::Vector3d a0_world = unpack(t, y, kin_);
   forces_.setZero();
   for (const ForceEffect* e : all_) e->addForces(t, kin_, forces_);
-  constraints_.accelerations(kin_, forces_, a0_world, Eigen::Vector4d::Zero(), acc_, qdd_);
-  dydt.segment(0, 7 * m) = y.segment(7 * m, 7 * m);
-  Eigen::Map<Eigen::Matrix3Xd>(dydt.data() + 7 * m, 3, m) = acc_.rightCols(m);
-  Eigen::Map<Eigen::Matrix4Xd>(dydt.data() + 10 * m, 4, m) = qdd_.rightCols(m);
-  dydt[14 * m] = forces_.power_external;
-  dydt[14 * m + 1] = forces_.power_dissipated;
+  PortMotion port;
+  if (supply_) port = supply_->port(t);
+  constraints_.accelerations(kin_, forces_, a0_world, Eigen::Vector4d::Zero(),
+                             supply_ ? &port : nullptr, acc_, qdd_);
+  // Planar mode: no acceleration along the core axis (removes rounding).
+  const Eigen::Vector3d& nrm = planar_normal_world_;
+  dydt[0] = forces_.power_external;
+  dydt[1] = forces_.power_dissipated;
+  for (int i = 1; i < c_.n; ++i) {
+    const int o = offsetOf(i);
+    dydt.segment<7>(o) = y.segment<7>(o + 7);
+    Eigen::Vector3d a = acc_.col(i);
+    a -= a.dot(nrm) * nrm;
+    dydt.segment<3>(o + 7) = a;
+    dydt.segment<4>(o + 10) = qdd_.col(i);
+  }
 }
 
-void WireModel::acceptStep(double t, const Eigen::VectorXd& y) {
+double WireModel::portDistance(double t, const WireKinematics& k) const {
+  const int last = c_.n - 1;
+  const Eigen::Vector3d zeta = quat::zeta(k.q.col(last)).normalized();
+  return (supply_->port(t).p_world - k.p_world.col(last)).dot(zeta);
+}
+
+double WireModel::fedLength() const {
+  if (!supply_) return 0.0;
+  const double now = portDistance(committed_time_, committed_);
+  return points_added_ * c_.segment_length +
+         (now - port_distance0_) / (1.0 + supply_->tensionStrain());
+}
+
+void WireModel::appendPoint(double t, Eigen::VectorXd& y) {
+  if (c_.n >= c_.capacity) {
+    std::ostringstream msg;
+    msg << "at t = " << t << " s the wire drawn in needs more than " << c_.capacity
+        << " points: raise supply.max_points";
+    throw IntegrationError(msg.str());
+  }
+  // The outer end of the boundary segment passes the port (eq. 21): it
+  // becomes a mass point moving with the last one, on the same line.
+  const int last = c_.n - 1;
+  const Eigen::Vector3d zeta = quat::zeta(committed_.q.col(last)).normalized();
+  const int o = offsetOf(last + 1);
+  const Eigen::Vector3d v = committed_.v_world.col(last);
+  const Eigen::Vector4d qd = committed_.qd.col(last);
+  y.segment<3>(o) = committed_.p_world.col(last) + supply_->boundaryLength() * zeta;
+  y.segment<4>(o + 3) = committed_.q.col(last);
+  y.segment<3>(o + 7) = v;
+  y.segment<4>(o + 10) = qd;
+  ++c_.n;
+  ++points_added_;
   unpack(t, y, committed_);
+  for (ForceEffect* e : all_) e->grow(committed_);
+  // The new material brings its kinetic energy and the work that stretched
+  // it to the supply tension: both count as work done on the wire.
+  y[0] += 0.5 * c_.point_mass * v.squaredNorm() + 2.0 * c_.point_inertia * qd.squaredNorm() +
+          stretching_->virginWork(stretching_->strain(committed_, last));
+}
+
+void WireModel::acceptStep(double t, Eigen::VectorXd& y) {
+  unpack(t, y, committed_);
+  committed_time_ = t;
   for (ForceEffect* e : all_) e->commit(t, committed_);
   if (core_) core_->commit(t);
+  if (supply_) {
+    while (portDistance(t, committed_) > supply_->boundaryLength()) appendPoint(t, y);
+  }
 }
 
 EnergyReport WireModel::energy(const Eigen::VectorXd& y) const {
-  const int m = c_.n - 1;
   EnergyReport r;
   const WireKinematics& k = committed_;
   for (int i = 1; i < c_.n; ++i) {
@@ -158,8 +280,8 @@ EnergyReport WireModel::energy(const Eigen::VectorXd& y) const {
     r.elastic += e->elasticEnergy(k);
     r.plastic += e->plasticWork(k);
   }
-  r.work_done = y[14 * m];
-  r.viscous = y[14 * m + 1];
+  r.work_done = y[0];
+  r.viscous = y[1];
   return r;
 }
 

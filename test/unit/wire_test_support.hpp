@@ -38,14 +38,13 @@ inline cws::Scene rampedStatic(cws::Scene s, const Eigen::Vector3d& force_world,
 }
 
 inline Eigen::Vector3d tipPosition(const cws::Simulation& sim) {
-  const auto& k = sim.model().committed();
-  return k.p_world.col(k.p_world.cols() - 1);
+  return sim.model().committed().p_world.col(sim.model().constants().n - 1);
 }
 
 // Rotation angle between the clamp frame and the last frame [rad].
 inline double tipFrameAngle(const cws::Simulation& sim) {
   const auto& k = sim.model().committed();
-  return cws::quat::relativeAngle(k.q.col(0), k.q.col(k.q.cols() - 1));
+  return cws::quat::relativeAngle(k.q.col(0), k.q.col(sim.model().constants().n - 1));
 }
 
 }  // namespace cws_test

@@ -70,6 +70,7 @@ struct CoreParams {
 struct ProcessParams {
   double core_speed_rpm = 600.0;   // [rpm]
   double tension = 30.0;           // supply tension [N]
+  double traverse_pitch = 0.0;     // port travel along the core axis per core turn [m]
   double turns = 1.75;             // core revolutions to run [-]
   std::optional<double> duration;  // [s]; when set, overrides turns
 };
@@ -92,6 +93,15 @@ struct PhysicsSwitches {
   bool damping = false;
   bool contact = false;   // virtual springs on the core's cylinders (needs core.cylinders)
   bool friction = false;  // static/kinetic friction on contact (needs contact)
+  bool supply = false;    // wire drawn in through a port at constant tension
+  bool planar = false;    // motion kept in the plane normal to the core axis
+};
+
+// The wire supply (paper's section IV): the wire enters through a port at
+// p_s(t) = port_position + traverse_pitch * turns(t) * core axis.
+struct SupplyParams {
+  Eigen::Vector3d port_position_world{0.0, -0.03, 0.0};  // [m] at t = 0
+  int max_points = 0;  // storage for this many points; 0: estimated from the scene
 };
 
 struct GravityParams {
@@ -132,6 +142,7 @@ struct Scene {
   WireParams wire;
   ContactParams contact;
   CoreParams core;
+  SupplyParams supply;
   ProcessParams process;
   SolverParams solver;
   PhysicsSwitches physics;

@@ -1,11 +1,13 @@
 // The discrete elastoplastic wire of the paper's section II as an ODE system.
 //
-// State vector y (m = n - 1 free points; point 0 and frame 0 are clamped):
-//   [ p_1..p_m (3m) | q_1..q_m (4m) | v_1..v_m (3m) | qdot_1..qdot_m (4m) |
-//     W_ext, E_visc ]
-// where W_ext [J] is the work done on the wire by applied loads and E_visc
-// [J] the energy dissipated by viscous damping, integrated with the motion
-// for the energy balance.
+// State vector y, interleaved per free point (point 0 and frame 0 are held
+// by the clamp):
+//   [ W_ext, E_visc | p_1 q_1 v_1 qdot_1 | p_2 q_2 v_2 qdot_2 | ... ]
+// 14 numbers per point, so that a point drawn in by the supply is appended
+// at the end. W_ext [J] is the work done on the wire by applied loads,
+// gravity, the moving core and the supply (including the energy the drawn-in
+// wire brings), E_visc [J] the energy dissipated by viscous damping and
+// friction; both are integrated with the motion for the energy balance.
 #pragma once
 
 #include <memory>
@@ -13,6 +15,7 @@
 
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
+#include "coil_winding_sim/core/external_forces/supply.hpp"
 #include "coil_winding_sim/core/inner_forces/bending.hpp"
 #include "coil_winding_sim/core/inner_forces/stretching.hpp"
 #include "coil_winding_sim/core/inner_forces/twisting.hpp"
@@ -27,8 +30,8 @@ struct EnergyReport {
   double kinetic = 0.0;    // [J]
   double elastic = 0.0;    // recoverable [J]
   double plastic = 0.0;    // work into plastic deformation [J]
-  double viscous = 0.0;    // dissipated by damping [J]
-  double work_done = 0.0;  // by applied loads and gravity [J]
+  double viscous = 0.0;    // dissipated by damping and friction [J]
+  double work_done = 0.0;  // by applied loads, gravity, core and supply [J]
   double dissipated() const { return plastic + viscous; }
   // kinetic + elastic + dissipated - work_done (0 for an exact solution).
   double imbalance() const { return kinetic + elastic + dissipated() - work_done; }
@@ -50,18 +53,19 @@ class WireModel : public OdeSystem {
   // The scene must have passed validateScene().
   explicit WireModel(const Scene& scene);
 
-  int size() const override { return static_cast<int>(y0_.size()); }
-  void derivative(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt) override;
+  int size() const override { return 2 + 14 * (c_.n - 1); }
+  int capacity() const override { return 2 + 14 * (c_.capacity - 1); }
+  void derivative(double t, ConstRef y, Ref dydt) override;
   const Eigen::VectorXd& absoluteTolerance() const override { return atol_; }
   const Eigen::VectorXd& relativeToleranceWeight() const override { return rweight_; }
-  void acceptStep(double t, const Eigen::VectorXd& y) override;
+  void acceptStep(double t, Eigen::VectorXd& y) override;
 
   const Eigen::VectorXd& initialState() const { return y0_; }
   const WireConstants& constants() const { return c_; }
 
   // Kinematics of all points (point 0 included) for a state; returns the
   // clamp's (point 0's) acceleration [m/s^2].
-  Eigen::Vector3d unpack(double t, const Eigen::VectorXd& y, WireKinematics& k) const;
+  Eigen::Vector3d unpack(double t, ConstRef y, WireKinematics& k) const;
   // Kinematics at the last accepted step.
   const WireKinematics& committed() const { return committed_; }
 
@@ -78,28 +82,40 @@ class WireModel : public OdeSystem {
   const Stretching& stretching() const { return *stretching_; }
   const Bending& bending() const { return *bending_; }
   const Twisting* twisting() const { return twisting_.get(); }
-  // Null when the scene needs no core (no contact, clamp in the world frame).
+  // Null when the scene needs no core (no contact, supply or core clamp).
   const RotatingCore* core() const { return core_.get(); }
   RotatingCore* core() { return core_.get(); }
   const Contact* contact() const { return contact_; }
+  const Supply* supply() const { return supply_; }
+  // Natural length of wire drawn in through the port since the start [m].
+  double fedLength() const;
 
  private:
   // Clamp state of point 0 and frame 0 at time t (world frame).
   void clamp(double t, Eigen::Vector3d& p0_world, Eigen::Vector3d& v0_world,
              Eigen::Vector3d& a0_world, Eigen::Vector4d& q0) const;
+  // Distance from the last point to the port along its zeta axis [m].
+  double portDistance(double t, const WireKinematics& k) const;
+  // Appends a mass point drawn in through the port (between steps).
+  void appendPoint(double t, Eigen::VectorXd& y);
 
   WireConstants c_;
   bool clamp_in_core_;
   Eigen::Vector3d p0_;  // clamp position, world or core frame [m]
   Eigen::Vector4d q0_;  // clamp orientation, world or core frame
+  Eigen::Vector3d planar_normal_world_ = Eigen::Vector3d::Zero();  // zero: 3-D
   std::unique_ptr<RotatingCore> core_;
   const Contact* contact_ = nullptr;
+  const Supply* supply_ = nullptr;
   std::unique_ptr<Stretching> stretching_;
   std::unique_ptr<Bending> bending_;
   std::unique_ptr<Twisting> twisting_;  // null when physics.torsion is off
   std::vector<std::unique_ptr<ForceEffect>> external_;
   std::vector<ForceEffect*> all_;
   FrameConstraints constraints_;
+  int points_added_ = 0;
+  double committed_time_ = 0.0;  // [s]
+  double port_distance0_ = 0.0;  // [m] at t = 0
 
   Eigen::VectorXd y0_, atol_, rweight_;
   WireKinematics kin_, committed_;

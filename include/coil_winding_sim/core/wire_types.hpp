@@ -13,11 +13,13 @@
 
 namespace cws {
 
-// Constants of one wire, derived from the scene once.
+// Constants of one wire, derived from the scene once; only n changes, when a
+// supply draws wire in.
 struct WireConstants {
-  int n = 0;                    // mass points
+  int n = 0;                    // mass points now
+  int capacity = 0;             // most mass points the run may reach
   double segment_length = 0.0;  // natural length l [m]
-  double point_mass = 0.0;      // M = rho L / n [kg], eq. (1)
+  double point_mass = 0.0;      // M = rho L / n [kg], eq. (1); rho l with a supply
   double point_inertia = 0.0;   // 2/5 M r^2 [kg m^2], eq. (2)
   double radius = 0.0;          // r [m]
   double line_density = 0.0;    // [kg/m]
@@ -71,6 +73,9 @@ class ForceEffect {
   virtual void addForces(double t, const WireKinematics& k, WireForces& f) const = 0;
   // Commits history state (yield points, stick) after an accepted step at t [s].
   virtual void commit(double /*t*/, const WireKinematics& /*k*/) {}
+  // Point n-1 was just appended (a wire supply drew it in): initialize the
+  // state of the new point, segment n-2 and joint n-2. Runs between steps.
+  virtual void grow(const WireKinematics& /*k*/) {}
   // Appends the history state (yield points and the work bookkeeping) to
   // `out`; nothing for an effect without history. For snapshots and tests.
   virtual void appendHistory(std::vector<double>& /*out*/) const {}

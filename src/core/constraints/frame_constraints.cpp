@@ -8,16 +8,33 @@ namespace cws {
 FrameConstraints::FrameConstraints(const WireConstants& c, double nu)
     : c_(c),
       nu_(nu),
-      a_blk_(c.n),
-      d_blk_(c.n),
-      off_blk_(c.n),
-      d_inv_(c.n),
-      b_blk_(c.n),
-      gamma_(c.n),
-      lambda_(c.n) {}
+      a_blk_(c.capacity),
+      d_blk_(c.capacity),
+      off_blk_(c.capacity),
+      d_inv_(c.capacity),
+      elim_(c.capacity),
+      b_blk_(c.capacity),
+      gamma_(c.capacity),
+      lambda_(c.capacity),
+      col0_(c.capacity),
+      col1_(c.capacity),
+      x0_(c.capacity),
+      x1_(c.capacity) {}
+
+void FrameConstraints::solve(std::vector<Eigen::Vector3d>& rhs,
+                             std::vector<Eigen::Vector3d>& x) const {
+  const int n = c_.n;
+  for (int i = 2; i < n; ++i) rhs[i] -= elim_[i] * rhs[i - 1];
+  for (int i = n - 1; i >= 1; --i) {
+    Eigen::Vector3d r = rhs[i];
+    if (i + 1 < n) r -= off_blk_[i] * x[i + 1];
+    x[i] = d_inv_[i] * r;
+  }
+}
 
 void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& f,
-                                     const Eigen::Vector3d& a0_world, const Eigen::Vector4d& qdd0,
+                                     const Eigen::Vector3d& a0_world,
+                                     const Eigen::Vector4d& qdd0, const PortMotion* port,
                                      Eigen::Matrix3Xd& a_world, Eigen::Matrix4Xd& qdd) {
   const int n = c_.n;
   const double inv_m = 1.0 / c_.point_mass;
@@ -71,19 +88,60 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     off_blk_[i] = -inv_m * a_blk_[i] * a_blk_[i + 1].transpose();
   }
 
-  // Block Thomas algorithm on the SPD block-tridiagonal system.
+  // Block LDL^T (block Thomas) factorization of the SPD system.
   for (int i = 1; i < n; ++i) {
     if (i >= 2) {
-      const Eigen::Matrix3d l = off_blk_[i - 1].transpose() * d_inv_[i - 1];
-      d_blk_[i] -= l * off_blk_[i - 1];
-      gamma_[i] -= l * gamma_[i - 1];
+      elim_[i] = off_blk_[i - 1].transpose() * d_inv_[i - 1];
+      d_blk_[i] -= elim_[i] * off_blk_[i - 1];
     }
     d_inv_[i] = d_blk_[i].inverse();
   }
-  for (int i = n - 1; i >= 1; --i) {
-    Eigen::Vector3d r = gamma_[i];
-    if (i + 1 < n) r -= off_blk_[i] * lambda_[i + 1];
-    lambda_[i] = d_inv_[i] * r;
+
+  Eigen::Vector2d mu = Eigen::Vector2d::Zero();
+  Eigen::Matrix<double, 2, 3> pp;
+  Eigen::Matrix<double, 2, 4> pq;
+  if (!port) {
+    solve(gamma_, lambda_);
+  } else {
+    // Port rows on the last point L and its frame.
+    const int l = n - 1;
+    const quat::Vec4 q = k.q.col(l);
+    const quat::Vec4 qd = k.qd.col(l);
+    const Eigen::Vector3d e = k.p_world.col(l) - port->p_world;
+    const Eigen::Vector3d ed = k.v_world.col(l) - port->v_world;
+    const quat::Mat34 jx = quat::xiJacobian(q);
+    const quat::Mat34 je = quat::etaJacobian(q);
+    const Eigen::Vector3d xi = quat::xi(q), eta = quat::eta(q);
+    const Eigen::Vector3d xid = jx * qd, etad = je * qd;
+    pp.row(0) = xi.transpose();
+    pp.row(1) = eta.transpose();
+    pq.row(0) = e.transpose() * jx;
+    pq.row(1) = e.transpose() * je;
+    const Eigen::Vector2d c(e.dot(xi), e.dot(eta));
+    const Eigen::Vector2d cd(ed.dot(xi) + e.dot(xid), ed.dot(eta) + e.dot(etad));
+    const Eigen::Vector2d jdot_v(
+        -port->a_world.dot(xi) + 2.0 * ed.dot(xid) + 2.0 * e.dot(quat::xiBilinear(qd, qd)),
+        -port->a_world.dot(eta) + 2.0 * ed.dot(etad) + 2.0 * e.dot(quat::etaBilinear(qd, qd)));
+    const Eigen::Vector2d g = -jdot_v - 2.0 * nu_ * cd - nu_ * nu_ * c -
+                              (pp * a_world.col(l) + pq * qdd.col(l));
+    // Border: coupling of frame block L with the port rows, and the port's
+    // own block.
+    const Eigen::Matrix<double, 3, 2> border =
+        inv_m * a_blk_[l] * pp.transpose() + inv_mq * b_blk_[l] * pq.transpose();
+    const Eigen::Matrix2d corner = inv_m * pp * pp.transpose() + inv_mq * pq * pq.transpose();
+    for (int i = 1; i < n; ++i) {
+      col0_[i].setZero();
+      col1_[i].setZero();
+    }
+    col0_[l] = border.col(0);
+    col1_[l] = border.col(1);
+    solve(gamma_, lambda_);
+    solve(col0_, x0_);
+    solve(col1_, x1_);
+    const Eigen::Matrix2d schur =
+        corner - border.transpose() * (Eigen::Matrix<double, 3, 2>() << x0_[l], x1_[l]).finished();
+    mu = schur.inverse() * (g - border.transpose() * lambda_[l]);
+    for (int i = 1; i < n; ++i) lambda_[i] -= x0_[i] * mu[0] + x1_[i] * mu[1];
   }
 
   // Constraint forces J^T lambda added to the accelerations.
@@ -92,6 +150,10 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     if (i + 1 < n) fp -= a_blk_[i + 1].transpose() * lambda_[i + 1];
     a_world.col(i) += inv_m * fp;
     qdd.col(i) += inv_mq * (b_blk_[i].transpose() * lambda_[i]);
+  }
+  if (port) {
+    a_world.col(n - 1) += inv_m * (pp.transpose() * mu);
+    qdd.col(n - 1) += inv_mq * (pq.transpose() * mu);
   }
 }
 

@@ -11,11 +11,11 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
     radii_.push_back(cyl.radius);
   }
   centers_world_.resize(radii_.size());
-  cylinder_.assign(c_.n, -1);
-  friction_force_.assign(c_.n, Eigen::Vector3d::Zero());
+  cylinder_.assign(c_.capacity, -1);
+  friction_force_.assign(c_.capacity, Eigen::Vector3d::Zero());
   if (friction_) {
-    stuck_.assign(c_.n, 0);
-    anchor_core_.assign(c_.n, Eigen::Vector3d::Zero());
+    stuck_.assign(c_.capacity, 0);
+    anchor_core_.assign(c_.capacity, Eigen::Vector3d::Zero());
   }
 }
 

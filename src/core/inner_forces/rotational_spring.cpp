@@ -8,8 +8,8 @@ RotationalSpring::RotationalSpring(const char* name, const WireConstants& c,
                                    const HysteresisParams& p, bool plastic, int first, int count)
     : name_(name), c_(c), law_(p), plastic_(plastic), first_(first), count_(count) {
   if (plastic_) {
-    upper_.assign(static_cast<std::size_t>(c_.n - 1) * count_, law_.initialUpper());
-    x_committed_.assign(static_cast<std::size_t>(c_.n - 1) * count_, 0.0);
+    upper_.assign(static_cast<std::size_t>(c_.capacity - 1) * count_, law_.initialUpper());
+    x_committed_.assign(static_cast<std::size_t>(c_.capacity - 1) * count_, 0.0);
   }
 }
 
@@ -75,8 +75,9 @@ double RotationalSpring::plasticWork(const WireKinematics& k) const {
 
 void RotationalSpring::appendHistory(std::vector<double>& out) const {
   if (!plastic_) return;
-  out.insert(out.end(), upper_.begin(), upper_.end());
-  out.insert(out.end(), x_committed_.begin(), x_committed_.end());
+  const std::size_t used = static_cast<std::size_t>(c_.n - 1) * count_;
+  out.insert(out.end(), upper_.begin(), upper_.begin() + used);
+  out.insert(out.end(), x_committed_.begin(), x_committed_.begin() + used);
   out.push_back(work_committed_);
 }
 

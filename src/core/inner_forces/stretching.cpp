@@ -5,8 +5,8 @@ namespace cws {
 Stretching::Stretching(const WireConstants& c, const HysteresisParams& p, bool plastic)
     : c_(c), law_(p), plastic_(plastic) {
   if (plastic_) {
-    upper_.assign(c_.n - 1, law_.initialUpper());
-    x_committed_.assign(c_.n - 1, 0.0);
+    upper_.assign(c_.capacity - 1, law_.initialUpper());
+    x_committed_.assign(c_.capacity - 1, 0.0);
   }
 }
 
@@ -59,10 +59,26 @@ double Stretching::plasticWork(const WireKinematics& k) const {
   return plastic_ ? work_committed_ - elasticEnergy(k) : 0.0;
 }
 
+double Stretching::virginWork(double x) const {
+  if (!plastic_) return 0.5 * law_.elasticRigidity() * x * x * c_.segment_length;
+  return c_.segment_length * law_.work(0.0, x, law_.initialUpper());
+}
+
+void Stretching::grow(const WireKinematics& k) {
+  if (!plastic_) return;
+  // The new segment arrives pre-stretched by the supply tension along the
+  // virgin loading curve: its yield point and committed strain follow it.
+  const int j = c_.n - 2;
+  const double x = strain(k, j);
+  upper_[j] = law_.movedUpper(x, law_.initialUpper());
+  x_committed_[j] = x;
+  work_committed_ += c_.segment_length * law_.work(0.0, x, law_.initialUpper());
+}
+
 void Stretching::appendHistory(std::vector<double>& out) const {
   if (!plastic_) return;
-  out.insert(out.end(), upper_.begin(), upper_.end());
-  out.insert(out.end(), x_committed_.begin(), x_committed_.end());
+  out.insert(out.end(), upper_.begin(), upper_.begin() + (c_.n - 1));
+  out.insert(out.end(), x_committed_.begin(), x_committed_.begin() + (c_.n - 1));
   out.push_back(work_committed_);
 }
 

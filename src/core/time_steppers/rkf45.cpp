@@ -20,33 +20,35 @@ constexpr double kB5[6] = {16.0 / 135.0,      0.0,         6656.0 / 12825.0,
 constexpr double kB4[6] = {25.0 / 216.0, 0.0, 1408.0 / 2565.0, 2197.0 / 4104.0, -1.0 / 5.0, 0.0};
 }  // namespace
 
-Rkf45::Rkf45(const SolverParams& p, int size) : p_(p), h_(p.initial_step) {
-  for (auto& k : k_) k.resize(size);
-  y_stage_.resize(size);
-  y_new_.resize(size);
-  err_.resize(size);
+Rkf45::Rkf45(const SolverParams& p, int capacity) : p_(p), h_(p.initial_step) {
+  for (auto& k : k_) k.setZero(capacity);
+  y_stage_.setZero(capacity);
+  y_new_.setZero(capacity);
+  err_.setZero(capacity);
 }
 
 double Rkf45::attempt(OdeSystem& sys, double t, const Eigen::VectorXd& y, double h) {
+  // Work on the components in use (the buffers hold the capacity).
+  const Eigen::Index n = sys.size();
   for (int s = 0; s < 6; ++s) {
-    y_stage_ = y;
+    y_stage_.head(n) = y.head(n);
     for (int j = 0; j < s; ++j) {
-      if (kA[s][j] != 0.0) y_stage_.noalias() += (h * kA[s][j]) * k_[j];
+      if (kA[s][j] != 0.0) y_stage_.head(n).noalias() += (h * kA[s][j]) * k_[j].head(n);
     }
-    sys.derivative(t + kC[s] * h, y_stage_, k_[s]);
+    sys.derivative(t + kC[s] * h, y_stage_.head(n), k_[s].head(n));
     ++counts_.derivative_evaluations;
   }
-  y_new_ = y;
-  err_.setZero();
+  y_new_.head(n) = y.head(n);
+  err_.head(n).setZero();
   for (int s = 0; s < 6; ++s) {
-    y_new_.noalias() += (h * kB5[s]) * k_[s];
-    err_.noalias() += (h * (kB5[s] - kB4[s])) * k_[s];
+    y_new_.head(n).noalias() += (h * kB5[s]) * k_[s].head(n);
+    err_.head(n).noalias() += (h * (kB5[s] - kB4[s])) * k_[s].head(n);
   }
   // Max norm of the error scaled by atol + rtol |y|.
   const Eigen::VectorXd& atol = sys.absoluteTolerance();
   const Eigen::VectorXd& rweight = sys.relativeToleranceWeight();
   double norm = 0.0;
-  for (Eigen::Index i = 0; i < y.size(); ++i) {
+  for (Eigen::Index i = 0; i < n; ++i) {
     const double scale =
         atol[i] + rweight[i] * p_.rtol * std::max(std::abs(y[i]), std::abs(y_new_[i]));
     const double e = std::abs(err_[i]) / scale;
@@ -88,7 +90,7 @@ void Rkf45::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) 
 }
 
 std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, const OdeSystem& sys) {
-  if (p.integrator == "rkf45") return std::make_unique<Rkf45>(p, sys.size());
+  if (p.integrator == "rkf45") return std::make_unique<Rkf45>(p, sys.capacity());
   throw std::invalid_argument("unknown integrator '" + p.integrator + "'");
 }
 

@@ -1,6 +1,6 @@
-// The unit-quaternion constraint (4) and the rotational constraint (5),
-// stabilized with Baumgarte's method (6) and solved together with the
-// equations of motion (2).
+// The unit-quaternion constraint (4), the rotational constraint (5) and,
+// with a wire supply, the port constraint (22), stabilized with Baumgarte's
+// method (6) and solved together with the equations of motion (2).
 //
 // Generalized coordinates are the point positions p_i (mass M) and the
 // quaternions q_i (mass 4 I, I = 2/5 M r^2: on |q| = 1 the kinetic energy
@@ -11,6 +11,12 @@
 // so that  cddot + 2 nu cdot + nu^2 c = 0  holds exactly at acceleration
 // level. Constraint i touches p_{i-1}, p_i and q_i only, so J M^-1 J^T is
 // block tridiagonal (3x3 blocks) and the solve costs O(n) with no allocation.
+//
+// The port constraint keeps the supply port p_s on the line of the last
+// segment: (p_L - p_s) . xi_L = 0 and (p_L - p_s) . eta_L = 0 for the last
+// point L (the paper's boundary segment lies on that line, eq. 21). Its two
+// rows touch only block L; they border the block system and are solved by a
+// 2x2 Schur complement (three O(n) solves with one factorization).
 #pragma once
 
 #include <vector>
@@ -20,15 +26,24 @@
 
 namespace cws {
 
+// Motion of the supply port [m], [m/s], [m/s^2], world frame.
+struct PortMotion {
+  Eigen::Vector3d p_world = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_world = Eigen::Vector3d::Zero();
+  Eigen::Vector3d a_world = Eigen::Vector3d::Zero();
+};
+
 class FrameConstraints {
  public:
   FrameConstraints(const WireConstants& c, double nu);
 
   // Accelerations of all points [m/s^2] and quaternion second derivatives
   // [1/s^2] from the generalized forces; point 0 and frame 0 follow the given
-  // prescribed accelerations (the clamp).
-  void accelerations(const WireKinematics& k, const WireForces& f, const Eigen::Vector3d& a0_world,
-                     const Eigen::Vector4d& qdd0, Eigen::Matrix3Xd& a_world, Eigen::Matrix4Xd& qdd);
+  // prescribed accelerations (the clamp). With `port` the last point is held
+  // on the port line.
+  void accelerations(const WireKinematics& k, const WireForces& f,
+                     const Eigen::Vector3d& a0_world, const Eigen::Vector4d& qdd0,
+                     const PortMotion* port, Eigen::Matrix3Xd& a_world, Eigen::Matrix4Xd& qdd);
 
   // Largest constraint residual over all frames [-]: |q|^2 - 1, and the
   // sines of the angles between zeta_i and segment i-1 in the xi and eta
@@ -36,13 +51,16 @@ class FrameConstraints {
   double maxResidual(const WireKinematics& k) const;
 
  private:
-  WireConstants c_;
+  // Solves S x = rhs with the factorization of the last accelerations() call.
+  void solve(std::vector<Eigen::Vector3d>& rhs, std::vector<Eigen::Vector3d>& x) const;
+
+  const WireConstants& c_;  // the model's: n grows with a supply
   double nu_;
-  // Per frame i (index 0 unused): Jacobian blocks, Schur-complement blocks,
-  // right-hand side and multipliers.
-  std::vector<Eigen::Matrix3d> a_blk_, d_blk_, off_blk_, d_inv_;
+  // Per frame i (index 0 unused), capacity long: Jacobian blocks, Schur
+  // blocks and their factorization, right-hand sides and multipliers.
+  std::vector<Eigen::Matrix3d> a_blk_, d_blk_, off_blk_, d_inv_, elim_;
   std::vector<quat::Mat34> b_blk_;
-  std::vector<Eigen::Vector3d> gamma_, lambda_;
+  std::vector<Eigen::Vector3d> gamma_, lambda_, col0_, col1_, x0_, x1_;
 };
 
 }  // namespace cws

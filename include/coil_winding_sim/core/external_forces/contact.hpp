@@ -57,7 +57,7 @@ class Contact : public ForceEffect {
                            const Eigen::Vector3d& vh_world, const Eigen::Vector3d& n_world,
                            double normal_force, bool& slipping) const;
 
-  WireConstants c_;
+  const WireConstants& c_;  // the model's: n grows with a supply
   ContactParams p_;
   const RotatingCore& core_;
   std::vector<Eigen::Vector3d> centers_core_;

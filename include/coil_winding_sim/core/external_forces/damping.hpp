@@ -14,7 +14,7 @@ class Damping : public ForceEffect {
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
 
  private:
-  WireConstants c_;
+  const WireConstants& c_;  // the model's: n grows with a supply
   DampingParams p_;
 };
 

@@ -20,7 +20,7 @@ class EndLoad : public ForceEffect {
   void loadAt(double t, Eigen::Vector3d& force_world, Eigen::Vector3d& moment_world) const;
 
  private:
-  WireConstants c_;
+  const WireConstants& c_;  // the model's: n grows with a supply
   std::vector<LoadKeyframe> schedule_;
 };
 

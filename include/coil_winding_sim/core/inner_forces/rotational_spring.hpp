@@ -50,7 +50,7 @@ class RotationalSpring : public ForceEffect {
   double jointLength(int j) const;
 
   const char* name_;
-  WireConstants c_;
+  const WireConstants& c_;  // the model's: n grows with a supply
   TwoLineLaw law_;
   bool plastic_;
   int first_, count_;

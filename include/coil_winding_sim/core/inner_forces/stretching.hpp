@@ -16,6 +16,7 @@ class Stretching : public ForceEffect {
   const char* name() const override { return "stretching"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   void commit(double t, const WireKinematics& k) override;
+  void grow(const WireKinematics& k) override;
   void appendHistory(std::vector<double>& out) const override;
   double elasticEnergy(const WireKinematics& k) const override;
   double plasticWork(const WireKinematics& k) const override;
@@ -23,17 +24,19 @@ class Stretching : public ForceEffect {
   // Axial strain [-] and axial force [N] (tension positive) of segment j.
   double strain(const WireKinematics& k, int j) const;
   double axialForce(const WireKinematics& k, int j) const;
+  // Work [J] that stretches a virgin segment to strain x.
+  double virginWork(double x) const;
   // Permanent strain of segment j [-] (0 when elastic).
   double plasticStrain(int j) const;
 
  private:
   double stressOf(double x, int j) const;
 
-  WireConstants c_;
+  const WireConstants& c_;  // the model's: n grows with a supply
   TwoLineLaw law_;
   bool plastic_;
-  // Per segment, allocated only when plastic: upper yield point, strain at
-  // the last commit, and work done on the segment up to it [J].
+  // Per segment (capacity), allocated only when plastic: upper yield point,
+  // strain at the last commit; work done on all segments up to it [J].
   std::vector<double> upper_, x_committed_;
   double work_committed_ = 0.0;
 };

@@ -1,5 +1,10 @@
 // What a time stepper integrates: y' = F(t, y), with history state that is
 // committed only on accepted steps.
+//
+// The state may grow between steps (a wire supply adds mass points): vectors
+// are allocated once for capacity() components and the system uses the
+// first size() of them. A stepper works on heads of its buffers and so
+// allocates nothing when the system grows.
 #pragma once
 
 #include <Eigen/Core>
@@ -9,17 +14,24 @@ namespace cws {
 
 class OdeSystem {
  public:
+  using ConstRef = Eigen::Ref<const Eigen::VectorXd>;
+  using Ref = Eigen::Ref<Eigen::VectorXd>;
+
   virtual ~OdeSystem() = default;
+  // Components in use now, and the most there will ever be.
   virtual int size() const = 0;
-  // dydt = F(t, y). Must not allocate and must not change history state.
-  virtual void derivative(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt) = 0;
-  // Absolute tolerance per component (infinity: not error-controlled).
+  virtual int capacity() const = 0;
+  // dydt = F(t, y) on the first size() components. Must not allocate and
+  // must not change history state.
+  virtual void derivative(double t, ConstRef y, Ref dydt) = 0;
+  // Absolute tolerance per component (infinity: not error-controlled), and
+  // 1 where rtol applies, 0 where it does not (a coordinate whose size
+  // depends on the choice of origin, such as a position); capacity() long.
   virtual const Eigen::VectorXd& absoluteTolerance() const = 0;
-  // Per component 1 where rtol applies, 0 where it does not (a coordinate
-  // whose size depends on the choice of origin, such as a position).
   virtual const Eigen::VectorXd& relativeToleranceWeight() const = 0;
-  // Called once per accepted step with the new time and state.
-  virtual void acceptStep(double t, const Eigen::VectorXd& y) = 0;
+  // Called once per accepted step with the new time and state (capacity()
+  // long). The system may grow here, writing its new components into y.
+  virtual void acceptStep(double t, Eigen::VectorXd& y) = 0;
 };
 
 // The step size fell below its floor, or the state stopped being finite.

@@ -9,7 +9,8 @@ namespace cws {
 
 class Rkf45 : public TimeStepper {
  public:
-  Rkf45(const SolverParams& p, int size);
+  // Buffers for up to `capacity` components (OdeSystem::capacity()).
+  Rkf45(const SolverParams& p, int capacity);
 
   const char* name() const override { return "rkf45"; }
   void step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) override;

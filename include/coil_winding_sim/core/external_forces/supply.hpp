@@ -1,0 +1,46 @@
+// The wire supply of the paper's section IV (eqs. 21-22): wire is drawn into
+// the simulated region through a port at constant tension F_T.
+//
+// The last mass point L is the inner end of the paper's boundary segment,
+// which runs along zeta_L through the port to a point outside. The port
+// constraint (constraints/frame_constraints) keeps the port on that line;
+// this effect pulls point L outwards along zeta_L with F_T (the boundary
+// segment's tension). When the outer point would pass the port, the model
+// appends it as a new mass point (WireModel::acceptStep), so the wire grows.
+// The port travels along the core axis by process.traverse_pitch per core
+// revolution, so the wire winds as a spiral.
+#pragma once
+
+#include "coil_winding_sim/core/constraints/frame_constraints.hpp"
+#include "coil_winding_sim/core/hysteresis.hpp"
+#include "coil_winding_sim/core/rotating_core.hpp"
+#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/wire_types.hpp"
+
+namespace cws {
+
+class Supply : public ForceEffect {
+ public:
+  Supply(const WireConstants& c, const Scene& s, const RotatingCore* core);
+
+  const char* name() const override { return "supply"; }
+  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
+
+  // Port motion at time t.
+  PortMotion port(double t) const;
+  double tension() const { return tension_; }  // [N]
+  // Strain of wire at the supply tension (virgin loading curve) [-], and the
+  // length of the boundary segment l (1 + strain) [m].
+  double tensionStrain() const { return strain_; }
+  double boundaryLength() const { return c_.segment_length * (1.0 + strain_); }
+
+ private:
+  const WireConstants& c_;
+  const RotatingCore* core_;  // null: the port does not traverse
+  Eigen::Vector3d port0_world_, axis_world_;
+  double pitch_;    // [m per revolution]
+  double tension_;  // [N]
+  double strain_;   // [-]
+};
+
+}  // namespace cws
