@@ -1,13 +1,13 @@
 #include "coil_winding_sim/core/scene.hpp"
 
-#include "coil_winding_sim/core/core_geometry.hpp"
-#include "coil_winding_sim/core/rotating_core.hpp"
-
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+
+#include "coil_winding_sim/core/core_geometry.hpp"
+#include "coil_winding_sim/core/rotating_core.hpp"
 
 namespace cws {
 
@@ -476,8 +476,9 @@ void validateScene(const Scene& s) {
     }
     if (s.physics.planar &&
         std::abs((s.supply.port_position_world - clamp_world).dot(axis)) > 1e-12) {
-      throw SceneError("supply.port_position",
-                       "must lie in the plane of the clamp normal to core.axis with physics.planar");
+      throw SceneError(
+          "supply.port_position",
+          "must lie in the plane of the clamp normal to core.axis with physics.planar");
     }
   }
   if (s.physics.planar && s.physics.gravity &&

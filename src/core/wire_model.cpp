@@ -81,8 +81,8 @@ WireModel::WireModel(const Scene& s)
   // the wire on it.
   if (needsCore(s)) {
     const double omega_cmd = coreSpeedCommand(s);
-    core_ = std::make_unique<RotatingCore>(s.core, s.core.start_at_speed ? omega_cmd : 0.0,
-                                           omega_cmd);
+    core_ =
+        std::make_unique<RotatingCore>(s.core, s.core.start_at_speed ? omega_cmd : 0.0, omega_cmd);
   }
   if (s.physics.planar) planar_normal_world_ = s.core.axis_world.normalized();
 
@@ -124,12 +124,15 @@ WireModel::WireModel(const Scene& s)
     q0_ = quat::fromZetaDirection(s.start.direction);
   }
   Eigen::Vector3d p0_world, v0_world, a0_world;
-  Eigen::Vector4d q0_world;
-  clamp(0.0, p0_world, v0_world, a0_world, q0_world);
+  Eigen::Vector4d q0_world, qd0_world;
+  clamp(0.0, p0_world, v0_world, a0_world, q0_world, qd0_world);
+  // With a supply the wire starts stretched to the supply tension, in
+  // equilibrium with it (segments of the boundary length).
   const Eigen::Vector3d dir = quat::zeta(q0_world);
+  const double spacing = supply_ ? supply_->boundaryLength() : c_.segment_length;
   y0_.setZero(capacity());
   for (int i = 1; i < c_.n; ++i) {
-    y0_.segment<3>(offsetOf(i)) = p0_world + i * c_.segment_length * dir;
+    y0_.segment<3>(offsetOf(i)) = p0_world + i * spacing * dir;
     y0_.segment<4>(offsetOf(i) + 3) = q0_world;
   }
 
@@ -157,16 +160,24 @@ WireModel::WireModel(const Scene& s)
   acc_.resize(3, c_.capacity);
   qdd_.resize(4, c_.capacity);
   unpack(0.0, y0_, committed_);
-  if (supply_) port_distance0_ = portDistance(0.0, committed_);
+  if (supply_) {
+    // The stretched start is work done on the wire before t = 0.
+    for (int j = 0; j + 1 < c_.n; ++j) {
+      y0_[0] += stretching_->virginWork(stretching_->strain(committed_, j));
+    }
+    stretching_->preload(committed_);
+    port_distance0_ = portDistance(0.0, committed_);
+  }
 }
 
 void WireModel::clamp(double t, Eigen::Vector3d& p0_world, Eigen::Vector3d& v0_world,
-                      Eigen::Vector3d& a0_world, Eigen::Vector4d& q0) const {
+                      Eigen::Vector3d& a0_world, Eigen::Vector4d& q0, Eigen::Vector4d& qd0) const {
   if (!clamp_in_core_) {
     p0_world = p0_;
     v0_world.setZero();
     a0_world.setZero();
     q0 = q0_;
+    qd0.setZero();
     return;
   }
   // Held on the turning core: the clamp moves with the core material.
@@ -176,16 +187,20 @@ void WireModel::clamp(double t, Eigen::Vector3d& p0_world, Eigen::Vector3d& v0_w
   const Eigen::Quaterniond qc(q0_[0], q0_[1], q0_[2], q0_[3]);
   const Eigen::Quaterniond qw = core_->quaternionWorldCore(t) * qc;
   q0 = {qw.w(), qw.x(), qw.y(), qw.z()};
+  // qdot = 1/2 (0, omega_world) * q.
+  const Eigen::Vector3d w = 0.5 * core_->omega(t) * core_->axisWorld();
+  const Eigen::Quaterniond qdw = Eigen::Quaterniond(0.0, w.x(), w.y(), w.z()) * qw;
+  qd0 = {qdw.w(), qdw.x(), qdw.y(), qdw.z()};
 }
 
 Eigen::Vector3d WireModel::unpack(double t, ConstRef y, WireKinematics& k) const {
   Eigen::Vector3d p0, v0, a0;
-  Eigen::Vector4d q0;
-  clamp(t, p0, v0, a0, q0);
+  Eigen::Vector4d q0, qd0;
+  clamp(t, p0, v0, a0, q0, qd0);
   k.p_world.col(0) = p0;
   k.v_world.col(0) = v0;
   k.q.col(0) = q0;
-  k.qd.col(0).setZero();  // frame 0 enters only the joint-0 spring, by position
+  k.qd.col(0) = qd0;
   for (int i = 1; i < c_.n; ++i) {
     const int o = offsetOf(i);
     k.p_world.col(i) = y.segment<3>(o);
@@ -204,9 +219,14 @@ void WireModel::derivative(double t, ConstRef y, Ref dydt) {
   if (supply_) port = supply_->port(t);
   constraints_.accelerations(kin_, forces_, a0_world, Eigen::Vector4d::Zero(),
                              supply_ ? &port : nullptr, acc_, qdd_);
+  // A clamp on the turning core works on the wire through point 0 and
+  // frame 0: minus the power of the wire's forces on them.
+  const double clamp_power =
+      -(forces_.f_world.col(0) + constraints_.forceOnPoint0()).dot(kin_.v_world.col(0)) -
+      forces_.f_q.col(0).dot(kin_.qd.col(0));
   // Planar mode: no acceleration along the core axis (removes rounding).
   const Eigen::Vector3d& nrm = planar_normal_world_;
-  dydt[0] = forces_.power_external;
+  dydt[0] = forces_.power_external + clamp_power;
   dydt[1] = forces_.power_dissipated;
   for (int i = 1; i < c_.n; ++i) {
     const int o = offsetOf(i);
@@ -242,10 +262,15 @@ void WireModel::appendPoint(double t, Eigen::VectorXd& y) {
   // becomes a mass point moving with the last one, on the same line.
   const int last = c_.n - 1;
   const Eigen::Vector3d zeta = quat::zeta(committed_.q.col(last)).normalized();
+  // It moves as a rigid extension of the last segment, so that the
+  // constraints of the new frame and of the port start at rest.
   const int o = offsetOf(last + 1);
-  const Eigen::Vector3d v = committed_.v_world.col(last);
+  const Eigen::Vector3d arm = supply_->boundaryLength() * zeta;
+  const Eigen::Vector3d omega_world =
+      2.0 * quat::E(committed_.q.col(last)) * committed_.qd.col(last);
+  const Eigen::Vector3d v = committed_.v_world.col(last) + omega_world.cross(arm);
   const Eigen::Vector4d qd = committed_.qd.col(last);
-  y.segment<3>(o) = committed_.p_world.col(last) + supply_->boundaryLength() * zeta;
+  y.segment<3>(o) = committed_.p_world.col(last) + arm;
   y.segment<4>(o + 3) = committed_.q.col(last);
   y.segment<3>(o + 7) = v;
   y.segment<4>(o + 10) = qd;

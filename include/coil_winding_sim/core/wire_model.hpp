@@ -93,7 +93,7 @@ class WireModel : public OdeSystem {
  private:
   // Clamp state of point 0 and frame 0 at time t (world frame).
   void clamp(double t, Eigen::Vector3d& p0_world, Eigen::Vector3d& v0_world,
-             Eigen::Vector3d& a0_world, Eigen::Vector4d& q0) const;
+             Eigen::Vector3d& a0_world, Eigen::Vector4d& q0, Eigen::Vector4d& qd0) const;
   // Distance from the last point to the port along its zeta axis [m].
   double portDistance(double t, const WireKinematics& k) const;
   // Appends a mass point drawn in through the port (between steps).

@@ -33,9 +33,9 @@ void FrameConstraints::solve(std::vector<Eigen::Vector3d>& rhs,
 }
 
 void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& f,
-                                     const Eigen::Vector3d& a0_world,
-                                     const Eigen::Vector4d& qdd0, const PortMotion* port,
-                                     Eigen::Matrix3Xd& a_world, Eigen::Matrix4Xd& qdd) {
+                                     const Eigen::Vector3d& a0_world, const Eigen::Vector4d& qdd0,
+                                     const PortMotion* port, Eigen::Matrix3Xd& a_world,
+                                     Eigen::Matrix4Xd& qdd) {
   const int n = c_.n;
   const double inv_m = 1.0 / c_.point_mass;
   const double inv_mq = 1.0 / (4.0 * c_.point_inertia);
@@ -122,8 +122,8 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     const Eigen::Vector2d jdot_v(
         -port->a_world.dot(xi) + 2.0 * ed.dot(xid) + 2.0 * e.dot(quat::xiBilinear(qd, qd)),
         -port->a_world.dot(eta) + 2.0 * ed.dot(etad) + 2.0 * e.dot(quat::etaBilinear(qd, qd)));
-    const Eigen::Vector2d g = -jdot_v - 2.0 * nu_ * cd - nu_ * nu_ * c -
-                              (pp * a_world.col(l) + pq * qdd.col(l));
+    const Eigen::Vector2d g =
+        -jdot_v - 2.0 * nu_ * cd - nu_ * nu_ * c - (pp * a_world.col(l) + pq * qdd.col(l));
     // Border: coupling of frame block L with the port rows, and the port's
     // own block.
     const Eigen::Matrix<double, 3, 2> border =

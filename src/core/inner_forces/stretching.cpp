@@ -64,15 +64,22 @@ double Stretching::virginWork(double x) const {
   return c_.segment_length * law_.work(0.0, x, law_.initialUpper());
 }
 
-void Stretching::grow(const WireKinematics& k) {
-  if (!plastic_) return;
-  // The new segment arrives pre-stretched by the supply tension along the
-  // virgin loading curve: its yield point and committed strain follow it.
-  const int j = c_.n - 2;
+void Stretching::loadVirgin(const WireKinematics& k, int j) {
   const double x = strain(k, j);
   upper_[j] = law_.movedUpper(x, law_.initialUpper());
   x_committed_[j] = x;
   work_committed_ += c_.segment_length * law_.work(0.0, x, law_.initialUpper());
+}
+
+void Stretching::grow(const WireKinematics& k) {
+  // The new segment arrives pre-stretched by the supply tension along the
+  // virgin loading curve: its yield point and committed strain follow it.
+  if (plastic_) loadVirgin(k, c_.n - 2);
+}
+
+void Stretching::preload(const WireKinematics& k) {
+  if (!plastic_) return;
+  for (int j = 0; j + 1 < c_.n; ++j) loadVirgin(k, j);
 }
 
 void Stretching::appendHistory(std::vector<double>& out) const {

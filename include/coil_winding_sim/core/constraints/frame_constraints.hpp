@@ -41,9 +41,13 @@ class FrameConstraints {
   // [1/s^2] from the generalized forces; point 0 and frame 0 follow the given
   // prescribed accelerations (the clamp). With `port` the last point is held
   // on the port line.
-  void accelerations(const WireKinematics& k, const WireForces& f,
-                     const Eigen::Vector3d& a0_world, const Eigen::Vector4d& qdd0,
-                     const PortMotion* port, Eigen::Matrix3Xd& a_world, Eigen::Matrix4Xd& qdd);
+  void accelerations(const WireKinematics& k, const WireForces& f, const Eigen::Vector3d& a0_world,
+                     const Eigen::Vector4d& qdd0, const PortMotion* port, Eigen::Matrix3Xd& a_world,
+                     Eigen::Matrix4Xd& qdd);
+
+  // Force [N] the constraints of the last accelerations() call exert on the
+  // clamped point 0 (through frame 1's rotational constraint).
+  Eigen::Vector3d forceOnPoint0() const { return -a_blk_[1].transpose() * lambda_[1]; }
 
   // Largest constraint residual over all frames [-]: |q|^2 - 1, and the
   // sines of the angles between zeta_i and segment i-1 in the xi and eta

@@ -12,7 +12,7 @@ class Gravity : public ForceEffect {
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
 
  private:
-  const WireConstants& c_;  // the model's: n grows with a supply
+  const WireConstants& c_;   // the model's: n grows with a supply
   Eigen::Vector3d g_world_;  // [m/s^2]
 };
 

@@ -17,6 +17,9 @@ class Stretching : public ForceEffect {
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   void commit(double t, const WireKinematics& k) override;
   void grow(const WireKinematics& k) override;
+  // Every segment of a virgin wire was stretched to its present strain along
+  // the loading curve (a wire that starts under the supply tension).
+  void preload(const WireKinematics& k);
   void appendHistory(std::vector<double>& out) const override;
   double elasticEnergy(const WireKinematics& k) const override;
   double plasticWork(const WireKinematics& k) const override;
@@ -31,6 +34,8 @@ class Stretching : public ForceEffect {
 
  private:
   double stressOf(double x, int j) const;
+  // Commits segment j as loaded from virgin to its present strain.
+  void loadVirgin(const WireKinematics& k, int j);
 
   const WireConstants& c_;  // the model's: n grows with a supply
   TwoLineLaw law_;
