@@ -3,6 +3,7 @@
 #   make deps     install missing Debian packages (as root; skipped when all present)
 #   make build    build the package in the catkin workspace .ws/ (git-ignored)
 #   make run      run the wire_sim tool:  make run [SCENE=config/scenes/x.yaml] [OUT=out/x] [ARGS="..."]
+#   make study    the paper's 2 x 2 study: table and figure in docs/study (STUDY_OUT)
 #   make test     build and run all tests; non-zero exit if any test fails
 #   make format   clang-format -i all C++ sources
 #   make clean    remove the workspace .ws/
@@ -49,7 +50,7 @@ CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCATKIN_ENABLE_TESTING=ON \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON
 
-.PHONY: deps build run test format format-check clean
+.PHONY: deps build run study test format format-check clean
 
 deps:
 ifeq ($(SKIP_DEPS),1)
@@ -87,6 +88,12 @@ build: deps | $(WS)/src/$(PKG)
 run: build
 	mkdir -p "$(dir $(OUT))"
 	$(WIRE_SIM) run --out "$(OUT)" $(if $(SCENE),--scene "$(SCENE)") $(ARGS)
+
+# The paper's 2 x 2 case study: table (CSV, Markdown) and figure in STUDY_OUT.
+STUDY_OUT ?= docs/study
+study: build
+	$(WIRE_SIM) study --out "$(STUDY_OUT)" $(if $(SCENE),--scene "$(SCENE)") $(ARGS)
+	$(PYTHON) src/tools/plot_study.py "$(STUDY_OUT)"
 
 # Builds the test binaries (catkin target `tests`), then runs every registered test
 # (gtest now, rostest later) through ctest. catkin registers each test for ctest via

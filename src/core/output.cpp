@@ -57,9 +57,32 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out) {
       << "  \"viscous_dissipation_J\": " << num(e.viscous) << ",\n"
       << "  \"work_done_J\": " << num(e.work_done) << ",\n"
       << "  \"energy_imbalance_J\": " << num(e.imbalance()) << ",\n"
-      << "  \"bulging_height_m\": null,\n"
-      << "  \"max_axial_force_N\": " << num(sim.maxAxialForce()) << "\n"
-      << "}\n";
+      << "  \"max_axial_force_N\": " << num(sim.maxAxialForce()) << ",\n";
+  const WireModel& m = sim.model();
+  const double radius = m.constants().radius;
+  out << "  \"core_turns\": " << num(sim.coreTurns()) << ",\n"
+      << "  \"fed_length_m\": " << num(m.fedLength()) << ",\n"
+      << "  \"supply_tension_N\": "
+      << (m.supply() ? num(m.axialForce(m.constants().n - 2)) : std::string("null")) << ",\n"
+      << "  \"max_penetration_ratio\": "
+      << (m.contact() ? num(sim.maxPenetration() / radius) : std::string("null")) << ",\n";
+  // Bulging: null until the scene has a core with contact and wound wire.
+  const BulgeReport b = m.bulging();
+  if (b.valid) {
+    out << "  \"bulging_height_m\": " << num(b.height_m) << ",\n"
+        << "  \"bulging_index\": " << b.index << ",\n"
+        << "  \"bulging_arc_length_m\": " << num(b.arc_length_m) << ",\n"
+        << "  \"bulging_position_core_m\": [" << num(b.p_core.x()) << ", " << num(b.p_core.y())
+        << ", " << num(b.p_core.z()) << "],\n"
+        << "  \"wound_points\": " << b.wound_points << "\n";
+  } else {
+    out << "  \"bulging_height_m\": null,\n"
+        << "  \"bulging_index\": null,\n"
+        << "  \"bulging_arc_length_m\": null,\n"
+        << "  \"bulging_position_core_m\": null,\n"
+        << "  \"wound_points\": 0\n";
+  }
+  out << "}\n";
 }
 
 void writeWireCsv(const Simulation& sim, std::ostream& out) {
@@ -71,6 +94,17 @@ void writeWireCsv(const Simulation& sim, std::ostream& out) {
     out << i << ',' << r.p_world.x() << ',' << r.p_world.y() << ',' << r.p_world.z() << ','
         << r.axial_force_N << ',' << r.curvature_1pm << ',' << r.plastic_curvature_1pm << ','
         << r.twist_rad_per_m << ',' << int(r.in_contact) << ',' << int(r.stick) << '\n';
+  }
+}
+
+void writeShapeCsv(const Simulation& sim, std::ostream& out) {
+  const WireModel& m = sim.model();
+  out << "index,x_core,y_core,z_core,stand_off_m,in_contact,stick\n" << std::setprecision(12);
+  for (int i = 0; i < m.constants().n; ++i) {
+    const Eigen::Vector3d p = m.core()->pointCore(sim.time(), m.committed().p_world.col(i));
+    const PointReport r = m.point(i);
+    out << i << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << m.standOff(i) << ','
+        << int(r.in_contact) << ',' << int(r.stick) << '\n';
   }
 }
 
@@ -92,6 +126,11 @@ void writeOutputs(const Simulation& sim, const std::string& dir) {
   writeSummaryJson(sim, summary);
   writeWireCsv(sim, csv);
   writeAtomically(fs::path(dir) / "wire.csv", csv.str());
+  if (sim.model().core() && !sim.scene().core.cylinders.empty()) {
+    std::ostringstream shape;
+    writeShapeCsv(sim, shape);
+    writeAtomically(fs::path(dir) / "shape_core.csv", shape.str());
+  }
   writeAtomically(fs::path(dir) / "summary.json", summary.str());
 }
 

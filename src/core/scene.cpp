@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include "coil_winding_sim/core/core_geometry.hpp"
@@ -392,7 +393,11 @@ double Scene::naturalSegmentLength() const { return wire.length / segmentCount()
 
 double Scene::endTime() const {
   if (process.duration) return *process.duration;
-  return process.turns / (std::abs(process.core_speed_rpm) / 60.0);
+  // Turns at the commanded speed; a core that starts at rest loses half its
+  // ramp time to the acceleration.
+  const double omega = std::abs(process.core_speed_rpm) * 2.0 * M_PI / 60.0;
+  const double ramp = core.start_at_speed ? 0.0 : omega / core.max_angular_acceleration;
+  return process.turns * 2.0 * M_PI / omega + 0.5 * ramp;
 }
 
 void validateScene(const Scene& s) {
@@ -542,19 +547,34 @@ void validateScene(const Scene& s) {
   requirePositive(s.output.progress_interval_s, "output.progress_interval_s");
 }
 
+namespace {
+// Merges the scene file at `path` into root: first its `base` file (a path
+// relative to it), if it names one, then its own keys.
+void mergeFile(YAML::Node root, const std::string& path, int depth) {
+  if (depth > 8) throw SceneError("base", "more than 8 nested base files at '" + path + "'");
+  YAML::Node user;
+  try {
+    user = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw SceneError("(file)", "cannot open scene file '" + path + "'");
+  } catch (const YAML::Exception& e) {
+    throw SceneError("(file)", "'" + path + "' is not valid YAML: " + e.what());
+  }
+  if (user.IsNull()) return;
+  if (user.IsMap() && user["base"]) {
+    const YAML::Node base = user["base"];
+    if (!base.IsScalar()) throw SceneError("base", "expected a file name in '" + path + "'");
+    const std::string dir = std::filesystem::path(path).parent_path().string();
+    mergeFile(root, (std::filesystem::path(dir) / base.Scalar()).string(), depth + 1);
+    user.remove("base");
+  }
+  mergeChecked(root, user, "");
+}
+}  // namespace
+
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
   YAML::Node root = toYaml(Scene{});
-  if (!path.empty()) {
-    YAML::Node user;
-    try {
-      user = YAML::LoadFile(path);
-    } catch (const YAML::BadFile&) {
-      throw SceneError("(file)", "cannot open scene file '" + path + "'");
-    } catch (const YAML::Exception& e) {
-      throw SceneError("(file)", "'" + path + "' is not valid YAML: " + e.what());
-    }
-    if (!user.IsNull()) mergeChecked(root, user, "");
-  }
+  if (!path.empty()) mergeFile(root, path, 0);
   for (const std::string& o : overrides) applyOverride(root, o);
   Scene s = fromYaml(root);
   validateScene(s);

@@ -20,8 +20,16 @@ Simulation::Simulation(const Scene& scene) : scene_(validated(scene)) {
   afterStep();
 }
 
+double Simulation::coreTurns() const {
+  const RotatingCore* core = model_->core();
+  return core ? core->angle(t_) / (2.0 * M_PI) : 0.0;
+}
+
 void Simulation::afterStep() {
   max_residual_ = std::max(max_residual_, model_->maxConstraintResidual());
+  if (model_->contact()) {
+    max_penetration_ = std::max(max_penetration_, model_->contact()->maxPenetration());
+  }
   const int segments = model_->constants().n - 1;
   for (int j = 0; j < segments; ++j) {
     max_axial_force_ = std::max(max_axial_force_, std::abs(model_->axialForce(j)));

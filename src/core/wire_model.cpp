@@ -85,6 +85,9 @@ WireModel::WireModel(const Scene& s)
         std::make_unique<RotatingCore>(s.core, s.core.start_at_speed ? omega_cmd : 0.0, omega_cmd);
   }
   if (s.physics.planar) planar_normal_world_ = s.core.axis_world.normalized();
+  if (core_ && !s.core.cylinders.empty()) {
+    section_ = std::make_unique<CoreSection>(s.core.cylinders);
+  }
 
   const bool plastic = s.physics.plasticity;
   stretching_ = std::make_unique<Stretching>(c_, s.wire.stretch, plastic);
@@ -226,7 +229,7 @@ void WireModel::derivative(double t, ConstRef y, Ref dydt) {
       forces_.f_q.col(0).dot(kin_.qd.col(0));
   // Planar mode: no acceleration along the core axis (removes rounding).
   const Eigen::Vector3d& nrm = planar_normal_world_;
-  dydt[0] = forces_.power_external + clamp_power;
+  dydt[0] = forces_.power_external + clamp_power + constraints_.portPower();
   dydt[1] = forces_.power_dissipated;
   for (int i = 1; i < c_.n; ++i) {
     const int o = offsetOf(i);
@@ -292,6 +295,34 @@ void WireModel::acceptStep(double t, Eigen::VectorXd& y) {
   if (supply_) {
     while (portDistance(t, committed_) > supply_->boundaryLength()) appendPoint(t, y);
   }
+}
+
+double WireModel::standOff(int i) const {
+  const Eigen::Vector3d p_core = core_->pointCore(committed_time_, committed_.p_world.col(i));
+  return section_->signedDistance(p_core.head<2>()) - c_.radius;
+}
+
+BulgeReport WireModel::bulging() const {
+  BulgeReport b;
+  if (!contact_ || !section_) return b;
+  int last_contact = -1;
+  for (int i = 1; i < c_.n; ++i) {
+    if (contact_->inContact(i)) last_contact = i;
+  }
+  if (last_contact < 0) return b;
+  b.valid = true;
+  b.wound_points = last_contact + 1;
+  b.height_m = 0.0;
+  for (int i = 0; i <= last_contact; ++i) {
+    const double h = standOff(i);
+    if (h > b.height_m || b.index < 0) {
+      b.height_m = std::max(0.0, h);
+      b.index = i;
+    }
+  }
+  b.arc_length_m = b.index * c_.segment_length;
+  b.p_core = core_->pointCore(committed_time_, committed_.p_world.col(b.index));
+  return b;
 }
 
 EnergyReport WireModel::energy(const Eigen::VectorXd& y) const {

@@ -2,6 +2,7 @@
 //
 //   wire_sim run [--scene FILE] [--set key.path=value ...] [--out DIR]
 //   wire_sim print-scene [--scene FILE] [--set key.path=value ...]
+//   wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -11,6 +12,7 @@
 #include "coil_winding_sim/core/output.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
+#include "study.hpp"
 
 #ifndef CWS_DEFAULT_SCENE
 #define CWS_DEFAULT_SCENE ""
@@ -21,13 +23,17 @@ namespace {
 const char* kUsage =
     "usage: wire_sim run [--scene FILE] [--set key.path=value ...] [--out DIR]\n"
     "       wire_sim print-scene [--scene FILE] [--set key.path=value ...]\n"
-    "Without --scene the package's default scene is used; --out defaults to out/run.\n";
+    "       wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]\n"
+    "Without --scene the package's default scene is used; --out defaults to out/run\n"
+    "(out/study for study). study runs the paper's 2 x 2 case study (600/1200 rpm x\n"
+    "30/70 N, 1 3/4 turns) on N threads (default 2) and writes tables of the results.\n";
 
 struct Args {
   std::string command;
   std::string scene;
   std::vector<std::string> overrides;
-  std::string out = "out/run";
+  std::string out;
+  int jobs = 2;
 };
 
 // Exit codes: 0 success, 1 the run failed, 2 bad command line or scene.
@@ -44,16 +50,23 @@ std::string defaultScene() {
 }
 
 int run(const Args& a) {
-  const cws::Scene scene = cws::loadScene(a.scene.empty() ? defaultScene() : a.scene, a.overrides);
+  const std::string scene_path = a.scene.empty() ? defaultScene() : a.scene;
+  if (a.command == "study") {
+    return cws_tools::runStudy(scene_path, a.overrides, a.out.empty() ? "out/study" : a.out,
+                               a.jobs);
+  }
+  const cws::Scene scene = cws::loadScene(scene_path, a.overrides);
   if (a.command == "print-scene") {
     std::cout << cws::sceneToYamlText(scene);
     return 0;
   }
   // Refuse an unusable output directory before running, and remove results
   // of an earlier run so that a failed run leaves no valid-looking summary.
-  cws::checkOutputDir(a.out);
-  std::filesystem::remove(std::filesystem::path(a.out) / "summary.json");
-  std::filesystem::remove(std::filesystem::path(a.out) / "wire.csv");
+  const std::string out = a.out.empty() ? "out/run" : a.out;
+  cws::checkOutputDir(out);
+  for (const char* f : {"summary.json", "wire.csv", "shape_core.csv"}) {
+    std::filesystem::remove(std::filesystem::path(out) / f);
+  }
 
   cws::Simulation sim(scene);
   std::cerr << "wire_sim: " << sim.model().constants().n << " points, " << sim.stepper().name()
@@ -65,7 +78,7 @@ int run(const Args& a) {
                  "  t = %.6f s of %.6f s, real-time factor %.3g, ~%.0f s left, step %.3g s\n",
                  s.time(), s.endTime(), rtf, remaining, s.stepper().lastStep());
   });
-  cws::writeOutputs(sim, a.out);
+  cws::writeOutputs(sim, out);
   const cws::EnergyReport e = sim.energy();
   std::printf(
       "done: t = %.6g s in %.3g s wall (real-time factor %.3g), %ld steps (%ld rejected)\n"
@@ -73,7 +86,15 @@ int run(const Args& a) {
       "      results in %s/summary.json and %s/wire.csv\n",
       sim.time(), sim.wallTime(), sim.realTimeFactor(), sim.stepper().counts().accepted,
       sim.stepper().counts().rejected, sim.maxConstraintResidual(), sim.maxAxialForce(),
-      e.imbalance(), a.out.c_str(), a.out.c_str());
+      e.imbalance(), out.c_str(), out.c_str());
+  const cws::BulgeReport b = sim.model().bulging();
+  if (b.valid) {
+    std::printf(
+        "      bulging height %.4f mm at point %d (%.1f mm from the fixed end), "
+        "%.3f core turns, %.1f mm of wire fed\n",
+        1e3 * b.height_m, b.index, 1e3 * b.arc_length_m, sim.coreTurns(),
+        1e3 * sim.model().fedLength());
+  }
   return 0;
 }
 
@@ -87,7 +108,7 @@ int main(int argc, char** argv) {
   }
   Args a;
   a.command = args[0];
-  if (a.command != "run" && a.command != "print-scene") {
+  if (a.command != "run" && a.command != "print-scene" && a.command != "study") {
     return usageError("unknown command '" + a.command + "'");
   }
   for (std::size_t i = 1; i < args.size(); ++i) {
@@ -103,8 +124,18 @@ int main(int argc, char** argv) {
       std::string kv;
       if (!value(kv)) return usageError("--set needs key.path=value");
       a.overrides.push_back(kv);
-    } else if (opt == "--out" && a.command == "run") {
+    } else if (opt == "--out" && a.command != "print-scene") {
       if (!value(a.out)) return usageError("--out needs a directory");
+    } else if (opt == "--jobs" && a.command == "study") {
+      std::string j;
+      if (!value(j)) return usageError("--jobs needs a number");
+      try {
+        std::size_t used = 0;
+        a.jobs = std::stoi(j, &used);
+        if (used != j.size() || a.jobs < 1 || a.jobs > 64) throw std::invalid_argument(j);
+      } catch (const std::exception&) {
+        return usageError("--jobs needs a whole number from 1 to 64, got '" + j + "'");
+      }
     } else {
       return usageError("unknown option '" + opt + "'");
     }

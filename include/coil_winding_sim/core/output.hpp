@@ -1,4 +1,4 @@
-// Run outputs: summary.json and wire.csv.
+// Run outputs: summary.json, wire.csv, shape_core.csv.
 #pragma once
 
 #include <ostream>
@@ -11,7 +11,12 @@ namespace cws {
 void writeSummaryJson(const Simulation& sim, std::ostream& out);
 void writeWireCsv(const Simulation& sim, std::ostream& out);
 
-// Writes DIR/summary.json and DIR/wire.csv (creating DIR). Each file is
+// The wire in the core frame with each point's stand-off from the winding
+// surface (scenes with a core that has cylinders).
+void writeShapeCsv(const Simulation& sim, std::ostream& out);
+
+// Writes DIR/summary.json, DIR/wire.csv and, with a core, DIR/shape_core.csv
+// (creating DIR). Each file is
 // written to a temporary name and renamed, so a failed run never leaves a
 // complete-looking file. Throws std::runtime_error naming the path.
 void writeOutputs(const Simulation& sim, const std::string& dir);

@@ -156,15 +156,16 @@ struct Scene {
   // wire's length divided into equal segments no longer than segment_length.
   int segmentCount() const;
   double naturalSegmentLength() const;
-  // Simulated time to run [s]: process.duration, else process.turns at
-  // process.core_speed_rpm.
+  // Simulated time to run [s]: process.duration, else the time the core
+  // needs for process.turns (at process.core_speed_rpm, after its ramp).
   double endTime() const;
 };
 
 // Checks every value; throws SceneError naming the first bad key.
 void validateScene(const Scene& scene);
 
-// Loads the defaults, then `path` (if not empty), then each "key.path=value"
+// Loads the defaults, then `path` (if not empty; a top-level `base: FILE`
+// in it loads FILE, relative to it, first), then each "key.path=value"
 // override in order; refuses unknown keys and wrong types, then validates.
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides);
 

@@ -36,6 +36,10 @@ class Simulation {
   // Largest values over all accepted steps.
   double maxConstraintResidual() const { return max_residual_; }
   double maxAxialForce() const { return max_axial_force_; }  // [N]
+  // Deepest contact penetration over all accepted steps [m] (0 without contact).
+  double maxPenetration() const { return max_penetration_; }
+  // Core revolutions turned so far (0 without a core).
+  double coreTurns() const;
 
  private:
   void afterStep();
@@ -49,6 +53,7 @@ class Simulation {
   double wall_s_ = 0.0;
   double max_residual_ = 0.0;
   double max_axial_force_ = 0.0;
+  double max_penetration_ = 0.0;
 };
 
 }  // namespace cws

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
+#include "coil_winding_sim/core/core_geometry.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/external_forces/supply.hpp"
 #include "coil_winding_sim/core/inner_forces/bending.hpp"
@@ -46,6 +47,19 @@ struct PointReport {
   double twist_rad_per_m = 0.0;        // twist rate at joint i
   bool in_contact = false;             // touching a core cylinder
   bool stick = false;                  // held by static friction
+};
+
+// Bulging (wire lifting off the core): the stand-off of the wound wire's
+// centreline from the core's winding surface, the convex hull of the
+// cylinders widened by the wire radius, measured in the core's cross-section.
+// The wound part runs from the fixed end to the last point touching the core.
+struct BulgeReport {
+  bool valid = false;         // false: no core or nothing wound
+  double height_m = 0.0;      // largest stand-off (0 when the wire lies on the core)
+  int index = -1;             // the point where it occurs
+  double arc_length_m = 0.0;  // its natural arc length from the fixed end
+  Eigen::Vector3d p_core = Eigen::Vector3d::Zero();  // its position, core frame [m]
+  int wound_points = 0;                              // points of the wound part
 };
 
 class WireModel : public OdeSystem {
@@ -89,6 +103,10 @@ class WireModel : public OdeSystem {
   const Supply* supply() const { return supply_; }
   // Natural length of wire drawn in through the port since the start [m].
   double fedLength() const;
+  // Bulging of the wound wire at the last accepted step (needs contact).
+  BulgeReport bulging() const;
+  // Stand-off of point i from the winding surface [m] (needs a core).
+  double standOff(int i) const;
 
  private:
   // Clamp state of point 0 and frame 0 at time t (world frame).
@@ -107,6 +125,7 @@ class WireModel : public OdeSystem {
   std::unique_ptr<RotatingCore> core_;
   const Contact* contact_ = nullptr;
   const Supply* supply_ = nullptr;
+  std::unique_ptr<CoreSection> section_;  // with a core that has cylinders
   std::unique_ptr<Stretching> stretching_;
   std::unique_ptr<Bending> bending_;
   std::unique_ptr<Twisting> twisting_;  // null when physics.torsion is off

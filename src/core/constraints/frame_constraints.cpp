@@ -151,7 +151,10 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     a_world.col(i) += inv_m * fp;
     qdd.col(i) += inv_mq * (b_blk_[i].transpose() * lambda_[i]);
   }
+  port_power_ = 0.0;
   if (port) {
+    // The port rows depend on time through p_s: dc/dt = -P v_s.
+    port_power_ = mu.dot(pp * port->v_world);
     a_world.col(n - 1) += inv_m * (pp.transpose() * mu);
     qdd.col(n - 1) += inv_mq * (pq.transpose() * mu);
   }

@@ -49,6 +49,10 @@ class FrameConstraints {
   // clamped point 0 (through frame 1's rotational constraint).
   Eigen::Vector3d forceOnPoint0() const { return -a_blk_[1].transpose() * lambda_[1]; }
 
+  // Power [W] the moving port did on the wire in the last accelerations()
+  // call (a constraint that moves does work).
+  double portPower() const { return port_power_; }
+
   // Largest constraint residual over all frames [-]: |q|^2 - 1, and the
   // sines of the angles between zeta_i and segment i-1 in the xi and eta
   // directions (d . xi / |d|).
@@ -65,6 +69,7 @@ class FrameConstraints {
   std::vector<Eigen::Matrix3d> a_blk_, d_blk_, off_blk_, d_inv_, elim_;
   std::vector<quat::Mat34> b_blk_;
   std::vector<Eigen::Vector3d> gamma_, lambda_, col0_, col1_, x0_, x1_;
+  double port_power_ = 0.0;
 };
 
 }  // namespace cws
