@@ -5,6 +5,7 @@ usage: plot_study.py DIR   (reads DIR/study.csv, DIR/core_cylinders.csv and
                             DIR/<case>/shape_core.csv; writes DIR/study.png)
 """
 import csv
+import json
 import math
 import os
 import sys
@@ -62,7 +63,7 @@ def main():
         cylinders = read_csv(os.path.join(d, "core_cylinders.csv"))
     except OSError as e:
         sys.exit(f"plot_study.py: {e}")
-    fig, axes = plt.subplots(2, 2, figsize=(10, 8), sharex=True, sharey=True)
+    fig, axes = plt.subplots(2, 2, figsize=(10, 10), sharex=True, sharey=True)
     r_wire = 0.5e-3
     for ax, case in zip(axes.flat, cases):
         shape = read_csv(os.path.join(d, case["case"], "shape_core.csv"))
@@ -79,6 +80,11 @@ def main():
         contact = [(x, y) for x, y, p in zip(xs, ys, shape) if p["in_contact"] == "1"]
         if contact:
             ax.plot(*zip(*contact), "o", mfc="none", mec="tab:blue", ms=4, label="in contact")
+        with open(os.path.join(d, case["case"], "summary.json")) as f:
+            summary = json.load(f)
+        k = summary.get("bulging_index")
+        if k is not None:
+            ax.plot([xs[k]], [ys[k]], "*", color="tab:red", ms=12, label="largest stand-off")
         ax.set_title(f'{float(case["core_speed_rpm"]):.0f} rpm, {float(case["tension_N"]):.0f} N:'
                      f' bulging {float(case["bulging_height_mm"]):.3f} mm')
         ax.set_aspect("equal")

@@ -94,6 +94,11 @@ TEST(Supply, DrumDrawsWireAtConstantTension) {
   const Eigen::Vector3d zeta = cws::quat::zeta(k.q.col(n - 1)).normalized();
   const Eigen::Vector3d e = s.supply.port_position_world - k.p_world.col(n - 1);
   EXPECT_LT((e - e.dot(zeta) * zeta).norm(), 1e-9);
+  // Wire wound tight at 30 N lies on the drum: no bulging.
+  const cws::BulgeReport bulge = sim.model().bulging();
+  std::printf("supply bulging: %.3e m over %d wound points\n", bulge.height_m, bulge.wound_points);
+  ASSERT_TRUE(bulge.valid);
+  EXPECT_LT(bulge.height_m, 0.02 * r);
   // The fixed end stays on its cylinder (centreline at R + r).
   EXPECT_LT(worst_fixed_end, 1e-12);
   EXPECT_TRUE(sim.model().point(1).in_contact);

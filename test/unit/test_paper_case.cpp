@@ -1,0 +1,42 @@
+// The package's default scene (the paper's case study) over its first
+// third of a turn at the hardest setting (1200 rpm, 70 N): contact
+// penetration, the supply tension, and the energy balance.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "coil_winding_sim/core/simulation.hpp"
+
+#ifdef CWS_SOURCE_DIR
+TEST(PaperCase, PenetrationAndTensionStayBounded) {
+  const std::string scene = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
+  cws::Simulation sim(cws::loadScene(
+      scene, {"process.core_speed_rpm=1200", "process.tension=70", "process.turns=0.3"}));
+  // Stated bound: penetration below 10 % of the wire radius.
+  double tension_sum = 0.0, weight = 0.0;
+  const auto start = std::chrono::steady_clock::now();
+  while (sim.time() < sim.endTime()) {
+    sim.step(sim.endTime());
+    if (sim.time() > 0.5 * sim.endTime()) {
+      const double dt = sim.stepper().lastStep();
+      tension_sum += dt * sim.model().axialForce(sim.model().constants().n - 2);
+      weight += dt;
+    }
+  }
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double radius = sim.model().constants().radius;
+  const cws::EnergyReport e = sim.energy();
+  std::printf(
+      "paper case 1200 rpm, 70 N, 0.3 turns: penetration %.3f of r, port tension %.3f N, "
+      "energy imbalance %.2e of %.3e J, %.1f s wall\n",
+      sim.maxPenetration() / radius, tension_sum / weight, e.imbalance(), e.work_done, wall);
+  EXPECT_LT(sim.maxPenetration(), 0.1 * radius);
+  EXPECT_NEAR(tension_sum / weight, 70.0, 0.02 * 70.0);
+  EXPECT_LT(std::abs(e.imbalance()), 1e-5 * e.work_done);
+  EXPECT_LT(sim.maxConstraintResidual(), 1e-6);
+  EXPECT_NEAR(sim.coreTurns(), 0.3, 1e-9);
+}
+#endif
