@@ -1,14 +1,65 @@
 #include "coil_winding_sim/core/core_geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace cws {
 
-CoreSection::CoreSection(const std::vector<CylinderParams>& cylinders) {
-  for (const CylinderParams& c : cylinders) {
+std::vector<FaceParams> coreFaces(const CoreParams& core) {
+  std::vector<FaceParams> faces = core.faces;
+  const std::vector<CylinderParams>& cyl = core.cylinders;
+  if (!core.hull_faces || cyl.size() < 2) return faces;
+  // Convex hull of the centres (monotone chain), counter-clockwise.
+  std::vector<int> idx(cyl.size());
+  for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<int>(i);
+  std::sort(idx.begin(), idx.end(), [&](int a, int b) {
+    const Eigen::Vector2d &p = cyl[a].center_core, &q = cyl[b].center_core;
+    return p.x() < q.x() || (p.x() == q.x() && p.y() < q.y());
+  });
+  auto cross = [&](int o, int a, int b) {
+    const Eigen::Vector2d u = cyl[a].center_core - cyl[o].center_core;
+    const Eigen::Vector2d v = cyl[b].center_core - cyl[o].center_core;
+    return u.x() * v.y() - u.y() * v.x();
+  };
+  std::vector<int> hull;
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::size_t base = hull.size();
+    for (int i : idx) {
+      while (hull.size() >= base + 2 && cross(hull[hull.size() - 2], hull.back(), i) <= 0.0) {
+        hull.pop_back();
+      }
+      hull.push_back(i);
+    }
+    hull.pop_back();
+    std::reverse(idx.begin(), idx.end());
+  }
+  // Outer common tangent of consecutive hull cylinders: the outward normal n
+  // (right of the edge) with n . c1 + R1 = n . c2 + R2.
+  for (std::size_t k = 0; k < hull.size() && hull.size() >= 2; ++k) {
+    const CylinderParams& a = cyl[hull[k]];
+    const CylinderParams& b = cyl[hull[(k + 1) % hull.size()]];
+    const Eigen::Vector2d d = b.center_core - a.center_core;
+    const double len = d.norm();
+    const Eigen::Vector2d t = d / len, right(t.y(), -t.x());
+    const double alpha = (a.radius - b.radius) / len;
+    const Eigen::Vector2d n = alpha * t + std::sqrt(std::max(0.0, 1.0 - alpha * alpha)) * right;
+    faces.push_back(FaceParams{a.center_core + a.radius * n, b.center_core + b.radius * n});
+  }
+  return faces;
+}
+
+CoreSection::CoreSection(const CoreParams& core) {
+  for (const CylinderParams& c : core.cylinders) {
     centers_.push_back(c.center_core);
     radii_.push_back(c.radius);
+  }
+  // Face ends count as discs of radius zero.
+  for (const FaceParams& f : core.faces) {
+    for (const Eigen::Vector2d& p : {f.from_core, f.to_core}) {
+      centers_.push_back(p);
+      radii_.push_back(0.0);
+    }
   }
 }
 

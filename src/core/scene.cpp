@@ -74,6 +74,21 @@ YAML::Node toYaml(const Scene& s) {
     cyl.push_back(cn);
   }
   root["core"]["cylinders"] = cyl;
+  YAML::Node faces(YAML::NodeType::Sequence);
+  for (const FaceParams& f : s.core.faces) {
+    YAML::Node fn;
+    for (const auto& [key, v] : {std::pair<const char*, Eigen::Vector2d>{"from", f.from_core},
+                                 std::pair<const char*, Eigen::Vector2d>{"to", f.to_core}}) {
+      YAML::Node xy(YAML::NodeType::Sequence);
+      xy.SetStyle(YAML::EmitterStyle::Flow);
+      xy.push_back(num(v.x()));
+      xy.push_back(num(v.y()));
+      fn[key] = xy;
+    }
+    faces.push_back(fn);
+  }
+  root["core"]["faces"] = faces;
+  root["core"]["hull_faces"] = s.core.hull_faces;
 
   root["process"]["core_speed_rpm"] = num(s.process.core_speed_rpm);
   root["process"]["tension"] = num(s.process.tension);
@@ -182,6 +197,13 @@ Eigen::Vector3d readVec3(const YAML::Node& n, const std::string& key) {
   return v;
 }
 
+Eigen::Vector2d readVec2(const YAML::Node& n, const std::string& key) {
+  if (!n.IsSequence() || n.size() != 2) {
+    throw SceneError(key, "expected a list of two numbers [x, y], got " + describe(n));
+  }
+  return {readDouble(n[0], key + "[0]"), readDouble(n[1], key + "[1]")};
+}
+
 HysteresisParams readHysteresis(const YAML::Node& n, const std::string& key,
                                 const char* yield_key) {
   HysteresisParams h;
@@ -232,16 +254,30 @@ Scene fromYaml(const YAML::Node& r) {
       }
     }
     CylinderParams cp;
-    const YAML::Node center = c["center"];
-    if (!center.IsSequence() || center.size() != 2) {
-      throw SceneError(key + ".center",
-                       "expected a list of two numbers [x, y], got " + describe(center));
-    }
-    cp.center_core = {readDouble(center[0], key + ".center[0]"),
-                      readDouble(center[1], key + ".center[1]")};
+    cp.center_core = readVec2(c["center"], key + ".center");
     if (c["radius"]) cp.radius = readDouble(c["radius"], key + ".radius");
     s.core.cylinders.push_back(cp);
   }
+  const YAML::Node faces = core["faces"];
+  if (!faces.IsSequence()) {
+    throw SceneError("core.faces", "expected a list of {from, to}, got " + describe(faces));
+  }
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const std::string key = "core.faces[" + std::to_string(i) + "]";
+    const YAML::Node f = faces[i];
+    if (!f.IsMap()) throw SceneError(key, "expected a map {from, to}");
+    for (const auto& kv : f) {
+      const std::string name = kv.first.Scalar();
+      if (name != "from" && name != "to") {
+        throw SceneError(key + "." + name, "unknown key (allowed: from, to)");
+      }
+    }
+    FaceParams fp;
+    fp.from_core = readVec2(f["from"], key + ".from");
+    fp.to_core = readVec2(f["to"], key + ".to");
+    s.core.faces.push_back(fp);
+  }
+  s.core.hull_faces = readBool(core["hull_faces"], "core.hull_faces");
 
   const YAML::Node p = r["process"];
   s.process.core_speed_rpm = readDouble(p["core_speed_rpm"], "process.core_speed_rpm");
@@ -432,8 +468,16 @@ void validateScene(const Scene& s) {
   for (std::size_t i = 0; i < s.core.cylinders.size(); ++i) {
     requirePositive(s.core.cylinders[i].radius, "core.cylinders[" + std::to_string(i) + "].radius");
   }
-  if (s.physics.contact && s.core.cylinders.empty()) {
-    throw SceneError("core.cylinders", "physics.contact needs at least one cylinder");
+  for (std::size_t i = 0; i < s.core.faces.size(); ++i) {
+    if (!((s.core.faces[i].to_core - s.core.faces[i].from_core).norm() > 0.0)) {
+      throw SceneError("core.faces[" + std::to_string(i) + "]", "from and to coincide");
+    }
+  }
+  if (s.core.hull_faces && s.core.cylinders.size() < 2) {
+    throw SceneError("core.hull_faces", "needs at least two cylinders");
+  }
+  if (s.physics.contact && s.core.cylinders.empty() && s.core.faces.empty()) {
+    throw SceneError("core.cylinders", "physics.contact needs at least one cylinder or face");
   }
   if (s.physics.friction && !s.physics.contact) {
     throw SceneError("physics.friction", "friction needs physics.contact");
@@ -455,7 +499,7 @@ void validateScene(const Scene& s) {
     throw SceneError("process.traverse_pitch", "must be finite");
   }
   if (s.physics.supply) {
-    if (s.core.cylinders.empty()) {
+    if (s.core.cylinders.empty() && s.core.faces.empty()) {
       throw SceneError("core.cylinders",
                        "physics.supply winds wire onto a core: give at least one cylinder");
     }
@@ -463,7 +507,7 @@ void validateScene(const Scene& s) {
     const Eigen::Vector3d axis = s.core.axis_world.normalized();
     const RotatingCore core(s.core, 0.0, 0.0);
     const Eigen::Vector3d port_core = core.pointCore(0.0, s.supply.port_position_world);
-    const double gap = CoreSection(s.core.cylinders).signedDistance(port_core.head<2>());
+    const double gap = CoreSection(s.core).signedDistance(port_core.head<2>());
     if (gap <= 0.5 * s.wire.diameter) {
       throw SceneError("supply.port_position",
                        "lies inside the core (the convex hull of core.cylinders, widened by the "

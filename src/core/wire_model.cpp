@@ -60,6 +60,9 @@ WireConstants constantsOf(const Scene& s) {
       for (const CylinderParams& cyl : s.core.cylinders) {
         r_max = std::max(r_max, cyl.center_core.norm() + cyl.radius + c.radius);
       }
+      for (const FaceParams& f : s.core.faces) {
+        r_max = std::max({r_max, f.from_core.norm() + c.radius, f.to_core.norm() + c.radius});
+      }
       const double angle = std::abs(coreSpeedCommand(s)) * s.endTime();
       Eigen::Vector3d port_rel = s.supply.port_position_world - s.core.position_world;
       port_rel -= port_rel.dot(axis) * axis;
@@ -85,8 +88,8 @@ WireModel::WireModel(const Scene& s)
         std::make_unique<RotatingCore>(s.core, s.core.start_at_speed ? omega_cmd : 0.0, omega_cmd);
   }
   if (s.physics.planar) planar_normal_world_ = s.core.axis_world.normalized();
-  if (core_ && !s.core.cylinders.empty()) {
-    section_ = std::make_unique<CoreSection>(s.core.cylinders);
+  if (core_ && !(s.core.cylinders.empty() && s.core.faces.empty())) {
+    section_ = std::make_unique<CoreSection>(s.core);
   }
 
   const bool plastic = s.physics.plasticity;

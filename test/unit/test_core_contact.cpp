@@ -59,12 +59,14 @@ TEST(RotatingCore, MaterialPointsMoveRigidly) {
             1e-14);
 }
 
-TEST(Contact, ProppedCantileverTipReaction) {
-  // A horizontal wire clamped at the origin along +x, sagging in gravity, its
-  // tip resting on a still cylinder whose top is at the clamp's height. Beam
-  // theory: a load P at distance a from the clamp of a cantilever propped at
-  // its tip L gives the prop reaction P a^2 (3L - a) / (2 L^3); summed over
-  // the point weights M g (eq. 1 masses).
+namespace {
+// A horizontal wire clamped at the origin along +x, sagging in gravity, its
+// tip resting on a still core surface whose top is at the clamp's height:
+// a cylinder (axis along y) or a flat face. Beam theory: a load P at
+// distance a from the clamp of a cantilever propped at its tip L gives the
+// prop reaction P a^2 (3L - a) / (2 L^3); summed over the point weights M g
+// (eq. 1 masses). Returns the relative error of the measured reaction.
+double proppedCantileverError(bool face) {
   const double length = 0.1, radius = 0.01;
   const int segments = 10;
   cws::Scene s = cws_test::cantilever(length, segments);
@@ -77,9 +79,14 @@ TEST(Contact, ProppedCantileverTipReaction) {
   s.process.core_speed_rpm = 0.0;
   s.process.duration = 0.08;
   const double r_wire = 0.5 * s.wire.diameter;
-  s.core.position_world = {length, 0.0, -(radius + r_wire)};
-  s.core.axis_world = {0.0, 1.0, 0.0};
-  s.core.cylinders = {cws::CylinderParams{{0.0, 0.0}, radius}};
+  s.core.axis_world = {0.0, 1.0, 0.0};  // core x = world x, core y = world -z
+  if (face) {
+    s.core.position_world = {length, 0.0, 0.0};
+    s.core.faces = {cws::FaceParams{{-5e-3, r_wire}, {5e-3, r_wire}}};  // top at z = -r
+  } else {
+    s.core.position_world = {length, 0.0, -(radius + r_wire)};
+    s.core.cylinders = {cws::CylinderParams{{0.0, 0.0}, radius}};
+  }
   cws::Simulation sim(s);
   sim.run();
 
@@ -92,16 +99,26 @@ TEST(Contact, ProppedCantileverTipReaction) {
   // The reaction from the tip's penetration, measured from the geometry.
   const Eigen::Vector3d tip = cws_test::tipPosition(sim);
   const Eigen::Vector3d d = tip - s.core.position_world;
-  const double h = radius + r_wire - Eigen::Vector2d(d.x(), d.z()).norm();
+  const double h =
+      face ? r_wire - (tip.z() + r_wire) : radius + r_wire - Eigen::Vector2d(d.x(), d.z()).norm();
   const double reaction = s.contact.stiffness * h;
   std::printf(
-      "propped cantilever: tip reaction %.6e N, beam theory %.6e N, rel. error %.2e, "
-      "penetration %.2e of the wire radius\n",
-      reaction, expected, reaction / expected - 1.0, h / r_wire);
-  EXPECT_NEAR(reaction / expected, 1.0, 0.01);
+      "propped cantilever on a %s: tip reaction %.6e N, beam theory %.6e N, rel. error "
+      "%.2e, penetration %.2e of the wire radius\n",
+      face ? "face" : "cylinder", reaction, expected, reaction / expected - 1.0, h / r_wire);
   EXPECT_TRUE(sim.model().point(segments).in_contact);
   EXPECT_FALSE(sim.model().point(segments - 1).in_contact);
   EXPECT_LT(sim.model().contact()->maxPenetration(), 0.01 * r_wire);
+  return reaction / expected - 1.0;
+}
+}  // namespace
+
+TEST(Contact, ProppedCantileverTipReactionOnACylinder) {
+  EXPECT_NEAR(proppedCantileverError(false), 0.0, 0.01);
+}
+
+TEST(Contact, ProppedCantileverTipReactionOnAFace) {
+  EXPECT_NEAR(proppedCantileverError(true), 0.0, 0.01);
 }
 
 TEST(Contact, SceneNeedsACylinderAndShortSegments) {

@@ -9,12 +9,18 @@
 
 namespace cws {
 
+// The flat faces of the core: those listed in core.faces plus, with
+// core.hull_faces, the sides of the convex hull between neighbouring
+// cylinders (the outer common tangents), counter-clockwise.
+std::vector<FaceParams> coreFaces(const CoreParams& core);
+
 class CoreSection {
  public:
-  explicit CoreSection(const std::vector<CylinderParams>& cylinders);
+  // The winding surface: the convex hull of the cylinders and the faces.
+  explicit CoreSection(const CoreParams& core);
 
   // Signed distance [m] of the core-frame point (x, y) from the convex hull
-  // of the cylinders' discs: positive outside, negative inside. Exact up to
+  // of the cylinders' discs and the faces: positive outside, negative inside. Exact up to
   // about 1e-9 of the point's distance from the cylinders (the support
   // function of the hull, maximized over directions).
   double signedDistance(const Eigen::Vector2d& p_core) const;

@@ -57,6 +57,14 @@ struct CylinderParams {
   double radius = 2.5e-3;                 // [m]
 };
 
+// A flat face of the core, parallel to its axis: the strip over the segment
+// from -> to in the core's xy plane; the outside is on the right of
+// from -> to (list faces counter-clockwise around the core).
+struct FaceParams {
+  Eigen::Vector2d from_core{0.0, 0.0};  // [m]
+  Eigen::Vector2d to_core{0.0, 0.0};    // [m]
+};
+
 // The rigid core: turns about its z axis, which passes through `position`
 // along `axis` (world frame).
 struct CoreParams {
@@ -65,6 +73,8 @@ struct CoreParams {
   bool start_at_speed = true;               // true: turning at process.core_speed_rpm from t = 0
   double max_angular_acceleration = 2.0e4;  // speed changes follow this [rad/s^2]
   std::vector<CylinderParams> cylinders;
+  std::vector<FaceParams> faces;
+  bool hull_faces = false;  // add the flat faces between neighbouring cylinders
 };
 
 struct ProcessParams {
@@ -91,7 +101,7 @@ struct PhysicsSwitches {
   bool plasticity = true;
   bool gravity = false;
   bool damping = false;
-  bool contact = false;   // virtual springs on the core's cylinders (needs core.cylinders)
+  bool contact = false;   // virtual springs on the core's cylinders and faces
   bool friction = false;  // static/kinetic friction on contact (needs contact)
   bool supply = false;    // wire drawn in through a port at constant tension
   bool planar = false;    // motion kept in the plane normal to the core axis

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "coil_winding_sim/core/core_geometry.hpp"
+
 namespace cws {
 
 Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& core)
@@ -11,6 +13,16 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
     radii_.push_back(cyl.radius);
   }
   centers_world_.resize(radii_.size());
+  for (const FaceParams& f : coreFaces(s.core)) {
+    const Eigen::Vector2d d = f.to_core - f.from_core;
+    face_from_core_.emplace_back(f.from_core.x(), f.from_core.y(), 0.0);
+    face_dir_core_.emplace_back(d.x() / d.norm(), d.y() / d.norm(), 0.0);
+    face_normal_core_.emplace_back(d.y() / d.norm(), -d.x() / d.norm(), 0.0);
+    face_length_.push_back(d.norm());
+  }
+  face_from_world_.resize(face_length_.size());
+  face_dir_world_.resize(face_length_.size());
+  face_normal_world_.resize(face_length_.size());
   cylinder_.assign(c_.capacity, -1);
   friction_force_.assign(c_.capacity, Eigen::Vector3d::Zero());
   if (friction_) {
@@ -19,9 +31,16 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
   }
 }
 
-void Contact::placeCylinders(double t) const {
+void Contact::placeSurfaces(double t) const {
   for (std::size_t j = 0; j < radii_.size(); ++j) {
     centers_world_[j] = core_.pointWorld(t, centers_core_[j]);
+  }
+  if (face_length_.empty()) return;
+  const Eigen::Matrix3d rot = core_.rotationWorldCore(t);
+  for (std::size_t j = 0; j < face_length_.size(); ++j) {
+    face_from_world_[j] = core_.originWorld() + rot * face_from_core_[j];
+    face_dir_world_[j] = rot * face_dir_core_[j];
+    face_normal_world_[j] = rot * face_normal_core_[j];
   }
 }
 
@@ -38,6 +57,19 @@ int Contact::touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n
       h = depth;
       n_world = d_perp / dist;
       best = static_cast<int>(j);
+    }
+  }
+  // Faces: the point is over the face strip and at most a wire diameter
+  // below its outer side (deeper points belong to the other side).
+  for (std::size_t j = 0; j < face_length_.size(); ++j) {
+    const Eigen::Vector3d d = p_world - face_from_world_[j];
+    const double along = d.dot(face_dir_world_[j]);
+    if (along < 0.0 || along > face_length_[j]) continue;
+    const double depth = c_.radius - d.dot(face_normal_world_[j]);
+    if (depth > h && depth < 2.0 * c_.radius) {
+      h = depth;
+      n_world = face_normal_world_[j];
+      best = static_cast<int>(radii_.size() + j);
     }
   }
   return best;
@@ -63,7 +95,7 @@ Eigen::Vector3d Contact::friction(int i, double t, const Eigen::Vector3d& p_worl
 }
 
 void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const {
-  placeCylinders(t);
+  placeSurfaces(t);
   for (int i = 1; i < c_.n; ++i) {
     const Eigen::Vector3d p = k.p_world.col(i);
     double h;
@@ -90,7 +122,7 @@ void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const 
 void Contact::commit(double t, const WireKinematics& k) {
   max_penetration_ = 0.0;
   elastic_committed_ = 0.0;
-  placeCylinders(t);
+  placeSurfaces(t);
   for (int i = 1; i < c_.n; ++i) {
     const Eigen::Vector3d p = k.p_world.col(i);
     double h;

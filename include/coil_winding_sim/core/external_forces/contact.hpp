@@ -1,9 +1,11 @@
-// Contact of the wire's mass points with the core's cylinders: virtual
-// springs on the surfaces and static/kinetic friction against the moving
-// surface, eqs. (16)-(20).
+// Contact of the wire's mass points with the core's cylinders and flat
+// faces: virtual springs on the surfaces and static/kinetic friction against
+// the moving surface, eqs. (16)-(20).
 //
 // Penetration h is measured from the wire's surface: h = R + r - distance of
-// the point from the cylinder axis; the normal force is k h n (eq. 18).
+// the point from the cylinder axis, or r - height of the point over a face;
+// the normal force is k h n (eq. 18). A point touching several surfaces
+// feels the deepest.
 // Friction (when switched on) uses the relative velocity to the surface,
 // v_h = tangential part of (v - u_j) (eqs. 16-17), with u_j the core's
 // rigid-body velocity at the mass point: wire carried round by the core (its
@@ -37,7 +39,7 @@ class Contact : public ForceEffect {
   // Energy in the normal springs at the last commit [J].
   double elasticEnergy(const WireKinematics& k) const override;
 
-  // At the last commit: is point i touching a cylinder, is it stuck.
+  // At the last commit: is point i touching the core, is it stuck.
   bool inContact(int i) const { return cylinder_[i] >= 0; }
   bool stuck(int i) const { return friction_ && stuck_[i] != 0; }
   // Friction force on point i at the last commit [N], world frame.
@@ -46,10 +48,11 @@ class Contact : public ForceEffect {
   double maxPenetration() const { return max_penetration_; }
 
  private:
-  // Places the cylinder axes in the world at time t, once per evaluation.
-  void placeCylinders(double t) const;
-  // Deepest cylinder touching point p (as placed): its index (-1 if none),
-  // the penetration [m] and the outward normal.
+  // Places the cylinder axes and faces in the world at time t, once per
+  // evaluation.
+  void placeSurfaces(double t) const;
+  // Deepest surface touching point p (as placed): its index (cylinders, then
+  // faces; -1 if none), the penetration [m] and the outward normal.
   int touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n_world) const;
   // Tangential friction force on point i [N] given the committed stick state;
   // sets `slipping` when the stick spring would exceed mu_s N.
@@ -63,6 +66,10 @@ class Contact : public ForceEffect {
   std::vector<Eigen::Vector3d> centers_core_;
   std::vector<double> radii_;
   mutable std::vector<Eigen::Vector3d> centers_world_;  // scratch, sized once
+  // Faces: start, unit direction and outward normal in the core frame, length.
+  std::vector<Eigen::Vector3d> face_from_core_, face_dir_core_, face_normal_core_;
+  std::vector<double> face_length_;
+  mutable std::vector<Eigen::Vector3d> face_from_world_, face_dir_world_, face_normal_world_;
   bool friction_;
   // Per point, committed: cylinder in contact (-1: none); with friction the
   // stick flag and the anchor in the core frame.
