@@ -42,7 +42,7 @@ DEB_PACKAGES := \
   libstd-srvs-dev librosbag-dev librostest-dev python3-rostest python3-roslaunch \
   ros-base-dev libdiagnostic-updater-dev libeigen3-dev libyaml-cpp-dev libgtest-dev \
   libbenchmark-dev python3-matplotlib python3-catkin-pkg \
-  xvfb imagemagick clang-format
+  rviz python3-rostopic python3-rosbag xvfb imagemagick clang-format
 
 CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \

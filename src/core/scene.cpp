@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 
@@ -17,11 +18,14 @@ namespace {
 // ---------------------------------------------------------------------------
 // Scene -> YAML. The defaults emitted here are also the schema: a key that a
 // default scene does not have is unknown.
-// Numbers as short plain scalars (10 significant digits round-trip the
-// scene's inputs; yaml-cpp's default prints 17).
+// Numbers as plain scalars, as short as round-trips exactly (so that a
+// printed scene, and a snapshot's scene, load back bit-identical).
 YAML::Node num(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
+  for (int digits = 10; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    if (std::strtod(buf, nullptr) == v) break;
+  }
   return YAML::Node(std::string(buf));
 }
 
@@ -620,6 +624,20 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
   YAML::Node root = toYaml(Scene{});
   if (!path.empty()) mergeFile(root, path, 0);
   for (const std::string& o : overrides) applyOverride(root, o);
+  Scene s = fromYaml(root);
+  validateScene(s);
+  return s;
+}
+
+Scene sceneFromYamlText(const std::string& text) {
+  YAML::Node root = toYaml(Scene{});
+  YAML::Node user;
+  try {
+    user = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw SceneError("(text)", std::string("not valid YAML: ") + e.what());
+  }
+  if (!user.IsNull()) mergeChecked(root, user, "");
   Scene s = fromYaml(root);
   validateScene(s);
   return s;

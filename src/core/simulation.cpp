@@ -36,6 +36,39 @@ void Simulation::afterStep() {
   }
 }
 
+SimulationState Simulation::saveState() const {
+  SimulationState st;
+  st.scene_yaml = sceneToYamlText(scene_);
+  st.time_s = t_;
+  st.model = model_->saveState(y_);
+  st.next_step_s = stepper_->nextStep();
+  st.last_step_s = stepper_->lastStep();
+  st.counts = stepper_->counts();
+  st.max_residual = max_residual_;
+  st.max_axial_force_N = max_axial_force_;
+  st.max_penetration_m = max_penetration_;
+  st.wall_time_s = wall_s_;
+  return st;
+}
+
+std::unique_ptr<Simulation> Simulation::fromState(const SimulationState& st) {
+  auto sim = std::make_unique<Simulation>(sceneFromYamlText(st.scene_yaml));
+  if (!std::isfinite(st.time_s) || st.time_s < 0.0) {
+    throw std::runtime_error("snapshot time is not a finite, non-negative number");
+  }
+  if (!(st.next_step_s > 0.0) || !std::isfinite(st.next_step_s)) {
+    throw std::runtime_error("snapshot step size is not positive");
+  }
+  sim->model_->restoreState(st.model, sim->y_);
+  sim->t_ = st.time_s;
+  sim->stepper_->restore(st.next_step_s, st.last_step_s, st.counts);
+  sim->max_residual_ = st.max_residual;
+  sim->max_axial_force_ = st.max_axial_force_N;
+  sim->max_penetration_ = st.max_penetration_m;
+  sim->wall_s_ = st.wall_time_s;
+  return sim;
+}
+
 void Simulation::step(double t_limit) {
   stepper_->step(*model_, t_, y_, t_limit);
   if (!y_.allFinite()) {

@@ -328,6 +328,55 @@ BulgeReport WireModel::bulging() const {
   return b;
 }
 
+ModelState WireModel::saveState(const Eigen::VectorXd& y) const {
+  ModelState m;
+  m.points = c_.n;
+  m.y.assign(y.data(), y.data() + size());
+  m.history = history();
+  if (core_) core_->exportState(m.core);
+  m.tension_N = supply_ ? supply_->tension() : 0.0;
+  m.points_added = points_added_;
+  m.committed_time_s = committed_time_;
+  m.port_distance0_m = port_distance0_;
+  return m;
+}
+
+void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
+  if (m.points < 2 || m.points > c_.capacity) {
+    throw std::runtime_error("snapshot has " + std::to_string(m.points) +
+                             " points; this scene holds 2 to " + std::to_string(c_.capacity));
+  }
+  if (!supply_ && m.points != c_.n) {
+    throw std::runtime_error("snapshot has " + std::to_string(m.points) +
+                             " points, the scene's wire " + std::to_string(c_.n));
+  }
+  if (m.y.size() != static_cast<std::size_t>(kAux + kPerPoint * (m.points - 1))) {
+    throw std::runtime_error("snapshot state vector has the wrong length");
+  }
+  for (double v : m.y) {
+    if (!std::isfinite(v)) throw std::runtime_error("snapshot state is not finite");
+  }
+  c_.n = m.points;
+  y.head(size()) = Eigen::Map<const Eigen::VectorXd>(m.y.data(), size());
+  HistoryReader in(m.history);
+  for (ForceEffect* e : all_) e->restoreHistory(in);
+  if (!in.atEnd()) throw std::runtime_error("snapshot history is too long for this scene");
+  if (core_) core_->restoreState(m.core);
+  if (supply_) supply_->setTension(m.tension_N);
+  points_added_ = m.points_added;
+  committed_time_ = m.committed_time_s;
+  port_distance0_ = m.port_distance0_m;
+  unpack(committed_time_, y, committed_);
+}
+
+void WireModel::setCoreSpeed(double omega) {
+  if (core_) core_->setCommand(omega);
+}
+
+void WireModel::setSupplyTension(double tension) {
+  if (supply_) supply_->setTension(tension);
+}
+
 EnergyReport WireModel::energy(const Eigen::VectorXd& y) const {
   EnergyReport r;
   const WireKinematics& k = committed_;

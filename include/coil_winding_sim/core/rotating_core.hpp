@@ -41,6 +41,20 @@ class RotatingCore {
   // Acceleration [m/s^2] of the core material at the world point p_world.
   Eigen::Vector3d accelerationWorld(double t, const Eigen::Vector3d& p_world) const;
 
+  // Reference state (t0, angle0, omega0, command) for snapshots.
+  void exportState(double out[4]) const {
+    out[0] = t0_;
+    out[1] = angle0_;
+    out[2] = omega0_;
+    out[3] = omega_cmd_;
+  }
+  void restoreState(const double in[4]) {
+    t0_ = in[0];
+    angle0_ = in[1];
+    omega0_ = in[2];
+    omega_cmd_ = in[3];
+  }
+
   const Eigen::Vector3d& axisWorld() const { return axis_world_; }
   const Eigen::Vector3d& originWorld() const { return origin_world_; }
 

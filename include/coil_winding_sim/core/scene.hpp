@@ -179,6 +179,10 @@ void validateScene(const Scene& scene);
 // override in order; refuses unknown keys and wrong types, then validates.
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides);
 
+// A scene from YAML text (as sceneToYamlText writes it), over the defaults,
+// validated; throws SceneError.
+Scene sceneFromYamlText(const std::string& text);
+
 // The fully resolved scene as YAML text (the schema, with values).
 std::string sceneToYamlText(const Scene& scene);
 

@@ -12,10 +12,35 @@
 
 namespace cws {
 
+// The full state of a run: enough to continue it exactly (same numbers to
+// rounding) in a new Simulation. Yield points, stick states and anchors,
+// supply points, the core's motion and the integrator's step are included.
+struct SimulationState {
+  std::string scene_yaml;  // the resolved scene
+  double time_s = 0.0;
+  ModelState model;
+  double next_step_s = 0.0, last_step_s = 0.0;
+  StepCounts counts;
+  double max_residual = 0.0, max_axial_force_N = 0.0, max_penetration_m = 0.0;
+  double wall_time_s = 0.0;
+};
+
 class Simulation {
  public:
   // Validates the scene (throws SceneError) and builds the model.
   explicit Simulation(const Scene& scene);
+
+  // Snapshot of the run, and a run continued from one (the scene comes with
+  // it). fromState throws SceneError or std::runtime_error naming the
+  // problem; nothing else changes.
+  SimulationState saveState() const;
+  static std::unique_ptr<Simulation> fromState(const SimulationState& state);
+
+  // Setpoints, effective from the present time on: core angular velocity
+  // [rad/s] (reached at the scene's acceleration limit) and supply tension
+  // [N]. Ignored when the scene has no core / no supply.
+  void setCoreSpeed(double omega) { model_->setCoreSpeed(omega); }
+  void setSupplyTension(double tension) { model_->setSupplyTension(tension); }
 
   // One accepted step, not past t_limit [s]. Throws IntegrationError.
   void step(double t_limit);

@@ -62,6 +62,18 @@ struct BulgeReport {
   int wound_points = 0;                              // points of the wound part
 };
 
+// Everything a model needs besides its scene to continue a run exactly.
+struct ModelState {
+  int points = 0;                 // n
+  std::vector<double> y;          // the state vector's components in use
+  std::vector<double> history;    // all effects' history, in effect order
+  double core[4] = {0, 0, 0, 0};  // RotatingCore reference state (if any)
+  double tension_N = 0.0;         // supply tension (if any)
+  int points_added = 0;
+  double committed_time_s = 0.0;
+  double port_distance0_m = 0.0;
+};
+
 class WireModel : public OdeSystem {
  public:
   // The scene must have passed validateScene().
@@ -101,6 +113,15 @@ class WireModel : public OdeSystem {
   RotatingCore* core() { return core_.get(); }
   const Contact* contact() const { return contact_; }
   const Supply* supply() const { return supply_; }
+  // Snapshot of the model with its state vector y; restore() checks sizes
+  // and finiteness and throws std::runtime_error naming what is wrong,
+  // leaving nothing half-restored only if the caller discards the model.
+  ModelState saveState(const Eigen::VectorXd& y) const;
+  void restoreState(const ModelState& m, Eigen::VectorXd& y);
+  // Setpoints (between steps): core speed [rad/s], supply tension [N].
+  void setCoreSpeed(double omega);
+  void setSupplyTension(double tension);
+
   // Natural length of wire drawn in through the port since the start [m].
   double fedLength() const;
   // Bulging of the wound wire at the last accepted step (needs contact).
@@ -124,7 +145,7 @@ class WireModel : public OdeSystem {
   Eigen::Vector3d planar_normal_world_ = Eigen::Vector3d::Zero();  // zero: 3-D
   std::unique_ptr<RotatingCore> core_;
   const Contact* contact_ = nullptr;
-  const Supply* supply_ = nullptr;
+  Supply* supply_ = nullptr;
   std::unique_ptr<CoreSection> section_;  // with a core that has cylinders
   std::unique_ptr<Stretching> stretching_;
   std::unique_ptr<Bending> bending_;

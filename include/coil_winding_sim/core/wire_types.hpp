@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <stdexcept>
 #include <vector>
 
 namespace cws {
@@ -62,6 +63,21 @@ struct WireForces {
   }
 };
 
+// Reads back what appendHistory wrote (snapshots).
+class HistoryReader {
+ public:
+  explicit HistoryReader(const std::vector<double>& v) : v_(v) {}
+  double next() {
+    if (pos_ >= v_.size()) throw std::runtime_error("snapshot history is too short");
+    return v_[pos_++];
+  }
+  bool atEnd() const { return pos_ == v_.size(); }
+
+ private:
+  const std::vector<double>& v_;
+  std::size_t pos_ = 0;
+};
+
 // One physical effect (a spring law, gravity, damping, a load). Adding an
 // effect means adding one class; a scene that switches it off never builds it.
 class ForceEffect {
@@ -79,6 +95,8 @@ class ForceEffect {
   // Appends the history state (yield points and the work bookkeeping) to
   // `out`; nothing for an effect without history. For snapshots and tests.
   virtual void appendHistory(std::vector<double>& /*out*/) const {}
+  // Restores it (for the present number of points); throws on bad data.
+  virtual void restoreHistory(HistoryReader& /*in*/) {}
   // Recoverable elastic energy stored now [J].
   virtual double elasticEnergy(const WireKinematics& /*k*/) const { return 0.0; }
   // Work turned into plastic deformation since the start [J].

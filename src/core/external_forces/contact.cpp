@@ -157,10 +157,26 @@ void Contact::appendHistory(std::vector<double>& out) const {
     if (friction_) {
       out.push_back(stuck_[i]);
       out.insert(out.end(), anchor_core_[i].data(), anchor_core_[i].data() + 3);
+      out.insert(out.end(), friction_force_[i].data(), friction_force_[i].data() + 3);
     }
   }
+  out.push_back(max_penetration_);
+  out.push_back(elastic_committed_);
 }
 
 double Contact::elasticEnergy(const WireKinematics&) const { return elastic_committed_; }
+
+void Contact::restoreHistory(HistoryReader& in) {
+  for (int i = 0; i < c_.n; ++i) {
+    cylinder_[i] = static_cast<int>(in.next());
+    if (friction_) {
+      stuck_[i] = in.next() != 0.0;
+      for (int d = 0; d < 3; ++d) anchor_core_[i][d] = in.next();
+      for (int d = 0; d < 3; ++d) friction_force_[i][d] = in.next();
+    }
+  }
+  max_penetration_ = in.next();
+  elastic_committed_ = in.next();
+}
 
 }  // namespace cws

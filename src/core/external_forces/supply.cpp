@@ -24,9 +24,14 @@ Supply::Supply(const WireConstants& c, const Scene& s, const RotatingCore* core)
       axis_world_(s.core.axis_world.normalized()),
       pitch_(s.process.traverse_pitch),
       tension_(s.process.tension) {
-  HysteresisParams stretch = s.wire.stretch;
-  if (!s.physics.plasticity) stretch.plastic_rigidity = stretch.elastic_rigidity;
-  strain_ = virginStrain(stretch, tension_);
+  stretch_ = s.wire.stretch;
+  if (!s.physics.plasticity) stretch_.plastic_rigidity = stretch_.elastic_rigidity;
+  strain_ = virginStrain(stretch_, tension_);
+}
+
+void Supply::setTension(double tension) {
+  tension_ = tension;
+  strain_ = virginStrain(stretch_, tension_);
 }
 
 PortMotion Supply::port(double t) const {

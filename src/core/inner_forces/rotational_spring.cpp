@@ -81,4 +81,12 @@ void RotationalSpring::appendHistory(std::vector<double>& out) const {
   out.push_back(work_committed_);
 }
 
+void RotationalSpring::restoreHistory(HistoryReader& in) {
+  if (!plastic_) return;
+  const std::size_t used = static_cast<std::size_t>(c_.n - 1) * count_;
+  for (std::size_t i = 0; i < used; ++i) upper_[i] = in.next();
+  for (std::size_t i = 0; i < used; ++i) x_committed_[i] = in.next();
+  work_committed_ = in.next();
+}
+
 }  // namespace cws

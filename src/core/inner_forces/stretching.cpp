@@ -89,4 +89,11 @@ void Stretching::appendHistory(std::vector<double>& out) const {
   out.push_back(work_committed_);
 }
 
+void Stretching::restoreHistory(HistoryReader& in) {
+  if (!plastic_) return;
+  for (int j = 0; j + 1 < c_.n; ++j) upper_[j] = in.next();
+  for (int j = 0; j + 1 < c_.n; ++j) x_committed_[j] = in.next();
+  work_committed_ = in.next();
+}
+
 }  // namespace cws

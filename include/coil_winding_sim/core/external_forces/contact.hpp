@@ -36,6 +36,7 @@ class Contact : public ForceEffect {
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   void commit(double t, const WireKinematics& k) override;
   void appendHistory(std::vector<double>& out) const override;
+  void restoreHistory(HistoryReader& in) override;
   // Energy in the normal springs at the last commit [J].
   double elasticEnergy(const WireKinematics& k) const override;
 

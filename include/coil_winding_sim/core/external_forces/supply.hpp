@@ -29,6 +29,9 @@ class Supply : public ForceEffect {
   // Port motion at time t.
   PortMotion port(double t) const;
   double tension() const { return tension_; }  // [N]
+  // New supply tension [N] (>= 0): pulls from the next evaluation on; points
+  // drawn in from then on arrive stretched to it.
+  void setTension(double tension);
   // Strain of wire at the supply tension (virgin loading curve) [-], and the
   // length of the boundary segment l (1 + strain) [m].
   double tensionStrain() const { return strain_; }
@@ -36,6 +39,7 @@ class Supply : public ForceEffect {
 
  private:
   const WireConstants& c_;
+  HysteresisParams stretch_;  // the law new wire is stretched along
   const RotatingCore* core_;  // null: the port does not traverse
   Eigen::Vector3d port0_world_, axis_world_;
   double pitch_;    // [m per revolution]

@@ -32,6 +32,7 @@ class RotationalSpring : public ForceEffect {
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   void commit(double t, const WireKinematics& k) override;
   void appendHistory(std::vector<double>& out) const override;
+  void restoreHistory(HistoryReader& in) override;
   double elasticEnergy(const WireKinematics& k) const override;
   double plasticWork(const WireKinematics& k) const override;
 

@@ -21,6 +21,7 @@ class Stretching : public ForceEffect {
   // the loading curve (a wire that starts under the supply tension).
   void preload(const WireKinematics& k);
   void appendHistory(std::vector<double>& out) const override;
+  void restoreHistory(HistoryReader& in) override;
   double elasticEnergy(const WireKinematics& k) const override;
   double plasticWork(const WireKinematics& k) const override;
 

@@ -17,6 +17,11 @@ class Rkf45 : public TimeStepper {
   double nextStep() const override { return h_; }
   double lastStep() const override { return h_last_; }
   const StepCounts& counts() const override { return counts_; }
+  void restore(double next_step, double last_step, const StepCounts& counts) override {
+    h_ = next_step;
+    h_last_ = last_step;
+    counts_ = counts;
+  }
 
   // One attempt of size h from (t, y): fills the candidate state and returns
   // the scaled error norm (<= 1 passes). Changes nothing in `sys`.

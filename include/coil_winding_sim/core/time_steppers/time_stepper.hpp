@@ -28,6 +28,8 @@ class TimeStepper {
   // Size of the last accepted step [s].
   virtual double lastStep() const = 0;
   virtual const StepCounts& counts() const = 0;
+  // Continues from a snapshot: next and last step sizes [s] and counts.
+  virtual void restore(double next_step, double last_step, const StepCounts& counts) = 0;
 };
 
 // The integrator named by solver.integrator, sized for `sys`.
