@@ -97,6 +97,8 @@ YAML::Node toYaml(const Scene& s) {
   root["process"]["core_speed_rpm"] = num(s.process.core_speed_rpm);
   root["process"]["tension"] = num(s.process.tension);
   root["process"]["traverse_pitch"] = num(s.process.traverse_pitch);
+  root["process"]["max_core_speed_rpm"] = num(s.process.max_core_speed_rpm);
+  root["process"]["max_tension"] = num(s.process.max_tension);
   root["process"]["turns"] = num(s.process.turns);
   if (s.process.duration) {
     root["process"]["duration"] = num(*s.process.duration);
@@ -287,6 +289,8 @@ Scene fromYaml(const YAML::Node& r) {
   s.process.core_speed_rpm = readDouble(p["core_speed_rpm"], "process.core_speed_rpm");
   s.process.tension = readDouble(p["tension"], "process.tension");
   s.process.traverse_pitch = readDouble(p["traverse_pitch"], "process.traverse_pitch");
+  s.process.max_core_speed_rpm = readDouble(p["max_core_speed_rpm"], "process.max_core_speed_rpm");
+  s.process.max_tension = readDouble(p["max_tension"], "process.max_tension");
   s.process.turns = readDouble(p["turns"], "process.turns");
   if (!p["duration"].IsNull()) s.process.duration = readDouble(p["duration"], "process.duration");
 
@@ -541,6 +545,14 @@ void validateScene(const Scene& s) {
   }
 
   requireNonNegative(s.process.tension, "process.tension");
+  requirePositive(s.process.max_core_speed_rpm, "process.max_core_speed_rpm");
+  requirePositive(s.process.max_tension, "process.max_tension");
+  if (std::abs(s.process.core_speed_rpm) > s.process.max_core_speed_rpm) {
+    throw SceneError("process.core_speed_rpm", "is beyond process.max_core_speed_rpm");
+  }
+  if (s.process.tension > s.process.max_tension) {
+    throw SceneError("process.tension", "is above process.max_tension");
+  }
   requireNonNegative(s.process.turns, "process.turns");
   if (s.process.duration) {
     requirePositive(*s.process.duration, "process.duration");

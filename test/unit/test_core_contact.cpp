@@ -154,6 +154,7 @@ TEST(CoreClamp, SpinningWireCarriesCentrifugalTension) {
   s.start.position = {r0, 0.0, 0.0};
   s.core.start_at_speed = false;
   s.core.max_angular_acceleration = 2.0e4;  // 50 ms ramp
+  s.process.max_core_speed_rpm = 20000.0;
   s.process.core_speed_rpm = omega * 60.0 / (2.0 * kPi);
   s.process.duration = 0.08;
   cws::Simulation sim(s);

@@ -78,11 +78,13 @@ struct CoreParams {
 };
 
 struct ProcessParams {
-  double core_speed_rpm = 600.0;   // [rpm]
-  double tension = 30.0;           // supply tension [N]
-  double traverse_pitch = 0.0;     // port travel along the core axis per core turn [m]
-  double turns = 1.75;             // core revolutions to run [-]
-  std::optional<double> duration;  // [s]; when set, overrides turns
+  double core_speed_rpm = 600.0;       // [rpm]
+  double tension = 30.0;               // supply tension [N]
+  double traverse_pitch = 0.0;         // port travel along the core axis per core turn [m]
+  double max_core_speed_rpm = 6000.0;  // setpoints beyond +- this are refused [rpm]
+  double max_tension = 300.0;          // setpoints above this are refused [N]
+  double turns = 1.75;                 // core revolutions to run [-]
+  std::optional<double> duration;      // [s]; when set, overrides turns
 };
 
 struct SolverParams {

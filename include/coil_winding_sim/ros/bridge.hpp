@@ -1,0 +1,63 @@
+// The ROS bridge: conversions between the simulation core and ROS messages,
+// TF and bag files. The only place where core types meet ROS types.
+#pragma once
+
+#include <geometry_msgs/TransformStamped.h>
+#include <ros/time.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <string>
+
+#include "coil_winding_sim/SimulationSnapshot.h"
+#include "coil_winding_sim/WindingMetrics.h"
+#include "coil_winding_sim/WireState.h"
+#include "coil_winding_sim/core/simulation.hpp"
+
+namespace cws_ros {
+
+struct Frames {
+  std::string world = "world";
+  std::string core = "core";
+  std::string port = "supply_port";
+};
+
+// Pace figures the node adds to the metrics.
+struct Pace {
+  double real_time_factor = 0.0;
+  double target_real_time_factor = 1.0;
+  bool keeping_pace = true;
+};
+
+coil_winding_sim::WireState toWireState(const cws::Simulation& sim, const ros::Time& stamp,
+                                        const Frames& frames);
+coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros::Time& stamp,
+                                           const Frames& frames, const Pace& pace);
+
+// The wire as line strips coloured by axial force (blue 0 N .. red at
+// `force_scale_N`), the core's cylinders and faces (in the core frame) and
+// the supply port. Strips are split to stay within `max_points_per_marker`.
+visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros::Time& stamp,
+                                          const Frames& frames, double force_scale_N,
+                                          std::size_t max_points_per_marker = 10000);
+// One DELETEALL marker (sent on reset and restore).
+visualization_msgs::MarkerArray deleteAllMarkers(const ros::Time& stamp, const Frames& frames);
+
+// TF world -> core (turning with the core) and world -> supply_port. False
+// when the scene has no core / no supply.
+bool coreTransform(const cws::Simulation& sim, const ros::Time& stamp, const Frames& frames,
+                   geometry_msgs::TransformStamped& out);
+bool portTransform(const cws::Simulation& sim, const ros::Time& stamp, const Frames& frames,
+                   geometry_msgs::TransformStamped& out);
+
+// Snapshots as messages and bag files. The readers throw std::runtime_error
+// with a message that says what is wrong with the file.
+coil_winding_sim::SimulationSnapshot toSnapshotMsg(const cws::SimulationState& state,
+                                                   const ros::Time& stamp);
+cws::SimulationState fromSnapshotMsg(const coil_winding_sim::SimulationSnapshot& msg);
+void writeSnapshotBag(const std::string& path, const coil_winding_sim::SimulationSnapshot& msg);
+coil_winding_sim::SimulationSnapshot readSnapshotBag(const std::string& path);
+
+extern const char* const kSnapshotFormat;
+extern const char* const kSnapshotTopic;
+
+}  // namespace cws_ros

@@ -1,0 +1,249 @@
+// rostest of the winding_cell node on a light scene (test/scenes/
+// spinning_wire.yaml) with the node publishing /clock (use_sim_time).
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <std_srvs/SetBool.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_msgs/TFMessage.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <mutex>
+#include <vector>
+
+#include "coil_winding_sim/CoreSpeedSetpoint.h"
+#include "coil_winding_sim/Restore.h"
+#include "coil_winding_sim/Snapshot.h"
+#include "coil_winding_sim/WindingMetrics.h"
+
+namespace {
+
+// Collects the latest messages of the node's topics.
+class Listener {
+ public:
+  Listener() {
+    ros::NodeHandle nh;
+    metrics_ = nh.subscribe("winding_metrics", 10, &Listener::onMetrics, this);
+    markers_ = nh.subscribe("wire_markers", 10, &Listener::onMarkers, this);
+    tf_ = nh.subscribe("/tf", 100, &Listener::onTf, this);
+  }
+  void onMetrics(const coil_winding_sim::WindingMetrics::ConstPtr& m) {
+    std::lock_guard<std::mutex> l(mutex);
+    metrics = *m;
+    ++metrics_count;
+  }
+  void onMarkers(const visualization_msgs::MarkerArray::ConstPtr& m) {
+    std::lock_guard<std::mutex> l(mutex);
+    for (const auto& k : m->markers) {
+      if (k.ns == "wire" && k.type == visualization_msgs::Marker::LINE_STRIP)
+        wire_points = k.points.size();
+      if (k.action == visualization_msgs::Marker::DELETEALL) ++delete_all;
+    }
+  }
+  void onTf(const tf2_msgs::TFMessage::ConstPtr& m) {
+    std::lock_guard<std::mutex> l(mutex);
+    for (const auto& t : m->transforms) {
+      if (t.child_frame_id != "core") continue;
+      const auto& q = t.transform.rotation;
+      // Yaw about the core axis (world z in this scene).
+      const double yaw =
+          std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+      core_samples.push_back({t.header.stamp.toSec(), yaw});
+    }
+  }
+
+  std::mutex mutex;
+  coil_winding_sim::WindingMetrics metrics;
+  int metrics_count = 0;
+  std::size_t wire_points = 0;
+  int delete_all = 0;
+  std::vector<std::pair<double, double>> core_samples;  // (stamp, yaw)
+
+ private:
+  ros::Subscriber metrics_, markers_, tf_;
+};
+
+// Waits (wall time) until pred() holds.
+template <class Pred>
+bool waitFor(Pred pred, double seconds) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  while (ros::WallTime::now() < end) {
+    if (pred()) return true;
+    ros::WallDuration(0.02).sleep();
+  }
+  return pred();
+}
+
+coil_winding_sim::WindingMetrics latest(Listener& l) {
+  std::lock_guard<std::mutex> lock(l.mutex);
+  return l.metrics;
+}
+
+// Waits for a metrics message published after this call.
+coil_winding_sim::WindingMetrics fresh(Listener& l) {
+  int seen;
+  {
+    std::lock_guard<std::mutex> lock(l.mutex);
+    seen = l.metrics_count;
+  }
+  waitFor(
+      [&] {
+        std::lock_guard<std::mutex> lock(l.mutex);
+        return l.metrics_count >= seen + 2;
+      },
+      10.0);
+  return latest(l);
+}
+
+bool pause(bool on) {
+  std_srvs::SetBool s;
+  s.request.data = on;
+  return ros::service::call("/winding_cell/pause", s) && s.response.success;
+}
+
+Listener* listener = nullptr;
+}  // namespace
+
+TEST(WindingCell, MarkersAndTfArrive) {
+  ASSERT_TRUE(waitFor(
+      [] {
+        std::lock_guard<std::mutex> l(listener->mutex);
+        return listener->wire_points > 1 && !listener->core_samples.empty() &&
+               listener->metrics_count > 0;
+      },
+      30.0))
+      << "no markers, TF or metrics from winding_cell";
+  std::lock_guard<std::mutex> l(listener->mutex);
+  EXPECT_EQ(listener->wire_points, static_cast<std::size_t>(listener->metrics.points));
+}
+
+TEST(WindingCell, CoreTurnsAtTheCommandedSpeed) {
+  ros::NodeHandle nh;
+  ros::Publisher pub =
+      nh.advertise<coil_winding_sim::CoreSpeedSetpoint>("core_speed_setpoint", 1, true);
+  coil_winding_sim::CoreSpeedSetpoint sp;
+  sp.angular_velocity = 40.0;  // [rad/s]
+  pub.publish(sp);
+  ASSERT_TRUE(
+      waitFor([] { return std::abs(latest(*listener).core_angular_velocity - 40.0) < 1e-9; }, 20.0))
+      << "the setpoint was not applied";
+  {
+    std::lock_guard<std::mutex> l(listener->mutex);
+    listener->core_samples.clear();
+  }
+  ASSERT_TRUE(waitFor(
+      [] {
+        std::lock_guard<std::mutex> l(listener->mutex);
+        return listener->core_samples.size() >= 20;
+      },
+      20.0));
+  // Angular velocity from the TF stamps (simulated time): mean over
+  // consecutive samples, unwrapping the yaw.
+  std::lock_guard<std::mutex> l(listener->mutex);
+  double turned = 0.0, elapsed = 0.0;
+  for (std::size_t i = 1; i < listener->core_samples.size(); ++i) {
+    const double dt = listener->core_samples[i].first - listener->core_samples[i - 1].first;
+    double dyaw = listener->core_samples[i].second - listener->core_samples[i - 1].second;
+    dyaw = std::remainder(dyaw, 2.0 * M_PI);
+    if (dt <= 0.0) continue;
+    turned += dyaw;
+    elapsed += dt;
+  }
+  ASSERT_GT(elapsed, 0.0);
+  std::printf("core: %.6f rad/s from TF stamps over %.4f s (commanded 40 rad/s)\n",
+              turned / elapsed, elapsed);
+  EXPECT_NEAR(turned / elapsed, 40.0, 0.4);
+}
+
+TEST(WindingCell, NonFiniteAndAbsurdSetpointsAreRefused) {
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<coil_winding_sim::CoreSpeedSetpoint>("core_speed_setpoint", 10);
+  waitFor([&] { return pub.getNumSubscribers() > 0; }, 5.0);
+  const double before = fresh(*listener).core_angular_velocity_setpoint;
+  for (double bad : {std::nan(""), std::numeric_limits<double>::infinity(), 1e9}) {
+    coil_winding_sim::CoreSpeedSetpoint sp;
+    sp.angular_velocity = bad;
+    pub.publish(sp);
+  }
+  ros::WallDuration(0.5).sleep();
+  EXPECT_EQ(fresh(*listener).core_angular_velocity_setpoint, before);
+}
+
+TEST(WindingCell, SnapshotRestoreAndReset) {
+  ASSERT_TRUE(pause(true));
+  const auto at_snapshot = fresh(*listener);
+  const std::string path = "/tmp/cws_rostest_snapshot_" + std::to_string(getpid()) + ".bag";
+  coil_winding_sim::Snapshot snap;
+  snap.request.path = path;
+  ASSERT_TRUE(ros::service::call("/winding_cell/snapshot", snap));
+  ASSERT_TRUE(snap.response.success) << snap.response.message;
+  // Run on, then restore: the state is the snapshot's, step for step.
+  ASSERT_TRUE(pause(false));
+  ASSERT_TRUE(waitFor(
+      [&] { return latest(*listener).steps_accepted > at_snapshot.steps_accepted + 100; }, 20.0));
+  ASSERT_TRUE(pause(true));
+  coil_winding_sim::Restore rest;
+  rest.request.path = path;
+  ASSERT_TRUE(ros::service::call("/winding_cell/restore", rest));
+  ASSERT_TRUE(rest.response.success) << rest.response.message;
+  const auto restored = fresh(*listener);
+  EXPECT_EQ(restored.sim_time, at_snapshot.sim_time);
+  EXPECT_EQ(restored.steps_accepted, at_snapshot.steps_accepted);
+  EXPECT_EQ(restored.core_turns, at_snapshot.core_turns);
+  EXPECT_EQ(restored.points, at_snapshot.points);
+
+  // A missing file, a corrupt file, a bag without a snapshot: refused with a
+  // message, state unchanged.
+  const std::string corrupt = path + ".corrupt";
+  {
+    std::ofstream f(corrupt);
+    f << "this is not a bag";
+  }
+  for (const std::string& bad : {std::string("/tmp/no_such_snapshot.bag"), corrupt}) {
+    coil_winding_sim::Restore r;
+    r.request.path = bad;
+    ASSERT_TRUE(ros::service::call("/winding_cell/restore", r));
+    EXPECT_FALSE(r.response.success) << bad;
+    EXPECT_NE(r.response.message.find(bad), std::string::npos) << r.response.message;
+  }
+  const auto unchanged = fresh(*listener);
+  EXPECT_EQ(unchanged.sim_time, at_snapshot.sim_time);
+  EXPECT_EQ(unchanged.steps_accepted, at_snapshot.steps_accepted);
+  // Snapshot to an unwritable path fails cleanly.
+  coil_winding_sim::Snapshot bad_snap;
+  bad_snap.request.path = "/proc/cannot/write/here.bag";
+  ASSERT_TRUE(ros::service::call("/winding_cell/snapshot", bad_snap));
+  EXPECT_FALSE(bad_snap.response.success);
+
+  // Reset: back to the start, markers cleared once.
+  std_srvs::Trigger reset;
+  ASSERT_TRUE(ros::service::call("/winding_cell/reset", reset));
+  EXPECT_TRUE(reset.response.success);
+  const auto after_reset = fresh(*listener);
+  EXPECT_EQ(after_reset.steps_accepted, 0);
+  EXPECT_EQ(after_reset.sim_time, 0.0);
+  EXPECT_TRUE(waitFor(
+      [] {
+        std::lock_guard<std::mutex> l(listener->mutex);
+        return listener->delete_all > 0;
+      },
+      5.0));
+  ASSERT_TRUE(pause(false));
+  std::remove(path.c_str());
+  std::remove(corrupt.c_str());
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_winding_cell");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  Listener l;
+  listener = &l;
+  const int rc = RUN_ALL_TESTS();
+  spinner.stop();
+  return rc;
+}
