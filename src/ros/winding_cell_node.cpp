@@ -22,6 +22,7 @@
 
 #include "coil_winding_sim/CoreSpeedSetpoint.h"
 #include "coil_winding_sim/Restore.h"
+#include "coil_winding_sim/RunUntil.h"
 #include "coil_winding_sim/Snapshot.h"
 #include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/ros/bridge.hpp"
@@ -69,6 +70,7 @@ class WindingCell {
     pause_srv_ = pnh_.advertiseService("pause", &WindingCell::onPause, this);
     snapshot_srv_ = pnh_.advertiseService("snapshot", &WindingCell::onSnapshot, this);
     restore_srv_ = pnh_.advertiseService("restore", &WindingCell::onRestore, this);
+    run_until_srv_ = pnh_.advertiseService("run_until", &WindingCell::onRunUntil, this);
 
     diagnostics_.setHardwareID("coil_winding_sim");
     diagnostics_.add("simulation", this, &WindingCell::diagnose);
@@ -132,10 +134,12 @@ class WindingCell {
 
   bool finished() const { return stop_at_end_ && sim_->time() >= sim_->endTime(); }
 
-  // Steps until the pace target, the scene's end or ~10 ms of wall time.
+  // Steps until the pace target, the scene's end, a ~run_until time or
+  // ~10 ms of wall time.
   void advanceChunk() {
     const auto start = Clock::now();
-    const double t_limit = stop_at_end_ ? sim_->endTime() : 1e300;
+    double t_limit = stop_at_end_ ? sim_->endTime() : 1e300;
+    if (run_until_) t_limit = std::min(t_limit, *run_until_);
     try {
       while (sim_->time() < t_limit && aheadOfPace() < 0.0 &&
              Clock::now() - start < std::chrono::milliseconds(10)) {
@@ -145,6 +149,10 @@ class WindingCell {
       failed_ = true;
       failure_ = e.what();
       ROS_ERROR("winding_cell: the simulation stopped: %s (reset or restore to go on)", e.what());
+    }
+    if (run_until_ && sim_->time() >= *run_until_) {
+      run_until_.reset();
+      paused_ = true;
     }
     // Behind the target by more than 50 ms of wall time: not keeping pace.
     keeping_pace_ = target_rtf_ <= 0.0 || aheadOfPace() > -0.05 * target_rtf_;
@@ -283,6 +291,23 @@ class WindingCell {
     return true;
   }
 
+  bool onRunUntil(coil_winding_sim::RunUntil::Request& req,
+                  coil_winding_sim::RunUntil::Response& res) {
+    std::lock_guard<std::mutex> lock(sim_mutex_);
+    if (!std::isfinite(req.time) || req.time <= sim_->time()) {
+      res.success = false;
+      res.message = "time " + std::to_string(req.time) + " s is not ahead of the simulated time " +
+                    std::to_string(sim_->time()) + " s";
+      return true;
+    }
+    run_until_ = req.time;
+    paused_ = false;
+    restartPace();
+    res.success = true;
+    res.message = "running until t = " + std::to_string(req.time) + " s, then pausing";
+    return true;
+  }
+
   bool onSnapshot(coil_winding_sim::Snapshot::Request& req,
                   coil_winding_sim::Snapshot::Response& res) {
     cws::SimulationState state;
@@ -332,6 +357,7 @@ class WindingCell {
   void replace(std::unique_ptr<cws::Simulation> next) {
     clock_offset_ += sim_->time() - next->time();
     sim_ = std::move(next);
+    run_until_.reset();
     failed_ = false;
     failure_.clear();
     send_delete_all_ = true;
@@ -349,6 +375,7 @@ class WindingCell {
   cws::Scene scene_;
   std::unique_ptr<cws::Simulation> sim_;
   bool paused_ = false, failed_ = false, keeping_pace_ = true, send_delete_all_ = false;
+  std::optional<double> run_until_;  // pause when the simulated time reaches it [s]
   std::string failure_;
   double clock_offset_ = 0.0;
   Clock::time_point pace_wall0_, rtf_wall_;
@@ -358,7 +385,7 @@ class WindingCell {
 
   ros::Publisher state_pub_, metrics_pub_, marker_pub_, clock_pub_;
   ros::Subscriber speed_sub_, tension_sub_;
-  ros::ServiceServer reset_srv_, pause_srv_, snapshot_srv_, restore_srv_;
+  ros::ServiceServer reset_srv_, pause_srv_, snapshot_srv_, restore_srv_, run_until_srv_;
   tf2_ros::TransformBroadcaster tf_;
   diagnostic_updater::Updater diagnostics_;
 };

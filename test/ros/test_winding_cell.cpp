@@ -2,6 +2,7 @@
 // spinning_wire.yaml) with the node publishing /clock (use_sim_time).
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <ros/topic.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_msgs/TFMessage.h>
@@ -16,8 +17,10 @@
 
 #include "coil_winding_sim/CoreSpeedSetpoint.h"
 #include "coil_winding_sim/Restore.h"
+#include "coil_winding_sim/RunUntil.h"
 #include "coil_winding_sim/Snapshot.h"
 #include "coil_winding_sim/WindingMetrics.h"
+#include "coil_winding_sim/WireState.h"
 
 namespace {
 
@@ -170,6 +173,46 @@ TEST(WindingCell, NonFiniteAndAbsurdSetpointsAreRefused) {
   }
   ros::WallDuration(0.5).sleep();
   EXPECT_EQ(fresh(*listener).core_angular_velocity_setpoint, before);
+}
+
+// Runs until simulated time t and returns the wire there.
+coil_winding_sim::WireState runUntil(double t) {
+  coil_winding_sim::RunUntil r;
+  r.request.time = t;
+  EXPECT_TRUE(ros::service::call("/winding_cell/run_until", r));
+  EXPECT_TRUE(r.response.success) << r.response.message;
+  EXPECT_TRUE(waitFor([&] { return latest(*listener).sim_time == t; }, 30.0))
+      << "did not reach " << t;
+  auto w =
+      ros::topic::waitForMessage<coil_winding_sim::WireState>("wire_state", ros::Duration(10.0));
+  EXPECT_TRUE(w);
+  return w ? *w : coil_winding_sim::WireState();
+}
+
+TEST(WindingCell, RestoredRunFollowsTheOriginal) {
+  ASSERT_TRUE(pause(true));
+  const double t0 = fresh(*listener).sim_time;
+  const std::string path = "/tmp/cws_rostest_follow_" + std::to_string(getpid()) + ".bag";
+  coil_winding_sim::Snapshot snap;
+  snap.request.path = path;
+  ASSERT_TRUE(ros::service::call("/winding_cell/snapshot", snap));
+  ASSERT_TRUE(snap.response.success) << snap.response.message;
+  const coil_winding_sim::WireState original = runUntil(t0 + 0.002);
+  coil_winding_sim::Restore rest;
+  rest.request.path = path;
+  ASSERT_TRUE(ros::service::call("/winding_cell/restore", rest));
+  ASSERT_TRUE(rest.response.success) << rest.response.message;
+  const coil_winding_sim::WireState again = runUntil(t0 + 0.002);
+  ASSERT_EQ(original.positions.size(), again.positions.size());
+  ASSERT_GT(original.positions.size(), 1u);
+  for (std::size_t i = 0; i < original.positions.size(); ++i) {
+    EXPECT_EQ(original.positions[i].x, again.positions[i].x) << "point " << i;
+    EXPECT_EQ(original.positions[i].y, again.positions[i].y) << "point " << i;
+    EXPECT_EQ(original.positions[i].z, again.positions[i].z) << "point " << i;
+    EXPECT_EQ(original.axial_force[i], again.axial_force[i]) << "point " << i;
+  }
+  ASSERT_TRUE(pause(false));
+  std::remove(path.c_str());
 }
 
 TEST(WindingCell, SnapshotRestoreAndReset) {
