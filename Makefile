@@ -4,6 +4,7 @@
 #   make build    build the package in the catkin workspace .ws/ (git-ignored)
 #   make run      run the wire_sim tool:  make run [SCENE=config/scenes/x.yaml] [OUT=out/x] [ARGS="..."]
 #   make study    the paper's 2 x 2 study: table and figure in docs/study (STUDY_OUT)
+#   make bench    per-step cost against the number of points (Google Benchmark)
 #   make test     build and run all tests; non-zero exit if any test fails
 #   make format   clang-format -i all C++ sources
 #   make clean    remove the workspace .ws/
@@ -50,7 +51,7 @@ CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCATKIN_ENABLE_TESTING=ON \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON
 
-.PHONY: deps build run study test format format-check clean
+.PHONY: deps build run study bench test format format-check clean
 
 deps:
 ifeq ($(SKIP_DEPS),1)
@@ -88,6 +89,10 @@ build: deps | $(WS)/src/$(PKG)
 run: build
 	mkdir -p "$(dir $(OUT))"
 	$(WIRE_SIM) run --out "$(OUT)" $(if $(SCENE),--scene "$(SCENE)") $(ARGS)
+
+# Per-step cost against the number of points (Google Benchmark).
+bench: build
+	$(BIN_DIR)/bench_step --benchmark_min_time=0.5 $(ARGS)
 
 # The paper's 2 x 2 case study: table (CSV, Markdown) and figure in STUDY_OUT.
 STUDY_OUT ?= docs/study
