@@ -112,6 +112,7 @@ YAML::Node toYaml(const Scene& s) {
   root["solver"]["min_step"] = num(s.solver.min_step);
   root["solver"]["max_step"] = num(s.solver.max_step);
   root["solver"]["initial_step"] = num(s.solver.initial_step);
+  root["solver"]["fixed_step"] = num(s.solver.fixed_step);
   root["solver"]["baumgarte_nu"] = num(s.solver.baumgarte_nu);
 
   root["physics"]["torsion"] = s.physics.torsion;
@@ -301,6 +302,7 @@ Scene fromYaml(const YAML::Node& r) {
   s.solver.min_step = readDouble(so["min_step"], "solver.min_step");
   s.solver.max_step = readDouble(so["max_step"], "solver.max_step");
   s.solver.initial_step = readDouble(so["initial_step"], "solver.initial_step");
+  s.solver.fixed_step = readDouble(so["fixed_step"], "solver.fixed_step");
   s.solver.baumgarte_nu = readDouble(so["baumgarte_nu"], "solver.baumgarte_nu");
 
   const YAML::Node ph = r["physics"];
@@ -564,9 +566,13 @@ void validateScene(const Scene& s) {
     }
   }
 
-  if (s.solver.integrator != "rkf45") {
-    throw SceneError("solver.integrator",
-                     "unknown integrator '" + s.solver.integrator + "' (available: rkf45)");
+  if (s.solver.integrator != "rkf45" && s.solver.integrator != "symplectic_euler") {
+    throw SceneError("solver.integrator", "unknown integrator '" + s.solver.integrator +
+                                              "' (available: rkf45, symplectic_euler)");
+  }
+  requirePositive(s.solver.fixed_step, "solver.fixed_step");
+  if (s.solver.integrator == "symplectic_euler" && s.solver.fixed_step > s.solver.max_step) {
+    throw SceneError("solver.fixed_step", "is above solver.max_step");
   }
   requirePositive(s.solver.rtol, "solver.rtol");
   requirePositive(s.solver.atol, "solver.atol");

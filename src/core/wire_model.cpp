@@ -244,6 +244,16 @@ void WireModel::derivative(double t, ConstRef y, Ref dydt) {
   }
 }
 
+bool WireModel::semiImplicitUpdate(double h, ConstRef dydt, Ref y) const {
+  y.head<kAux>() += h * dydt.head<kAux>();
+  for (int i = 1; i < c_.n; ++i) {
+    const int o = offsetOf(i);
+    y.segment<7>(o + 7) += h * dydt.segment<7>(o + 7);  // v, qdot
+    y.segment<7>(o) += h * y.segment<7>(o + 7);         // p, q with the new rates
+  }
+  return true;
+}
+
 double WireModel::portDistance(double t, const WireKinematics& k) const {
   const int last = c_.n - 1;
   const Eigen::Vector3d zeta = quat::zeta(k.q.col(last)).normalized();

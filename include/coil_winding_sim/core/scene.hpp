@@ -88,13 +88,14 @@ struct ProcessParams {
 };
 
 struct SolverParams {
-  std::string integrator = "rkf45";
-  double rtol = 1.0e-6;          // relative tolerance [-]
-  double atol = 1.0e-11;         // absolute tolerance on positions [m]
-  double min_step = 1.0e-12;     // step floor [s]; below it the run stops
-  double max_step = 1.0e-4;      // [s]
-  double initial_step = 1.0e-7;  // [s]
-  double baumgarte_nu = 5000.0;  // constraint stabilization nu [1/s], eq. (6)
+  std::string integrator = "rkf45";  // rkf45 | symplectic_euler
+  double rtol = 1.0e-6;              // relative tolerance [-]
+  double atol = 1.0e-11;             // absolute tolerance on positions [m]
+  double min_step = 1.0e-12;         // step floor [s]; below it the run stops
+  double max_step = 1.0e-4;          // [s]
+  double initial_step = 1.0e-7;      // [s]
+  double fixed_step = 5.0e-8;        // step of the fixed-step integrators [s]
+  double baumgarte_nu = 5000.0;      // constraint stabilization nu [1/s], eq. (6)
 };
 
 // Which effects a scene needs. What is off is neither computed nor allocated.

@@ -85,6 +85,7 @@ class WireModel : public OdeSystem {
   const Eigen::VectorXd& absoluteTolerance() const override { return atol_; }
   const Eigen::VectorXd& relativeToleranceWeight() const override { return rweight_; }
   void acceptStep(double t, Eigen::VectorXd& y) override;
+  bool semiImplicitUpdate(double h, ConstRef dydt, Ref y) const override;
 
   const Eigen::VectorXd& initialState() const { return y0_; }
   const WireConstants& constants() const { return c_; }

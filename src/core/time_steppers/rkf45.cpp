@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
+
 namespace cws {
 
 namespace {
@@ -91,6 +93,8 @@ void Rkf45::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) 
 
 std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, const OdeSystem& sys) {
   if (p.integrator == "rkf45") return std::make_unique<Rkf45>(p, sys.capacity());
+  if (p.integrator == "symplectic_euler")
+    return std::make_unique<SymplecticEuler>(p, sys.capacity());
   throw std::invalid_argument("unknown integrator '" + p.integrator + "'");
 }
 

@@ -29,6 +29,13 @@ class OdeSystem {
   // depends on the choice of origin, such as a position); capacity() long.
   virtual const Eigen::VectorXd& absoluteTolerance() const = 0;
   virtual const Eigen::VectorXd& relativeToleranceWeight() const = 0;
+  // Semi-implicit (symplectic) Euler update for a second-order system:
+  // velocities += h * their rates in dydt, then positions += h * the new
+  // velocities, other components += h * rates. False if the system is not
+  // second order (the default).
+  virtual bool semiImplicitUpdate(double /*h*/, ConstRef /*dydt*/, Ref /*y*/) const {
+    return false;
+  }
   // Called once per accepted step with the new time and state (capacity()
   // long). The system may grow here, writing its new components into y.
   virtual void acceptStep(double t, Eigen::VectorXd& y) = 0;

@@ -1,0 +1,33 @@
+#include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
+
+#include <sstream>
+
+namespace cws {
+
+SymplecticEuler::SymplecticEuler(const SolverParams& p, int capacity) : h_(p.fixed_step) {
+  dydt_.setZero(capacity);
+}
+
+void SymplecticEuler::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) {
+  const Eigen::Index n = sys.size();
+  const bool clipped = t + h_ >= t_limit;
+  const double h = clipped ? t_limit - t : h_;
+  sys.derivative(t, y.head(n), dydt_.head(n));
+  ++counts_.derivative_evaluations;
+  if (!sys.semiImplicitUpdate(h, dydt_.head(n), y.head(n))) {
+    throw IntegrationError("symplectic_euler needs a second-order system");
+  }
+  if (!y.head(n).allFinite()) {
+    std::ostringstream msg;
+    msg << "the state became non-finite at t = " << t << " s with symplectic_euler at "
+        << "solver.fixed_step = " << h_ << " s: the step is above the stability limit of this "
+        << "scene; lower solver.fixed_step or use rkf45";
+    throw IntegrationError(msg.str());
+  }
+  t = clipped ? t_limit : t + h;
+  h_last_ = h;
+  ++counts_.accepted;
+  sys.acceptStep(t, y);
+}
+
+}  // namespace cws
