@@ -5,6 +5,7 @@
 #   make run      run the wire_sim tool:  make run [SCENE=config/scenes/x.yaml] [OUT=out/x] [ARGS="..."]
 #   make study    the paper's 2 x 2 study: table and figure in docs/study (STUDY_OUT)
 #   make bench    per-step cost against the number of points (Google Benchmark)
+#   make work-precision   error against run time of every integrator (docs/performance)
 #   make test     build and run all tests; non-zero exit if any test fails
 #   make format   clang-format -i all C++ sources
 #   make clean    remove the workspace .ws/
@@ -51,7 +52,7 @@ CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCATKIN_ENABLE_TESTING=ON \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON
 
-.PHONY: deps build run study bench test format format-check clean
+.PHONY: deps build run study bench work-precision test format format-check clean
 
 deps:
 ifeq ($(SKIP_DEPS),1)
@@ -89,6 +90,18 @@ build: deps | $(WS)/src/$(PKG)
 run: build
 	mkdir -p "$(dir $(OUT))"
 	$(WIRE_SIM) run --out "$(OUT)" $(if $(SCENE),--scene "$(SCENE)") $(ARGS)
+
+# Error against run time for every integrator, the paper's 1200 and 600 rpm
+# cases (30 N): CSVs and figure into docs/performance.
+PERF_OUT ?= docs/performance
+work-precision: build
+	mkdir -p "$(PERF_OUT)"
+	$(WIRE_SIM) work-precision --out out/wp_1200 --set process.core_speed_rpm=1200 $(ARGS)
+	$(WIRE_SIM) work-precision --out out/wp_600 $(ARGS)
+	cp out/wp_1200/work_precision.csv "$(PERF_OUT)/work_precision_1200rpm.csv"
+	cp out/wp_600/work_precision.csv "$(PERF_OUT)/work_precision_600rpm.csv"
+	$(PYTHON) src/tools/plot_work_precision.py "$(PERF_OUT)/work_precision.png" \
+	  "1200 rpm=out/wp_1200" "600 rpm=out/wp_600"
 
 # Per-step cost against the number of points (Google Benchmark).
 bench: build

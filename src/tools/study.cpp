@@ -1,6 +1,7 @@
 #include "study.hpp"
 
-#include <atomic>
+#include "parallel.hpp"
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -8,7 +9,6 @@
 #include <iostream>
 #include <mutex>
 #include <sstream>
-#include <thread>
 
 #include "coil_winding_sim/core/output.hpp"
 #include "coil_winding_sim/core/scene.hpp"
@@ -106,16 +106,8 @@ int runStudy(const std::string& scene_path, const std::vector<std::string>& over
     }
   }
   std::mutex log;
-  std::atomic<std::size_t> next{0};
-  std::vector<std::thread> workers;
-  for (int j = 0; j < std::max(1, jobs); ++j) {
-    workers.emplace_back([&] {
-      for (std::size_t i = next++; i < cases.size(); i = next++) {
-        runCase(scene_path, overrides, dir, cases[i], log);
-      }
-    });
-  }
-  for (std::thread& w : workers) w.join();
+  forEachParallel(cases.size(), jobs,
+                  [&](std::size_t i) { runCase(scene_path, overrides, dir, cases[i], log); });
 
   std::ostringstream csv, md, cyl;
   csv << "case,core_speed_rpm,tension_N,core_turns,bulging_height_mm,bulging_arc_length_mm,"

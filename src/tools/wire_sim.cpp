@@ -3,6 +3,7 @@
 //   wire_sim run [--scene FILE] [--set key.path=value ...] [--out DIR]
 //   wire_sim print-scene [--scene FILE] [--set key.path=value ...]
 //   wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
+//   wire_sim work-precision [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -13,6 +14,7 @@
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 #include "study.hpp"
+#include "work_precision.hpp"
 
 #ifndef CWS_DEFAULT_SCENE
 #define CWS_DEFAULT_SCENE ""
@@ -24,9 +26,12 @@ const char* kUsage =
     "usage: wire_sim run [--scene FILE] [--set key.path=value ...] [--out DIR]\n"
     "       wire_sim print-scene [--scene FILE] [--set key.path=value ...]\n"
     "       wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]\n"
+    "       wire_sim work-precision [--scene FILE] [--set ...] [--out DIR] [--jobs N]\n"
     "Without --scene the package's default scene is used; --out defaults to out/run\n"
     "(out/study for study). study runs the paper's 2 x 2 case study (600/1200 rpm x\n"
-    "30/70 N, 1 3/4 turns) on N threads (default 2) and writes tables of the results.\n";
+    "30/70 N, 1 3/4 turns) on N threads (default 2) and writes tables of the results.\n"
+    "work-precision runs the scene with every integrator over a range of tolerances or\n"
+    "steps against a tight reference and writes the errors and wall times (CSV).\n";
 
 struct Args {
   std::string command;
@@ -51,6 +56,10 @@ std::string defaultScene() {
 
 int run(const Args& a) {
   const std::string scene_path = a.scene.empty() ? defaultScene() : a.scene;
+  if (a.command == "work-precision") {
+    return cws_tools::runWorkPrecision(scene_path, a.overrides,
+                                       a.out.empty() ? "out/work_precision" : a.out, a.jobs);
+  }
   if (a.command == "study") {
     return cws_tools::runStudy(scene_path, a.overrides, a.out.empty() ? "out/study" : a.out,
                                a.jobs);
@@ -108,7 +117,8 @@ int main(int argc, char** argv) {
   }
   Args a;
   a.command = args[0];
-  if (a.command != "run" && a.command != "print-scene" && a.command != "study") {
+  if (a.command != "run" && a.command != "print-scene" && a.command != "study" &&
+      a.command != "work-precision") {
     return usageError("unknown command '" + a.command + "'");
   }
   for (std::size_t i = 1; i < args.size(); ++i) {
@@ -126,7 +136,7 @@ int main(int argc, char** argv) {
       a.overrides.push_back(kv);
     } else if (opt == "--out" && a.command != "print-scene") {
       if (!value(a.out)) return usageError("--out needs a directory");
-    } else if (opt == "--jobs" && a.command == "study") {
+    } else if (opt == "--jobs" && (a.command == "study" || a.command == "work-precision")) {
       std::string j;
       if (!value(j)) return usageError("--jobs needs a number");
       try {

@@ -1,0 +1,145 @@
+#include "work_precision.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <mutex>
+#include <sstream>
+
+#include "coil_winding_sim/core/output.hpp"
+#include "coil_winding_sim/core/simulation.hpp"
+#include "parallel.hpp"
+
+namespace cws_tools {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+  std::string name, method, setting;
+  std::vector<std::string> overrides;
+  bool ok = false;
+  std::string error;
+  double wall_s = 0.0, sim_s = 0.0, bulging_m = 0.0;
+  long steps = 0, evaluations = 0;
+  int points = 0;
+  Eigen::Matrix3Xd p_core;  // final wire in the core frame
+};
+
+void execute(const std::string& scene_path, const std::vector<std::string>& base,
+             const std::string& dir, Run& r, std::mutex& log) {
+  try {
+    std::vector<std::string> o = base;
+    o.insert(o.end(), r.overrides.begin(), r.overrides.end());
+    cws::Simulation sim(cws::loadScene(scene_path, o));
+    sim.run();
+    cws::writeOutputs(sim, (fs::path(dir) / r.name).string());
+    const cws::WireModel& m = sim.model();
+    r.points = m.constants().n;
+    r.p_core.resize(3, r.points);
+    for (int i = 0; i < r.points; ++i) {
+      r.p_core.col(i) = m.core() ? m.core()->pointCore(sim.time(), m.committed().p_world.col(i))
+                                 : Eigen::Vector3d(m.committed().p_world.col(i));
+    }
+    const cws::BulgeReport b = m.bulging();
+    r.bulging_m = b.valid ? b.height_m : 0.0;
+    r.wall_s = sim.wallTime();
+    r.sim_s = sim.time();
+    r.steps = sim.stepper().counts().accepted + sim.stepper().counts().rejected;
+    r.evaluations = sim.stepper().counts().derivative_evaluations;
+    r.ok = true;
+    std::lock_guard<std::mutex> lock(log);
+    std::cerr << "work-precision: " << r.name << " done in " << r.wall_s << " s\n";
+  } catch (const std::exception& e) {
+    r.error = e.what();
+    std::lock_guard<std::mutex> lock(log);
+    std::cerr << "work-precision: " << r.name << " failed: " << e.what() << "\n";
+  }
+}
+
+Run make(const std::string& method, const std::string& setting,
+         const std::vector<std::string>& overrides) {
+  Run r;
+  r.method = method;
+  r.setting = setting;
+  r.name = method + "_" + setting;
+  r.overrides = overrides;
+  r.overrides.push_back("solver.integrator=" + method);
+  return r;
+}
+
+}  // namespace
+
+int runWorkPrecision(const std::string& scene_path, const std::vector<std::string>& overrides,
+                     const std::string& dir, int jobs) {
+  const cws::Scene scene = cws::loadScene(scene_path, overrides);  // refuse a bad scene first
+  cws::checkOutputDir(dir);
+  const double diameter = scene.wire.diameter;
+
+  // The reference and the sweeps: RKF45 over tolerances, the fixed-step
+  // method over steps (each halving).
+  std::vector<Run> runs;
+  runs.push_back(make("rkf45", "reference", {"solver.rtol=1e-8", "solver.atol=1e-13"}));
+  for (const char* tol : {"1e-4", "1e-5", "1e-6"}) {
+    const double atol = std::stod(tol) * 1e-5;
+    std::ostringstream a;
+    a << atol;
+    runs.push_back(make("rkf45", std::string("rtol") + tol,
+                        {std::string("solver.rtol=") + tol, "solver.atol=" + a.str()}));
+  }
+  for (const char* h : {"8e-7", "4e-7", "2e-7", "1e-7", "5e-8"}) {
+    runs.push_back(make("symplectic_euler", std::string("h") + h,
+                        {std::string("solver.fixed_step=") + h}));
+  }
+  std::mutex log;
+  forEachParallel(runs.size(), jobs,
+                  [&](std::size_t i) { execute(scene_path, overrides, dir, runs[i], log); });
+
+  const Run& ref = runs.front();
+  if (!ref.ok) {
+    std::cerr << "work-precision: the reference run failed: " << ref.error << "\n";
+    return 1;
+  }
+  std::ostringstream csv;
+  csv << "method,setting,shape_error_rel_diameter,bulging_error_rel,bulging_height_mm,points,"
+         "reference_points,steps,derivative_evaluations,wall_time_s,real_time_factor\n";
+  bool all_ok = true;
+  for (std::size_t k = 1; k < runs.size(); ++k) {
+    const Run& r = runs[k];
+    if (!r.ok) {
+      all_ok = false;
+      csv << r.method << ',' << r.setting << ",failed,,,,,,,,\n";
+      continue;
+    }
+    // Largest point distance over the points both runs have, in the core
+    // frame; a different point count is itself reported.
+    const int common = std::min(r.points, ref.points);
+    double worst = 0.0;
+    for (int i = 0; i < common; ++i) {
+      worst = std::max(worst, (r.p_core.col(i) - ref.p_core.col(i)).norm());
+    }
+    const double bulge_err =
+        ref.bulging_m > 0.0 ? std::abs(r.bulging_m - ref.bulging_m) / ref.bulging_m : 0.0;
+    char line[512];
+    std::snprintf(line, sizeof line, "%s,%s,%.4e,%.4e,%.5f,%d,%d,%ld,%ld,%.3f,%.4g\n",
+                  r.method.c_str(), r.setting.c_str(), worst / diameter, bulge_err,
+                  1e3 * r.bulging_m, r.points, ref.points, r.steps, r.evaluations, r.wall_s,
+                  r.sim_s / r.wall_s);
+    csv << line;
+  }
+  char ref_line[256];
+  std::snprintf(ref_line, sizeof ref_line, "# reference: rkf45 rtol 1e-8 atol 1e-13, %.1f s wall, "
+                "bulging %.5f mm, %d points\n", ref.wall_s, 1e3 * ref.bulging_m, ref.points);
+  std::ofstream f(fs::path(dir) / "work_precision.csv");
+  f << csv.str() << ref_line;
+  if (!f) throw std::runtime_error("cannot write " + (fs::path(dir) / "work_precision.csv").string());
+  std::cout << csv.str() << ref_line;
+  return all_ok ? 0 : 1;
+}
+
+}  // namespace cws_tools
