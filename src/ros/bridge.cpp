@@ -41,6 +41,20 @@ std_msgs::ColorRGBA heat(double s) {
   return s < 0.5 ? color(0.0, 2.0 * s, 1.0 - 2.0 * s) : color(2.0 * s - 1.0, 2.0 - 2.0 * s, 0.0);
 }
 
+// A marker with its header, namespace, id, type and ADD set.
+visualization_msgs::Marker marker(const ros::Time& stamp, const std::string& frame, const char* ns,
+                                  int id, int type) {
+  visualization_msgs::Marker k;
+  k.header.stamp = stamp;
+  k.header.frame_id = frame;
+  k.ns = ns;
+  k.id = id;
+  k.type = type;
+  k.action = visualization_msgs::Marker::ADD;
+  k.pose.orientation.w = 1.0;
+  return k;
+}
+
 int lastInContact(const cws::WireModel& m) {
   int last = -1;
   if (!m.contact()) return last;
@@ -115,14 +129,8 @@ visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros:
   const std::size_t per = std::max<std::size_t>(2, max_points_per_marker);
   int id = 0;
   for (int start = 0; start < n - 1; start += static_cast<int>(per) - 1) {
-    visualization_msgs::Marker w;
-    w.header.stamp = stamp;
-    w.header.frame_id = frames.world;
-    w.ns = "wire";
-    w.id = id++;
-    w.type = visualization_msgs::Marker::LINE_STRIP;
-    w.action = visualization_msgs::Marker::ADD;
-    w.pose.orientation.w = 1.0;
+    visualization_msgs::Marker w =
+        marker(stamp, frames.world, "wire", id++, visualization_msgs::Marker::LINE_STRIP);
     w.scale.x = diameter;
     const int end = std::min(n, start + static_cast<int>(per));
     for (int i = start; i < end; ++i) {
@@ -138,29 +146,18 @@ visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros:
     const double height = 0.02;
     int cid = 0;
     for (const cws::CylinderParams& c : core.cylinders) {
-      visualization_msgs::Marker k;
-      k.header.stamp = stamp;
-      k.header.frame_id = frames.core;
-      k.ns = "core";
-      k.id = cid++;
-      k.type = visualization_msgs::Marker::CYLINDER;
-      k.action = visualization_msgs::Marker::ADD;
+      visualization_msgs::Marker k =
+          marker(stamp, frames.core, "core", cid++, visualization_msgs::Marker::CYLINDER);
       k.pose.position.x = c.center_core.x();
       k.pose.position.y = c.center_core.y();
-      k.pose.orientation.w = 1.0;
       k.scale.x = k.scale.y = 2.0 * c.radius;
       k.scale.z = height;
       k.color = color(0.55, 0.55, 0.6, 0.9);
       out.markers.push_back(k);
     }
     for (const cws::FaceParams& f : cws::coreFaces(core)) {
-      visualization_msgs::Marker k;
-      k.header.stamp = stamp;
-      k.header.frame_id = frames.core;
-      k.ns = "core";
-      k.id = cid++;
-      k.type = visualization_msgs::Marker::CUBE;
-      k.action = visualization_msgs::Marker::ADD;
+      visualization_msgs::Marker k =
+          marker(stamp, frames.core, "core", cid++, visualization_msgs::Marker::CUBE);
       const Eigen::Vector2d d = f.to_core - f.from_core;
       const Eigen::Vector2d mid = 0.5 * (f.from_core + f.to_core);
       const Eigen::Vector2d in(-d.y() / d.norm(), d.x() / d.norm());  // left: inside
@@ -177,14 +174,8 @@ visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros:
     }
   }
   if (m.supply()) {
-    visualization_msgs::Marker p;
-    p.header.stamp = stamp;
-    p.header.frame_id = frames.port;
-    p.ns = "supply_port";
-    p.id = 0;
-    p.type = visualization_msgs::Marker::SPHERE;
-    p.action = visualization_msgs::Marker::ADD;
-    p.pose.orientation.w = 1.0;
+    visualization_msgs::Marker p =
+        marker(stamp, frames.port, "supply_port", 0, visualization_msgs::Marker::SPHERE);
     p.scale.x = p.scale.y = p.scale.z = 3.0 * diameter;
     p.color = color(1.0, 0.8, 0.0, 0.8);
     out.markers.push_back(p);

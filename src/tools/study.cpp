@@ -1,7 +1,5 @@
 #include "study.hpp"
 
-#include "parallel.hpp"
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +11,7 @@
 #include "coil_winding_sim/core/output.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
+#include "parallel.hpp"
 
 namespace cws_tools {
 

@@ -93,8 +93,8 @@ int runWorkPrecision(const std::string& scene_path, const std::vector<std::strin
                         {std::string("solver.rtol=") + tol, "solver.atol=" + a.str()}));
   }
   for (const char* h : {"8e-7", "4e-7", "2e-7", "1e-7", "5e-8"}) {
-    runs.push_back(make("symplectic_euler", std::string("h") + h,
-                        {std::string("solver.fixed_step=") + h}));
+    runs.push_back(
+        make("symplectic_euler", std::string("h") + h, {std::string("solver.fixed_step=") + h}));
   }
   std::mutex log;
   forEachParallel(runs.size(), jobs,
@@ -133,11 +133,14 @@ int runWorkPrecision(const std::string& scene_path, const std::vector<std::strin
     csv << line;
   }
   char ref_line[256];
-  std::snprintf(ref_line, sizeof ref_line, "# reference: rkf45 rtol 1e-8 atol 1e-13, %.1f s wall, "
-                "bulging %.5f mm, %d points\n", ref.wall_s, 1e3 * ref.bulging_m, ref.points);
+  std::snprintf(ref_line, sizeof ref_line,
+                "# reference: rkf45 rtol 1e-8 atol 1e-13, %.1f s wall, "
+                "bulging %.5f mm, %d points\n",
+                ref.wall_s, 1e3 * ref.bulging_m, ref.points);
   std::ofstream f(fs::path(dir) / "work_precision.csv");
   f << csv.str() << ref_line;
-  if (!f) throw std::runtime_error("cannot write " + (fs::path(dir) / "work_precision.csv").string());
+  if (!f)
+    throw std::runtime_error("cannot write " + (fs::path(dir) / "work_precision.csv").string());
   std::cout << csv.str() << ref_line;
   return all_ok ? 0 : 1;
 }

@@ -22,17 +22,7 @@ double relativeImbalance(const cws::EnergyReport& e) {
 }  // namespace
 
 TEST(Energy, BalanceHoldsInAnElasticRun) {
-  // Undamped, elastic: a tip force and moment ramp up in 2 ms and oscillate
-  // the wire in gravity; nothing dissipates.
-  cws::Scene s = cantilever(0.1, 10);
-  s.physics.plasticity = false;
-  s.physics.gravity = true;
-  cws::LoadKeyframe a, b;
-  b.time = 0.002;
-  b.force_world = {1.0, 0.02, 0.0};
-  b.moment_world = {0.002, 0.0, 0.001};
-  s.end.load = {a, b};
-  s.process.duration = 0.03;
+  const cws::Scene s = cws_test::elasticOscillation();
   cws::Simulation sim(s);
   sim.run();
   const cws::EnergyReport e = sim.energy();

@@ -41,15 +41,7 @@ TEST(SymplecticEuler, CantileverTipForce) {
 }
 
 TEST(SymplecticEuler, EnergyStaysBalancedInAnElasticRun) {
-  cws::Scene s = cantilever(0.1, 10);
-  s.physics.plasticity = false;
-  s.physics.gravity = true;
-  cws::LoadKeyframe a, b;
-  b.time = 0.002;
-  b.force_world = {1.0, 0.02, 0.0};
-  b.moment_world = {0.002, 0.0, 0.001};
-  s.end.load = {a, b};
-  s.process.duration = 0.03;
+  const cws::Scene s = cws_test::elasticOscillation();
   cws::Simulation sim(withEuler(s, 1e-6));
   sim.run();
   const cws::EnergyReport e = sim.energy();

@@ -37,6 +37,21 @@ inline cws::Scene rampedStatic(cws::Scene s, const Eigen::Vector3d& force_world,
   return s;
 }
 
+// Undamped and elastic: a tip force and moment ramp up in 2 ms and oscillate
+// a 0.1 m wire in gravity for 30 ms; nothing dissipates.
+inline cws::Scene elasticOscillation() {
+  cws::Scene s = cantilever(0.1, 10);
+  s.physics.plasticity = false;
+  s.physics.gravity = true;
+  cws::LoadKeyframe a, b;
+  b.time = 0.002;
+  b.force_world = {1.0, 0.02, 0.0};
+  b.moment_world = {0.002, 0.0, 0.001};
+  s.end.load = {a, b};
+  s.process.duration = 0.03;
+  return s;
+}
+
 inline Eigen::Vector3d tipPosition(const cws::Simulation& sim) {
   return sim.model().committed().p_world.col(sim.model().constants().n - 1);
 }
