@@ -92,12 +92,13 @@ run: build
 	$(WIRE_SIM) run --out "$(OUT)" $(if $(SCENE),--scene "$(SCENE)") $(ARGS)
 
 # Error against run time for every integrator, the paper's 1200 and 600 rpm
-# cases (30 N): CSVs and figure into docs/performance.
+# cases (30 N, 2 mm segments): CSVs and figure into docs/performance.
 PERF_OUT ?= docs/performance
 work-precision: build
 	mkdir -p "$(PERF_OUT)"
-	$(WIRE_SIM) work-precision --out out/wp_1200 --set process.core_speed_rpm=1200 $(ARGS)
-	$(WIRE_SIM) work-precision --out out/wp_600 $(ARGS)
+	$(WIRE_SIM) work-precision --out out/wp_1200 --set wire.segment_length=2e-3 \
+	  --set process.core_speed_rpm=1200 $(ARGS)
+	$(WIRE_SIM) work-precision --out out/wp_600 --set wire.segment_length=2e-3 $(ARGS)
 	cp out/wp_1200/work_precision.csv "$(PERF_OUT)/work_precision_1200rpm.csv"
 	cp out/wp_600/work_precision.csv "$(PERF_OUT)/work_precision_600rpm.csv"
 	$(PYTHON) src/tools/plot_work_precision.py "$(PERF_OUT)/work_precision.png" \

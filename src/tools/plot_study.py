@@ -93,7 +93,7 @@ def main():
         ax.set_xlabel("x, core frame [mm]")
     for ax in axes[:, 0]:
         ax.set_ylabel("y, core frame [mm]")
-    axes[0, 0].legend(loc="upper left", fontsize=8)
+    axes[0, 0].legend(loc="center", fontsize=8)
     fig.suptitle("Wire after 1 3/4 core turns (2 x 2 study)")
     fig.tight_layout()
     out = os.path.join(d, "study.png")
