@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -211,6 +212,31 @@ Eigen::Vector2d readVec2(const YAML::Node& n, const std::string& key) {
   return {readDouble(n[0], key + "[0]"), readDouble(n[1], key + "[1]")};
 }
 
+// Reads the list of maps at `key`, each entry with only the `allowed` keys,
+// calling read(entry, "key[i]"); every refusal names the entry or its key.
+template <class Fn>
+void readEntries(const YAML::Node& list, const std::string& key,
+                 const std::vector<std::string>& allowed, bool non_empty, Fn read) {
+  std::string names;
+  for (const std::string& a : allowed) names += (names.empty() ? "" : ", ") + a;
+  if (!list.IsSequence() || (non_empty && list.size() == 0)) {
+    throw SceneError(key, std::string("expected a ") + (non_empty ? "non-empty " : "") +
+                              "list of {" + names + "}, got " + describe(list));
+  }
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string entry_key = key + "[" + std::to_string(i) + "]";
+    const YAML::Node entry = list[i];
+    if (!entry.IsMap()) throw SceneError(entry_key, "expected a map {" + names + "}");
+    for (const auto& kv : entry) {
+      const std::string name = kv.first.Scalar();
+      if (std::find(allowed.begin(), allowed.end(), name) == allowed.end()) {
+        throw SceneError(entry_key + "." + name, "unknown key (allowed: " + names + ")");
+      }
+    }
+    read(entry, entry_key);
+  }
+}
+
 HysteresisParams readHysteresis(const YAML::Node& n, const std::string& key,
                                 const char* yield_key) {
   HysteresisParams h;
@@ -246,44 +272,18 @@ Scene fromYaml(const YAML::Node& r) {
   s.core.start_at_speed = readBool(core["start_at_speed"], "core.start_at_speed");
   s.core.max_angular_acceleration =
       readDouble(core["max_angular_acceleration"], "core.max_angular_acceleration");
-  const YAML::Node cyl = core["cylinders"];
-  if (!cyl.IsSequence()) {
-    throw SceneError("core.cylinders", "expected a list of {center, radius}, got " + describe(cyl));
-  }
-  for (std::size_t i = 0; i < cyl.size(); ++i) {
-    const std::string key = "core.cylinders[" + std::to_string(i) + "]";
-    const YAML::Node c = cyl[i];
-    if (!c.IsMap()) throw SceneError(key, "expected a map {center, radius}");
-    for (const auto& kv : c) {
-      const std::string name = kv.first.Scalar();
-      if (name != "center" && name != "radius") {
-        throw SceneError(key + "." + name, "unknown key (allowed: center, radius)");
-      }
-    }
-    CylinderParams cp;
-    cp.center_core = readVec2(c["center"], key + ".center");
-    if (c["radius"]) cp.radius = readDouble(c["radius"], key + ".radius");
-    s.core.cylinders.push_back(cp);
-  }
-  const YAML::Node faces = core["faces"];
-  if (!faces.IsSequence()) {
-    throw SceneError("core.faces", "expected a list of {from, to}, got " + describe(faces));
-  }
-  for (std::size_t i = 0; i < faces.size(); ++i) {
-    const std::string key = "core.faces[" + std::to_string(i) + "]";
-    const YAML::Node f = faces[i];
-    if (!f.IsMap()) throw SceneError(key, "expected a map {from, to}");
-    for (const auto& kv : f) {
-      const std::string name = kv.first.Scalar();
-      if (name != "from" && name != "to") {
-        throw SceneError(key + "." + name, "unknown key (allowed: from, to)");
-      }
-    }
-    FaceParams fp;
-    fp.from_core = readVec2(f["from"], key + ".from");
-    fp.to_core = readVec2(f["to"], key + ".to");
-    s.core.faces.push_back(fp);
-  }
+  readEntries(core["cylinders"], "core.cylinders", {"center", "radius"}, false,
+              [&](const YAML::Node& c, const std::string& key) {
+                CylinderParams cp;
+                cp.center_core = readVec2(c["center"], key + ".center");
+                if (c["radius"]) cp.radius = readDouble(c["radius"], key + ".radius");
+                s.core.cylinders.push_back(cp);
+              });
+  readEntries(core["faces"], "core.faces", {"from", "to"}, false,
+              [&](const YAML::Node& f, const std::string& key) {
+                s.core.faces.push_back(
+                    FaceParams{readVec2(f["from"], key + ".from"), readVec2(f["to"], key + ".to")});
+              });
   s.core.hull_faces = readBool(core["hull_faces"], "core.hull_faces");
 
   const YAML::Node p = r["process"];
@@ -333,28 +333,15 @@ Scene fromYaml(const YAML::Node& r) {
   s.start.direction = readVec3(r["start"]["direction"], "start.direction");
 
   s.end.type = readString(r["end"]["type"], "end.type");
-  const YAML::Node load = r["end"]["load"];
-  if (!load.IsSequence() || load.size() == 0) {
-    throw SceneError("end.load",
-                     "expected a non-empty list of {time, force, moment}, got " + describe(load));
-  }
   s.end.load.clear();
-  for (std::size_t i = 0; i < load.size(); ++i) {
-    const std::string key = "end.load[" + std::to_string(i) + "]";
-    const YAML::Node k = load[i];
-    if (!k.IsMap()) throw SceneError(key, "expected a map {time, force, moment}");
-    for (const auto& kv : k) {
-      const std::string name = kv.first.Scalar();
-      if (name != "time" && name != "force" && name != "moment") {
-        throw SceneError(key + "." + name, "unknown key (allowed: time, force, moment)");
-      }
-    }
-    LoadKeyframe f;
-    f.time = readDouble(k["time"], key + ".time");
-    if (k["force"]) f.force_world = readVec3(k["force"], key + ".force");
-    if (k["moment"]) f.moment_world = readVec3(k["moment"], key + ".moment");
-    s.end.load.push_back(f);
-  }
+  readEntries(r["end"]["load"], "end.load", {"time", "force", "moment"}, true,
+              [&](const YAML::Node& k, const std::string& key) {
+                LoadKeyframe f;
+                f.time = readDouble(k["time"], key + ".time");
+                if (k["force"]) f.force_world = readVec3(k["force"], key + ".force");
+                if (k["moment"]) f.moment_world = readVec3(k["moment"], key + ".moment");
+                s.end.load.push_back(f);
+              });
 
   s.output.progress_interval_s =
       readDouble(r["output"]["progress_interval_s"], "output.progress_interval_s");
