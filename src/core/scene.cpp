@@ -553,9 +553,11 @@ void validateScene(const Scene& s) {
     }
   }
 
-  if (s.solver.integrator != "rkf45" && s.solver.integrator != "symplectic_euler") {
-    throw SceneError("solver.integrator", "unknown integrator '" + s.solver.integrator +
-                                              "' (available: rkf45, symplectic_euler)");
+  if (s.solver.integrator != "rkf45" && s.solver.integrator != "symplectic_euler" &&
+      s.solver.integrator != "rosenbrock2") {
+    throw SceneError("solver.integrator",
+                     "unknown integrator '" + s.solver.integrator +
+                         "' (available: rkf45, symplectic_euler, rosenbrock2)");
   }
   requirePositive(s.solver.fixed_step, "solver.fixed_step");
   if (s.solver.integrator == "symplectic_euler" && s.solver.fixed_step > s.solver.max_step) {

@@ -27,11 +27,13 @@ void operator delete(void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 #ifdef CWS_SOURCE_DIR
-TEST(Allocation, StepsAllocateNothing) {
-  // The paper's case: contact, friction, plasticity and a growing wire (the
-  // supply appends points during the counted steps).
+namespace {
+// Steps of the paper's case with `integrator`: contact, friction, plasticity
+// and a growing wire (the supply appends points during the counted steps).
+void expectStepsAllocateNothing(const std::string& integrator, int steps) {
   const std::string path = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
-  cws::Simulation sim(cws::loadScene(path, {"process.turns=0.2"}));
+  cws::Simulation sim(cws::loadScene(
+      path, {"process.turns=0.2", "solver.integrator=" + integrator, "solver.atol=1e-8"}));
   // Under way: let the first steps settle the step size.
   for (int i = 0; i < 100; ++i) sim.step(sim.endTime());
   const int n0 = sim.model().constants().n;
@@ -43,11 +45,17 @@ TEST(Allocation, StepsAllocateNothing) {
   ASSERT_GE(allocations.load(), 1);
   allocations = 0;
   counting = true;
-  for (int i = 0; i < 20000 && sim.time() < sim.endTime(); ++i) sim.step(sim.endTime());
+  for (int i = 0; i < steps && sim.time() < sim.endTime(); ++i) sim.step(sim.endTime());
   counting = false;
-  std::printf("allocation: %ld allocations in 20000 steps, %d -> %d points\n", allocations.load(),
-              n0, sim.model().constants().n);
+  std::printf("allocation: %s, %ld allocations in %d steps, %d -> %d points\n", integrator.c_str(),
+              allocations.load(), steps, n0, sim.model().constants().n);
   EXPECT_EQ(allocations.load(), 0);
   EXPECT_GT(sim.model().constants().n, n0) << "the wire should have grown while counted";
 }
+}  // namespace
+
+TEST(Allocation, StepsAllocateNothing) { expectStepsAllocateNothing("symplectic_euler", 20000); }
+
+// Jacobian builds, refactorizations and rejected steps included.
+TEST(Allocation, ImplicitStepsAllocateNothing) { expectStepsAllocateNothing("rosenbrock2", 3000); }
 #endif

@@ -88,7 +88,7 @@ struct ProcessParams {
 };
 
 struct SolverParams {
-  std::string integrator = "rkf45";  // rkf45 | symplectic_euler
+  std::string integrator = "rkf45";  // rkf45 | symplectic_euler | rosenbrock2
   double rtol = 1.0e-6;              // relative tolerance [-]
   double atol = 1.0e-11;             // absolute tolerance on positions [m]
   double min_step = 1.0e-12;         // step floor [s]; below it the run stops

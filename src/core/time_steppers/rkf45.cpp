@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "coil_winding_sim/core/time_steppers/rosenbrock2.hpp"
 #include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
 
 namespace cws {
@@ -95,6 +96,7 @@ std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, const OdeSys
   if (p.integrator == "rkf45") return std::make_unique<Rkf45>(p, sys.capacity());
   if (p.integrator == "symplectic_euler")
     return std::make_unique<SymplecticEuler>(p, sys.capacity());
+  if (p.integrator == "rosenbrock2") return std::make_unique<Rosenbrock2>(p, sys);
   throw std::invalid_argument("unknown integrator '" + p.integrator + "'");
 }
 

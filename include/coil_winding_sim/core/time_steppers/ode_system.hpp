@@ -12,6 +12,17 @@
 
 namespace cws {
 
+// Sparsity of a chain: `lead` leading components that nothing depends on
+// (integrated quantities such as work done), then blocks of `block`
+// components, one per mass point; a block's rates depend on the blocks
+// within `radius` of it (and, more weakly, on farther ones through a
+// constraint solve). block == 0: no such structure.
+struct ChainStructure {
+  int lead = 0;
+  int block = 0;
+  int radius = 0;
+};
+
 class OdeSystem {
  public:
   using ConstRef = Eigen::Ref<const Eigen::VectorXd>;
@@ -36,6 +47,8 @@ class OdeSystem {
   virtual bool semiImplicitUpdate(double /*h*/, ConstRef /*dydt*/, Ref /*y*/) const {
     return false;
   }
+  // Sparsity for integrators that build a banded Jacobian.
+  virtual ChainStructure chainStructure() const { return {}; }
   // Called once per accepted step with the new time and state (capacity()
   // long). The system may grow here, writing its new components into y.
   virtual void acceptStep(double t, Eigen::VectorXd& y) = 0;
