@@ -65,7 +65,8 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out) {
       << "  \"supply_tension_N\": "
       << (m.supply() ? num(m.axialForce(m.constants().n - 2)) : std::string("null")) << ",\n"
       << "  \"max_penetration_ratio\": "
-      << (m.contact() ? num(sim.maxPenetration() / radius) : std::string("null")) << ",\n";
+      << (m.contact() ? num(sim.maxPenetration() / radius) : std::string("null")) << ",\n"
+      << "  \"carried_points\": " << m.carriedPoints() << ",\n";
   // Bulging: null until the scene has a core with contact and wound wire.
   const BulgeReport b = m.bulging();
   if (b.valid) {

@@ -115,6 +115,7 @@ YAML::Node toYaml(const Scene& s) {
   root["solver"]["initial_step"] = num(s.solver.initial_step);
   root["solver"]["fixed_step"] = num(s.solver.fixed_step);
   root["solver"]["baumgarte_nu"] = num(s.solver.baumgarte_nu);
+  root["solver"]["carry_stuck_wire"] = s.solver.carry_stuck_wire;
 
   root["physics"]["torsion"] = s.physics.torsion;
   root["physics"]["plasticity"] = s.physics.plasticity;
@@ -304,6 +305,7 @@ Scene fromYaml(const YAML::Node& r) {
   s.solver.initial_step = readDouble(so["initial_step"], "solver.initial_step");
   s.solver.fixed_step = readDouble(so["fixed_step"], "solver.fixed_step");
   s.solver.baumgarte_nu = readDouble(so["baumgarte_nu"], "solver.baumgarte_nu");
+  s.solver.carry_stuck_wire = readBool(so["carry_stuck_wire"], "solver.carry_stuck_wire");
 
   const YAML::Node ph = r["physics"];
   s.physics.torsion = readBool(ph["torsion"], "physics.torsion");
@@ -560,6 +562,11 @@ void validateScene(const Scene& s) {
                          "' (available: rkf45, symplectic_euler, rosenbrock2)");
   }
   requirePositive(s.solver.fixed_step, "solver.fixed_step");
+  if (s.solver.carry_stuck_wire &&
+      !(s.physics.contact && s.physics.friction && s.start.frame == "core")) {
+    throw SceneError("solver.carry_stuck_wire",
+                     "needs physics.contact, physics.friction and start.frame: core");
+  }
   if (s.solver.integrator == "symplectic_euler" && s.solver.fixed_step > s.solver.max_step) {
     throw SceneError("solver.fixed_step", "is above solver.max_step");
   }

@@ -79,7 +79,10 @@ WireConstants constantsOf(const Scene& s) {
 WireModel::WireModel(const Scene& s)
     : c_(constantsOf(s)),
       clamp_in_core_(s.start.frame == "core"),
-      constraints_(c_, s.solver.baumgarte_nu) {
+      constraints_(c_, s.solver.baumgarte_nu),
+      carry_(s.solver.carry_stuck_wire),
+      carried_p_core_(carry_ ? c_.capacity : 0),
+      carried_q_core_(carry_ ? c_.capacity : 0) {
   // The core exists only for scenes that touch it, draw wire onto it or hold
   // the wire on it.
   if (needsCore(s)) {
@@ -219,17 +222,44 @@ Eigen::Vector3d WireModel::unpack(double t, ConstRef y, WireKinematics& k) const
 
 void WireModel::derivative(double t, ConstRef y, Ref dydt) {
   const Eigen::Vector3d a0_world = unpack(t, y, kin_);
-  forces_.setZero();
+  // Carried points (1..f-1) turn rigidly with the core: their accelerations
+  // and quaternion second derivatives, qdd = 1/2 E(qd)^T w + 1/2 E(q)^T w',
+  // and the power the core spends on their motion.
+  const int f = c_.first, boundary = f - 1;
+  Eigen::Vector3d a_boundary = a0_world;
+  Eigen::Vector4d qdd_boundary = Eigen::Vector4d::Zero();
+  double carried_power = 0.0;
+  if (f > 1) {
+    const Eigen::Vector3d w = core_->omega(t) * core_->axisWorld();
+    const Eigen::Vector3d w_dot = core_->angularAcceleration(t) * core_->axisWorld();
+    for (int i = 1; i < f; ++i) {
+      acc_.col(i) = core_->accelerationWorld(t, kin_.p_world.col(i));
+      qdd_.col(i) = 0.5 * (quat::E(kin_.qd.col(i)).transpose() * w +
+                           quat::E(kin_.q.col(i)).transpose() * w_dot);
+      carried_power += c_.point_mass * acc_.col(i).dot(kin_.v_world.col(i)) +
+                       4.0 * c_.point_inertia * qdd_.col(i).dot(kin_.qd.col(i));
+    }
+    a_boundary = acc_.col(boundary);
+    qdd_boundary = qdd_.col(boundary);
+  }
+  // Forces on the integrated points and the prescribed one before them.
+  const int active = c_.n - boundary;
+  forces_.f_world.middleCols(boundary, active).setZero();
+  forces_.f_q.middleCols(boundary, active).setZero();
+  forces_.power_external = 0.0;
+  forces_.power_dissipated = 0.0;
   for (const ForceEffect* e : all_) e->addForces(t, kin_, forces_);
   PortMotion port;
   if (supply_) port = supply_->port(t);
-  constraints_.accelerations(kin_, forces_, a0_world, Eigen::Vector4d::Zero(),
-                             supply_ ? &port : nullptr, acc_, qdd_);
-  // A clamp on the turning core works on the wire through point 0 and
-  // frame 0: minus the power of the wire's forces on them.
+  constraints_.accelerations(kin_, forces_, a_boundary, qdd_boundary, supply_ ? &port : nullptr,
+                             acc_, qdd_);
+  // The clamp, or the carried wire, works on the integrated wire through the
+  // prescribed point and its frame: minus the power of the wire's forces on
+  // them.
   const double clamp_power =
-      -(forces_.f_world.col(0) + constraints_.forceOnPoint0()).dot(kin_.v_world.col(0)) -
-      forces_.f_q.col(0).dot(kin_.qd.col(0));
+      -(forces_.f_world.col(boundary) + constraints_.forceOnBoundary())
+           .dot(kin_.v_world.col(boundary)) -
+      forces_.f_q.col(boundary).dot(kin_.qd.col(boundary)) + carried_power;
   // Planar mode: no acceleration along the core axis (removes rounding).
   const Eigen::Vector3d& nrm = planar_normal_world_;
   dydt[0] = forces_.power_external + clamp_power + constraints_.portPower();
@@ -300,14 +330,80 @@ void WireModel::appendPoint(double t, Eigen::VectorXd& y) {
           stretching_->virginWork(stretching_->strain(committed_, last));
 }
 
+void WireModel::placeCarried(double t, int i, Eigen::VectorXd& y) {
+  const Eigen::Vector3d p = core_->pointWorld(t, carried_p_core_[i]);
+  const Eigen::Quaterniond qc(carried_q_core_[i][0], carried_q_core_[i][1],
+                              carried_q_core_[i][2], carried_q_core_[i][3]);
+  const Eigen::Quaterniond qw = core_->quaternionWorldCore(t) * qc;
+  const quat::Vec4 q(qw.w(), qw.x(), qw.y(), qw.z());
+  const Eigen::Vector3d w = core_->omega(t) * core_->axisWorld();
+  const int o = offsetOf(i);
+  y.segment<3>(o) = p;
+  y.segment<4>(o + 3) = q;
+  y.segment<3>(o + 7) = core_->velocityWorld(t, p);
+  y.segment<4>(o + 10) = 0.5 * quat::E(q).transpose() * w;
+  committed_.p_world.col(i) = y.segment<3>(o);
+  committed_.q.col(i) = y.segment<4>(o + 3);
+  committed_.v_world.col(i) = y.segment<3>(o + 7);
+  committed_.qd.col(i) = y.segment<4>(o + 10);
+}
+
+void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
+  // Stuck groups (runs of points held by static friction) from the fixed
+  // end. The core carries the wound wire up to the start of the last group
+  // but one: that group, held at both ends of the span after it, stays
+  // integrated as the sentinel; if it slips, the wire before it is released.
+  int last_start = -1, prev_start = -1;
+  for (int i = 1; i < c_.n; ++i) {
+    if (contact_->stuck(i) && !contact_->stuck(i - 1)) {
+      prev_start = last_start;
+      last_start = i;
+    }
+  }
+  int target = std::max(1, std::min(prev_start, c_.n - 2));
+  // Take on only wire that has come to rest on the core (every point within
+  // the re-stick speed of the core material), so that nothing still moving
+  // is frozen.
+  const double settled = contact_->stickSpeed();
+  for (int i = c_.first; i < target; ++i) {
+    const Eigen::Vector3d v_rel =
+        committed_.v_world.col(i) - core_->velocityWorld(t, committed_.p_world.col(i));
+    if (v_rel.norm() >= settled) {
+      target = i;
+      break;
+    }
+  }
+  if (target > c_.first) {
+    const Eigen::Quaterniond q_core_world = core_->quaternionWorldCore(t).conjugate();
+    for (int i = c_.first; i < target; ++i) {
+      carried_p_core_[i] = core_->pointCore(t, committed_.p_world.col(i));
+      const quat::Vec4 q = committed_.q.col(i);
+      const Eigen::Quaterniond qc = q_core_world * Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+      carried_q_core_[i] = {qc.w(), qc.x(), qc.y(), qc.z()};
+      // The kinetic energy of the remaining relative motion (below the
+      // re-stick speed) is given up: counted as dissipated.
+      const int o = offsetOf(i);
+      const double before = 0.5 * c_.point_mass * y.segment<3>(o + 7).squaredNorm() +
+                            2.0 * c_.point_inertia * y.segment<4>(o + 10).squaredNorm();
+      placeCarried(t, i, y);
+      y[1] += before - (0.5 * c_.point_mass * y.segment<3>(o + 7).squaredNorm() +
+                        2.0 * c_.point_inertia * y.segment<4>(o + 10).squaredNorm());
+    }
+  }
+  c_.first = target;
+}
+
 void WireModel::acceptStep(double t, Eigen::VectorXd& y) {
   unpack(t, y, committed_);
   committed_time_ = t;
+  // Carried points: back onto their exact rigid poses (no drift).
+  for (int i = 1; i < c_.first; ++i) placeCarried(t, i, y);
   for (ForceEffect* e : all_) e->commit(t, committed_);
   if (core_) core_->commit(t);
   if (supply_) {
     while (portDistance(t, committed_) > supply_->boundaryLength()) appendPoint(t, y);
   }
+  if (carry_) updateCarried(t, y);
 }
 
 double WireModel::standOff(int i) const {
@@ -348,6 +444,7 @@ ModelState WireModel::saveState(const Eigen::VectorXd& y) const {
   m.points_added = points_added_;
   m.committed_time_s = committed_time_;
   m.port_distance0_m = port_distance0_;
+  m.carried = c_.first - 1;
   return m;
 }
 
@@ -366,6 +463,11 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
   for (double v : m.y) {
     if (!std::isfinite(v)) throw std::runtime_error("snapshot state is not finite");
   }
+  if (m.carried < 0 || m.carried > m.points - 2 || (m.carried > 0 && !carry_)) {
+    throw std::runtime_error("snapshot carries " + std::to_string(m.carried) +
+                             " points; this scene carries " +
+                             (carry_ ? "0 to " + std::to_string(m.points - 2) : "none"));
+  }
   c_.n = m.points;
   y.head(size()) = Eigen::Map<const Eigen::VectorXd>(m.y.data(), size());
   HistoryReader in(m.history);
@@ -376,7 +478,19 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
   points_added_ = m.points_added;
   committed_time_ = m.committed_time_s;
   port_distance0_ = m.port_distance0_m;
+  c_.first = m.carried + 1;
   unpack(committed_time_, y, committed_);
+  // The carried poses are the committed state seen from the core.
+  if (c_.first > 1) {
+    const Eigen::Quaterniond q_core_world =
+        core_->quaternionWorldCore(committed_time_).conjugate();
+    for (int i = 1; i < c_.first; ++i) {
+      carried_p_core_[i] = core_->pointCore(committed_time_, committed_.p_world.col(i));
+      const quat::Vec4 q = committed_.q.col(i);
+      const Eigen::Quaterniond qc = q_core_world * Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+      carried_q_core_[i] = {qc.w(), qc.x(), qc.y(), qc.z()};
+    }
+  }
 }
 
 void WireModel::setCoreSpeed(double omega) {

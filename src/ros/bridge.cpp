@@ -14,7 +14,7 @@
 
 namespace cws_ros {
 
-const char* const kSnapshotFormat = "coil_winding_sim/snapshot/1";
+const char* const kSnapshotFormat = "coil_winding_sim/snapshot/2";
 const char* const kSnapshotTopic = "/coil_winding_sim/snapshot";
 
 namespace {
@@ -243,6 +243,7 @@ coil_winding_sim::SimulationSnapshot toSnapshotMsg(const cws::SimulationState& s
   m.points_added = s.model.points_added;
   m.committed_time = s.model.committed_time_s;
   m.port_distance0 = s.model.port_distance0_m;
+  m.carried_points = s.model.carried;
   m.next_step = s.next_step_s;
   m.last_step = s.last_step_s;
   m.steps_accepted = s.counts.accepted;
@@ -270,6 +271,7 @@ cws::SimulationState fromSnapshotMsg(const coil_winding_sim::SimulationSnapshot&
   s.model.points_added = m.points_added;
   s.model.committed_time_s = m.committed_time;
   s.model.port_distance0_m = m.port_distance0;
+  s.model.carried = m.carried_points;
   s.next_step_s = m.next_step;
   s.last_step_s = m.last_step;
   s.counts.accepted = m.steps_accepted;

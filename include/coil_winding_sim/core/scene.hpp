@@ -96,6 +96,9 @@ struct SolverParams {
   double initial_step = 1.0e-7;      // [s]
   double fixed_step = 5.0e-8;        // step of the fixed-step integrators [s]
   double baumgarte_nu = 5000.0;      // constraint stabilization nu [1/s], eq. (6)
+  // Wound wire held by static friction moves rigidly with the core and leaves
+  // the integrated system (needs contact, friction and start.frame core).
+  bool carry_stuck_wire = false;
 };
 
 // Which effects a scene needs. What is off is neither computed nor allocated.

@@ -72,6 +72,7 @@ struct ModelState {
   int points_added = 0;
   double committed_time_s = 0.0;
   double port_distance0_m = 0.0;
+  int carried = 0;  // points the core carries (solver.carry_stuck_wire)
 };
 
 class WireModel : public OdeSystem {
@@ -134,6 +135,9 @@ class WireModel : public OdeSystem {
   BulgeReport bulging() const;
   // Stand-off of point i from the winding surface [m] (needs a core).
   double standOff(int i) const;
+  // Points 1..carriedPoints() move rigidly with the core and are not
+  // integrated (solver.carry_stuck_wire); 0 otherwise.
+  int carriedPoints() const { return c_.first - 1; }
 
  private:
   // Clamp state of point 0 and frame 0 at time t (world frame).
@@ -143,6 +147,11 @@ class WireModel : public OdeSystem {
   double portDistance(double t, const WireKinematics& k) const;
   // Appends a mass point drawn in through the port (between steps).
   void appendPoint(double t, Eigen::VectorXd& y);
+  // Carried wire (solver.carry_stuck_wire): the rigid pose of carried point
+  // i at time t, written into y and the committed kinematics; and the
+  // decision, after an accepted step, of how much wire the core carries.
+  void placeCarried(double t, int i, Eigen::VectorXd& y);
+  void updateCarried(double t, Eigen::VectorXd& y);
 
   WireConstants c_;
   bool clamp_in_core_;
@@ -162,6 +171,10 @@ class WireModel : public OdeSystem {
   int points_added_ = 0;
   double committed_time_ = 0.0;  // [s]
   double port_distance0_ = 0.0;  // [m] at t = 0
+  bool carry_ = false;
+  // Pose of each carried point in the core frame: position [m] and frame.
+  std::vector<Eigen::Vector3d> carried_p_core_;
+  std::vector<Eigen::Vector4d> carried_q_core_;
 
   Eigen::VectorXd y0_, atol_, rweight_;
   WireKinematics kin_, committed_;

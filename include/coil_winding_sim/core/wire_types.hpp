@@ -18,6 +18,10 @@ namespace cws {
 // supply draws wire in.
 struct WireConstants {
   int n = 0;                    // mass points now
+  // First integrated point: points 0..first-1 follow prescribed motion (the
+  // clamp, and wound wire the core carries, solver.carry_stuck_wire); the
+  // effects skip what lies wholly among them.
+  int first = 1;
   int capacity = 0;             // most mass points the run may reach
   double segment_length = 0.0;  // natural length l [m]
   double point_mass = 0.0;      // M = rho L / n [kg], eq. (1); rho l with a supply

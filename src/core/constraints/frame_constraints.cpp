@@ -23,9 +23,9 @@ FrameConstraints::FrameConstraints(const WireConstants& c, double nu)
 
 void FrameConstraints::solve(std::vector<Eigen::Vector3d>& rhs,
                              std::vector<Eigen::Vector3d>& x) const {
-  const int n = c_.n;
-  for (int i = 2; i < n; ++i) rhs[i] -= elim_[i] * rhs[i - 1];
-  for (int i = n - 1; i >= 1; --i) {
+  const int n = c_.n, f = c_.first;
+  for (int i = f + 1; i < n; ++i) rhs[i] -= elim_[i] * rhs[i - 1];
+  for (int i = n - 1; i >= f; --i) {
     Eigen::Vector3d r = rhs[i];
     if (i + 1 < n) r -= off_blk_[i] * x[i + 1];
     x[i] = d_inv_[i] * r;
@@ -36,20 +36,22 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
                                      const Eigen::Vector3d& a0_world, const Eigen::Vector4d& qdd0,
                                      const PortMotion* port, Eigen::Matrix3Xd& a_world,
                                      Eigen::Matrix4Xd& qdd) {
-  const int n = c_.n;
+  // Frames first..n-1 are constrained; point first-1 and its frame move as
+  // prescribed (the clamp, or the end of the wire the core carries).
+  const int n = c_.n, first = c_.first;
   const double inv_m = 1.0 / c_.point_mass;
   const double inv_mq = 1.0 / (4.0 * c_.point_inertia);
 
   // Unconstrained accelerations M^-1 f; the clamp's are prescribed.
-  a_world.col(0) = a0_world;
-  qdd.col(0) = qdd0;
-  for (int i = 1; i < n; ++i) {
+  a_world.col(first - 1) = a0_world;
+  qdd.col(first - 1) = qdd0;
+  for (int i = first; i < n; ++i) {
     a_world.col(i) = inv_m * f.f_world.col(i);
     qdd.col(i) = inv_mq * f.f_q.col(i);
   }
 
   // Jacobian blocks and the stabilized right-hand side of each frame.
-  for (int i = 1; i < n; ++i) {
+  for (int i = first; i < n; ++i) {
     const Eigen::Vector3d d = k.p_world.col(i) - k.p_world.col(i - 1);
     const Eigen::Vector3d dd = k.v_world.col(i) - k.v_world.col(i - 1);
     const quat::Vec4 q = k.q.col(i);
@@ -79,18 +81,18 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     const Eigen::Vector3d j_au = a * (a_world.col(i) - a_world.col(i - 1)) + b * qdd.col(i);
     gamma_[i] = -jdot_v - 2.0 * nu_ * cd - nu_ * nu_ * c - j_au;
 
-    // Diagonal block: point i, point i-1 unless it is the clamp, frame i.
-    const double w = (i >= 2) ? 2.0 * inv_m : inv_m;
+    // Diagonal block: point i, point i-1 unless it is prescribed, frame i.
+    const double w = (i > first) ? 2.0 * inv_m : inv_m;
     d_blk_[i] = w * a * a.transpose() + inv_mq * b * b.transpose();
   }
   // Off-diagonal blocks couple frames i and i+1 through point i.
-  for (int i = 1; i + 1 < n; ++i) {
+  for (int i = first; i + 1 < n; ++i) {
     off_blk_[i] = -inv_m * a_blk_[i] * a_blk_[i + 1].transpose();
   }
 
   // Block LDL^T (block Thomas) factorization of the SPD system.
-  for (int i = 1; i < n; ++i) {
-    if (i >= 2) {
+  for (int i = first; i < n; ++i) {
+    if (i > first) {
       elim_[i] = off_blk_[i - 1].transpose() * d_inv_[i - 1];
       d_blk_[i] -= elim_[i] * off_blk_[i - 1];
     }
@@ -129,7 +131,7 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     const Eigen::Matrix<double, 3, 2> border =
         inv_m * a_blk_[l] * pp.transpose() + inv_mq * b_blk_[l] * pq.transpose();
     const Eigen::Matrix2d corner = inv_m * pp * pp.transpose() + inv_mq * pq * pq.transpose();
-    for (int i = 1; i < n; ++i) {
+    for (int i = first; i < n; ++i) {
       col0_[i].setZero();
       col1_[i].setZero();
     }
@@ -141,11 +143,11 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     const Eigen::Matrix2d schur =
         corner - border.transpose() * (Eigen::Matrix<double, 3, 2>() << x0_[l], x1_[l]).finished();
     mu = schur.inverse() * (g - border.transpose() * lambda_[l]);
-    for (int i = 1; i < n; ++i) lambda_[i] -= x0_[i] * mu[0] + x1_[i] * mu[1];
+    for (int i = first; i < n; ++i) lambda_[i] -= x0_[i] * mu[0] + x1_[i] * mu[1];
   }
 
   // Constraint forces J^T lambda added to the accelerations.
-  for (int i = 1; i < n; ++i) {
+  for (int i = first; i < n; ++i) {
     Eigen::Vector3d fp = a_blk_[i].transpose() * lambda_[i];
     if (i + 1 < n) fp -= a_blk_[i + 1].transpose() * lambda_[i + 1];
     a_world.col(i) += inv_m * fp;

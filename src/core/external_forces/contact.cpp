@@ -96,7 +96,7 @@ Eigen::Vector3d Contact::friction(int i, double t, const Eigen::Vector3d& p_worl
 
 void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const {
   placeSurfaces(t);
-  for (int i = 1; i < c_.n; ++i) {
+  for (int i = c_.first; i < c_.n; ++i) {
     const Eigen::Vector3d p = k.p_world.col(i);
     double h;
     Eigen::Vector3d n;
@@ -134,6 +134,8 @@ void Contact::commit(double t, const WireKinematics& k) {
       max_penetration_ = std::max(max_penetration_, h);
       elastic_committed_ += 0.5 * p_.stiffness * h * h;
     }
+    // Carried points keep their friction state (they move with the core).
+    if (i < c_.first) continue;
     friction_force_[i].setZero();
     if (!friction_) continue;
     if (cyl < 0 || changed_cylinder) stuck_[i] = 0;

@@ -7,7 +7,7 @@ namespace cws {
 void Damping::addForces(double, const WireKinematics& k, WireForces& f) const {
   const double c_lin = p_.translational * c_.point_length;  // [N s/m]
   const double c_rot = p_.rotational * c_.point_length;     // [N m s]
-  for (int i = 1; i < c_.n; ++i) {
+  for (int i = c_.first; i < c_.n; ++i) {
     const Eigen::Vector3d v = k.v_world.col(i);
     f.f_world.col(i) -= c_lin * v;
     f.power_dissipated += c_lin * v.squaredNorm();

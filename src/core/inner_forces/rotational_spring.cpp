@@ -34,7 +34,7 @@ double RotationalSpring::plasticValue(int j, int m) const {
 }
 
 void RotationalSpring::addForces(double, const WireKinematics& k, WireForces& f) const {
-  for (int j = 0; j + 1 < c_.n; ++j) {
+  for (int j = c_.first - 1; j + 1 < c_.n; ++j) {
     const quat::Vec4 qa = k.q.col(j);
     const quat::Vec4 qb = k.q.col(j + 1);
     const Eigen::Vector3d omega = (2.0 / jointLength(j)) * (quat::G(qa) * qb);
@@ -49,7 +49,8 @@ void RotationalSpring::addForces(double, const WireKinematics& k, WireForces& f)
 
 void RotationalSpring::commit(double, const WireKinematics& k) {
   if (!plastic_) return;
-  for (int j = 0; j + 1 < c_.n; ++j) {
+  // Carried joints do not deform: nothing to commit.
+  for (int j = c_.first - 1; j + 1 < c_.n; ++j) {
     const Eigen::Vector3d omega = darboux(k, j);
     for (int i = 0; i < count_; ++i) {
       const int idx = j * count_ + i;

@@ -29,7 +29,7 @@ double Stretching::plasticStrain(int j) const {
 void Stretching::addForces(double, const WireKinematics& k, WireForces& f) const {
   // Energy l w(eps) per segment, eps = (|d| - l) / l: the tension T pulls both
   // ends towards each other along the segment's unit tangent.
-  for (int j = 0; j + 1 < c_.n; ++j) {
+  for (int j = c_.first - 1; j + 1 < c_.n; ++j) {
     const Eigen::Vector3d d = k.p_world.col(j + 1) - k.p_world.col(j);
     const double len = d.norm();
     const double x = (len - c_.segment_length) / c_.segment_length;
@@ -41,7 +41,8 @@ void Stretching::addForces(double, const WireKinematics& k, WireForces& f) const
 
 void Stretching::commit(double, const WireKinematics& k) {
   if (!plastic_) return;
-  for (int j = 0; j + 1 < c_.n; ++j) {
+  // Carried segments do not deform: nothing to commit.
+  for (int j = c_.first - 1; j + 1 < c_.n; ++j) {
     const double x = strain(k, j);
     work_committed_ += c_.segment_length * law_.work(x_committed_[j], x, upper_[j]);
     upper_[j] = law_.movedUpper(x, upper_[j]);

@@ -37,17 +37,20 @@ class FrameConstraints {
  public:
   FrameConstraints(const WireConstants& c, double nu);
 
-  // Accelerations of all points [m/s^2] and quaternion second derivatives
-  // [1/s^2] from the generalized forces; point 0 and frame 0 follow the given
-  // prescribed accelerations (the clamp). With `port` the last point is held
-  // on the port line.
+  // Accelerations of points first..n-1 [m/s^2] and their quaternion second
+  // derivatives [1/s^2] from the generalized forces; point first-1 and its
+  // frame follow the given prescribed accelerations (the clamp, or the end
+  // of the wire the core carries). With `port` the last point is held on the
+  // port line.
   void accelerations(const WireKinematics& k, const WireForces& f, const Eigen::Vector3d& a0_world,
                      const Eigen::Vector4d& qdd0, const PortMotion* port, Eigen::Matrix3Xd& a_world,
                      Eigen::Matrix4Xd& qdd);
 
   // Force [N] the constraints of the last accelerations() call exert on the
-  // clamped point 0 (through frame 1's rotational constraint).
-  Eigen::Vector3d forceOnPoint0() const { return -a_blk_[1].transpose() * lambda_[1]; }
+  // prescribed point first-1 (through frame first's rotational constraint).
+  Eigen::Vector3d forceOnBoundary() const {
+    return -a_blk_[c_.first].transpose() * lambda_[c_.first];
+  }
 
   // Power [W] the moving port did on the wire in the last accelerations()
   // call (a constraint that moves does work).

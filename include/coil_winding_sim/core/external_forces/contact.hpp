@@ -43,6 +43,7 @@ class Contact : public ForceEffect {
   // At the last commit: is point i touching the core, is it stuck.
   bool inContact(int i) const { return cylinder_[i] >= 0; }
   bool stuck(int i) const { return friction_ && stuck_[i] != 0; }
+  double stickSpeed() const { return p_.stick_speed; }  // [m/s]
   // Friction force on point i at the last commit [N], world frame.
   const Eigen::Vector3d& frictionForce(int i) const { return friction_force_[i]; }
   // Deepest penetration over all points at the last commit [m].
