@@ -349,10 +349,9 @@ void WireModel::placeCarried(double t, int i, Eigen::VectorXd& y) {
 }
 
 void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
-  // Stuck groups (runs of points held by static friction) from the fixed
-  // end. The core carries the wound wire up to the start of the last group
-  // but one: that group, held at both ends of the span after it, stays
-  // integrated as the sentinel; if it slips, the wire before it is released.
+  // Stuck groups: runs of points held by static friction. The core carries
+  // wound wire at most up to the start of the last group but one; that
+  // group and the wire after it stay integrated.
   int last_start = -1, prev_start = -1;
   for (int i = 1; i < c_.n; ++i) {
     if (contact_->stuck(i) && !contact_->stuck(i - 1)) {
@@ -360,18 +359,28 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
       last_start = i;
     }
   }
-  int target = std::max(1, std::min(prev_start, c_.n - 2));
-  // Take on only wire that has come to rest on the core (every point within
-  // the re-stick speed of the core material), so that nothing still moving
-  // is frozen.
-  const double settled = contact_->stickSpeed();
-  for (int i = c_.first; i < target; ++i) {
-    const Eigen::Vector3d v_rel =
-        committed_.v_world.col(i) - core_->velocityWorld(t, committed_.p_world.col(i));
-    if (v_rel.norm() >= settled) {
-      target = i;
-      break;
+  const int limit = std::min(prev_start, c_.n - 2);
+  // Release: wound wire before that limit slips on the core (in contact,
+  // not stuck). The tension behind it changes, so the wire back to the
+  // stuck group before the slipping point is integrated again.
+  for (int i = c_.first; i < limit; ++i) {
+    if (contact_->inContact(i) && !contact_->stuck(i)) {
+      int r = i;
+      while (r > 1 && !(contact_->stuck(r) && !contact_->stuck(r - 1))) --r;
+      c_.first = std::min(c_.first, r);
+      return;
     }
+  }
+  // Take on wire that has come to rest on the core: every point within the
+  // re-stick speed of the core material, so that nothing still moving is
+  // frozen.
+  const double settled = contact_->stickSpeed();
+  int target = c_.first;
+  while (target < limit) {
+    const Eigen::Vector3d v_rel = committed_.v_world.col(target) -
+                                  core_->velocityWorld(t, committed_.p_world.col(target));
+    if (v_rel.norm() >= settled) break;
+    ++target;
   }
   if (target > c_.first) {
     const Eigen::Quaterniond q_core_world = core_->quaternionWorldCore(t).conjugate();
@@ -445,6 +454,12 @@ ModelState WireModel::saveState(const Eigen::VectorXd& y) const {
   m.committed_time_s = committed_time_;
   m.port_distance0_m = port_distance0_;
   m.carried = c_.first - 1;
+  for (int i = 1; i < c_.first; ++i) {
+    m.carried_pose.insert(m.carried_pose.end(), carried_p_core_[i].data(),
+                          carried_p_core_[i].data() + 3);
+    m.carried_pose.insert(m.carried_pose.end(), carried_q_core_[i].data(),
+                          carried_q_core_[i].data() + 4);
+  }
   return m;
 }
 
@@ -468,6 +483,14 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
                              " points; this scene carries " +
                              (carry_ ? "0 to " + std::to_string(m.points - 2) : "none"));
   }
+  if (m.carried_pose.size() != static_cast<std::size_t>(7 * m.carried)) {
+    throw std::runtime_error("snapshot has " + std::to_string(m.carried_pose.size()) +
+                             " carried-pose values for " + std::to_string(m.carried) +
+                             " carried points (7 each)");
+  }
+  for (double v : m.carried_pose) {
+    if (!std::isfinite(v)) throw std::runtime_error("snapshot carried poses are not finite");
+  }
   c_.n = m.points;
   y.head(size()) = Eigen::Map<const Eigen::VectorXd>(m.y.data(), size());
   HistoryReader in(m.history);
@@ -480,16 +503,10 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
   port_distance0_ = m.port_distance0_m;
   c_.first = m.carried + 1;
   unpack(committed_time_, y, committed_);
-  // The carried poses are the committed state seen from the core.
-  if (c_.first > 1) {
-    const Eigen::Quaterniond q_core_world =
-        core_->quaternionWorldCore(committed_time_).conjugate();
-    for (int i = 1; i < c_.first; ++i) {
-      carried_p_core_[i] = core_->pointCore(committed_time_, committed_.p_world.col(i));
-      const quat::Vec4 q = committed_.q.col(i);
-      const Eigen::Quaterniond qc = q_core_world * Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
-      carried_q_core_[i] = {qc.w(), qc.x(), qc.y(), qc.z()};
-    }
+  for (int i = 1; i < c_.first; ++i) {
+    const double* pose = m.carried_pose.data() + 7 * (i - 1);
+    carried_p_core_[i] = Eigen::Map<const Eigen::Vector3d>(pose);
+    carried_q_core_[i] = Eigen::Map<const Eigen::Vector4d>(pose + 3);
   }
 }
 

@@ -244,6 +244,7 @@ coil_winding_sim::SimulationSnapshot toSnapshotMsg(const cws::SimulationState& s
   m.committed_time = s.model.committed_time_s;
   m.port_distance0 = s.model.port_distance0_m;
   m.carried_points = s.model.carried;
+  m.carried_poses = s.model.carried_pose;
   m.next_step = s.next_step_s;
   m.last_step = s.last_step_s;
   m.steps_accepted = s.counts.accepted;
@@ -272,6 +273,7 @@ cws::SimulationState fromSnapshotMsg(const coil_winding_sim::SimulationSnapshot&
   s.model.committed_time_s = m.committed_time;
   s.model.port_distance0_m = m.port_distance0;
   s.model.carried = m.carried_points;
+  s.model.carried_pose = m.carried_poses;
   s.next_step_s = m.next_step;
   s.last_step_s = m.last_step;
   s.counts.accepted = m.steps_accepted;
