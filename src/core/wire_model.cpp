@@ -331,16 +331,23 @@ void WireModel::appendPoint(double t, Eigen::VectorXd& y) {
 }
 
 void WireModel::placeCarried(double t, int i, Eigen::VectorXd& y) {
-  const Eigen::Vector3d p = core_->pointWorld(t, carried_p_core_[i]);
+  // The core's pose at t, once per accepted step (a sine and cosine each).
+  if (t != carry_frame_time_) {
+    carry_frame_time_ = t;
+    carry_rot_ = core_->rotationWorldCore(t);
+    carry_q_ = core_->quaternionWorldCore(t);
+    carry_w_ = core_->omega(t) * core_->axisWorld();
+  }
+  const Eigen::Vector3d p = core_->originWorld() + carry_rot_ * carried_p_core_[i];
   const Eigen::Quaterniond qc(carried_q_core_[i][0], carried_q_core_[i][1],
                               carried_q_core_[i][2], carried_q_core_[i][3]);
-  const Eigen::Quaterniond qw = core_->quaternionWorldCore(t) * qc;
+  const Eigen::Quaterniond qw = carry_q_ * qc;
   const quat::Vec4 q(qw.w(), qw.x(), qw.y(), qw.z());
-  const Eigen::Vector3d w = core_->omega(t) * core_->axisWorld();
+  const Eigen::Vector3d& w = carry_w_;
   const int o = offsetOf(i);
   y.segment<3>(o) = p;
   y.segment<4>(o + 3) = q;
-  y.segment<3>(o + 7) = core_->velocityWorld(t, p);
+  y.segment<3>(o + 7) = w.cross(p - core_->originWorld());
   y.segment<4>(o + 10) = 0.5 * quat::E(q).transpose() * w;
   committed_.p_world.col(i) = y.segment<3>(o);
   committed_.q.col(i) = y.segment<4>(o + 3);

@@ -10,6 +10,8 @@
 // friction; both are integrated with the motion for the energy balance.
 #pragma once
 
+#include <Eigen/Geometry>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -176,6 +178,11 @@ class WireModel : public OdeSystem {
   // Pose of each carried point in the core frame: position [m] and frame.
   std::vector<Eigen::Vector3d> carried_p_core_;
   std::vector<Eigen::Vector4d> carried_q_core_;
+  // The core's pose at the time of the last placeCarried() (NaN: none yet).
+  double carry_frame_time_ = std::numeric_limits<double>::quiet_NaN();
+  Eigen::Matrix3d carry_rot_;
+  Eigen::Quaterniond carry_q_;
+  Eigen::Vector3d carry_w_;
 
   Eigen::VectorXd y0_, atol_, rweight_;
   WireKinematics kin_, committed_;

@@ -164,7 +164,9 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
 
 double FrameConstraints::maxResidual(const WireKinematics& k) const {
   double r = 0.0;
-  for (int i = 1; i < c_.n; ++i) {
+  // Frames of carried wire are not integrated: their residuals were
+  // measured while they were.
+  for (int i = c_.first; i < c_.n; ++i) {
     const Eigen::Vector3d d = k.p_world.col(i) - k.p_world.col(i - 1);
     const quat::Vec4 q = k.q.col(i);
     const double len = d.norm();

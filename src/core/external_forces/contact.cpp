@@ -24,6 +24,7 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
   face_dir_world_.resize(face_length_.size());
   face_normal_world_.resize(face_length_.size());
   cylinder_.assign(c_.capacity, -1);
+  depth_.assign(c_.capacity, 0.0);
   friction_force_.assign(c_.capacity, Eigen::Vector3d::Zero());
   if (friction_) {
     stuck_.assign(c_.capacity, 0);
@@ -32,11 +33,12 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
 }
 
 void Contact::placeSurfaces(double t) const {
+  rot_world_core_ = core_.rotationWorldCore(t);
+  const Eigen::Matrix3d& rot = rot_world_core_;
   for (std::size_t j = 0; j < radii_.size(); ++j) {
-    centers_world_[j] = core_.pointWorld(t, centers_core_[j]);
+    centers_world_[j] = core_.originWorld() + rot * centers_core_[j];
   }
   if (face_length_.empty()) return;
-  const Eigen::Matrix3d rot = core_.rotationWorldCore(t);
   for (std::size_t j = 0; j < face_length_.size(); ++j) {
     face_from_world_[j] = core_.originWorld() + rot * face_from_core_[j];
     face_dir_world_[j] = rot * face_dir_core_[j];
@@ -75,13 +77,14 @@ int Contact::touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n
   return best;
 }
 
-Eigen::Vector3d Contact::friction(int i, double t, const Eigen::Vector3d& p_world,
+Eigen::Vector3d Contact::friction(int i, const Eigen::Vector3d& p_world,
                                   const Eigen::Vector3d& vh_world, const Eigen::Vector3d& n_world,
                                   double normal_force, bool& slipping) const {
   slipping = true;
   if (stuck_[i]) {
     // Stick: a tangential spring to the anchor, within the static limit.
-    const Eigen::Vector3d delta = p_world - core_.pointWorld(t, anchor_core_[i]);
+    const Eigen::Vector3d delta =
+        p_world - (core_.originWorld() + rot_world_core_ * anchor_core_[i]);
     const Eigen::Vector3d f_t = -p_.stick_stiffness * (delta - delta.dot(n_world) * n_world);
     if (f_t.norm() <= p_.static_friction * normal_force) {
       slipping = false;
@@ -108,7 +111,7 @@ void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const 
       const Eigen::Vector3d v_rel = k.v_world.col(i) - u;
       const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
       bool slipping;
-      const Eigen::Vector3d f_t = friction(i, t, p, vh, n, normal, slipping);
+      const Eigen::Vector3d f_t = friction(i, p, vh, n, normal, slipping);
       f_c += f_t;
       // Friction power, counted as dissipated (also what a stick spring holds).
       f.power_dissipated -= f_t.dot(vh);
@@ -123,19 +126,24 @@ void Contact::commit(double t, const WireKinematics& k) {
   max_penetration_ = 0.0;
   elastic_committed_ = 0.0;
   placeSurfaces(t);
-  for (int i = 1; i < c_.n; ++i) {
+  // Carried points keep their contact and friction state: they move with
+  // the core, so their penetration does not change.
+  for (int i = 1; i < c_.first; ++i) {
+    max_penetration_ = std::max(max_penetration_, depth_[i]);
+    elastic_committed_ += 0.5 * p_.stiffness * depth_[i] * depth_[i];
+  }
+  for (int i = c_.first; i < c_.n; ++i) {
     const Eigen::Vector3d p = k.p_world.col(i);
     double h;
     Eigen::Vector3d n;
     const int cyl = touch(p, h, n);
     const bool changed_cylinder = cyl != cylinder_[i];
     cylinder_[i] = cyl;
+    depth_[i] = cyl >= 0 ? h : 0.0;
     if (cyl >= 0) {
       max_penetration_ = std::max(max_penetration_, h);
       elastic_committed_ += 0.5 * p_.stiffness * h * h;
     }
-    // Carried points keep their friction state (they move with the core).
-    if (i < c_.first) continue;
     friction_force_[i].setZero();
     if (!friction_) continue;
     if (cyl < 0 || changed_cylinder) stuck_[i] = 0;
@@ -143,12 +151,12 @@ void Contact::commit(double t, const WireKinematics& k) {
     const Eigen::Vector3d v_rel = k.v_world.col(i) - core_.velocityWorld(t, p);
     const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
     bool slipping;
-    friction_force_[i] = friction(i, t, p, vh, n, p_.stiffness * h, slipping);
+    friction_force_[i] = friction(i, p, vh, n, p_.stiffness * h, slipping);
     if (stuck_[i] && slipping) {
       stuck_[i] = 0;  // the static limit was exceeded
     } else if (!stuck_[i] && vh.norm() < p_.stick_speed) {
       stuck_[i] = 1;  // slow enough: stick where it is
-      anchor_core_[i] = core_.pointCore(t, p);
+      anchor_core_[i] = rot_world_core_.transpose() * (p - core_.originWorld());
     }
   }
 }
@@ -156,6 +164,7 @@ void Contact::commit(double t, const WireKinematics& k) {
 void Contact::appendHistory(std::vector<double>& out) const {
   for (int i = 0; i < c_.n; ++i) {
     out.push_back(cylinder_[i]);
+    out.push_back(depth_[i]);
     if (friction_) {
       out.push_back(stuck_[i]);
       out.insert(out.end(), anchor_core_[i].data(), anchor_core_[i].data() + 3);
@@ -171,6 +180,7 @@ double Contact::elasticEnergy(const WireKinematics&) const { return elastic_comm
 void Contact::restoreHistory(HistoryReader& in) {
   for (int i = 0; i < c_.n; ++i) {
     cylinder_[i] = static_cast<int>(in.next());
+    depth_[i] = in.next();
     if (friction_) {
       stuck_[i] = in.next() != 0.0;
       for (int d = 0; d < 3; ++d) anchor_core_[i][d] = in.next();

@@ -56,7 +56,7 @@ class FrameConstraints {
   // call (a constraint that moves does work).
   double portPower() const { return port_power_; }
 
-  // Largest constraint residual over all frames [-]: |q|^2 - 1, and the
+  // Largest constraint residual over the integrated frames [-]: |q|^2 - 1, and the
   // sines of the angles between zeta_i and segment i-1 in the xi and eta
   // directions (d . xi / |d|).
   double maxResidual(const WireKinematics& k) const;

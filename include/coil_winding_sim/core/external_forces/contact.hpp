@@ -58,7 +58,7 @@ class Contact : public ForceEffect {
   int touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n_world) const;
   // Tangential friction force on point i [N] given the committed stick state;
   // sets `slipping` when the stick spring would exceed mu_s N.
-  Eigen::Vector3d friction(int i, double t, const Eigen::Vector3d& p_world,
+  Eigen::Vector3d friction(int i, const Eigen::Vector3d& p_world,
                            const Eigen::Vector3d& vh_world, const Eigen::Vector3d& n_world,
                            double normal_force, bool& slipping) const;
 
@@ -68,6 +68,7 @@ class Contact : public ForceEffect {
   std::vector<Eigen::Vector3d> centers_core_;
   std::vector<double> radii_;
   mutable std::vector<Eigen::Vector3d> centers_world_;  // scratch, sized once
+  mutable Eigen::Matrix3d rot_world_core_;               // core pose as placed
   // Faces: start, unit direction and outward normal in the core frame, length.
   std::vector<Eigen::Vector3d> face_from_core_, face_dir_core_, face_normal_core_;
   std::vector<double> face_length_;
@@ -79,6 +80,7 @@ class Contact : public ForceEffect {
   std::vector<char> stuck_;
   std::vector<Eigen::Vector3d> anchor_core_;
   std::vector<Eigen::Vector3d> friction_force_;  // output only
+  std::vector<double> depth_;                    // committed penetration [m]
   double max_penetration_ = 0.0;
   double elastic_committed_ = 0.0;
 };
