@@ -20,7 +20,8 @@ def main():
         sys.exit(__doc__)
     out = sys.argv[1]
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
-    colours = {"rkf45": "tab:blue", "symplectic_euler": "tab:orange"}
+    colours = {"rkf45": "tab:blue", "symplectic_euler": "tab:orange",
+               "symplectic_euler+carry": "tab:green", "rosenbrock2": "tab:red"}
     markers = ["o", "s", "^", "D"]
     for k, arg in enumerate(sys.argv[2:]):
         label, d = arg.split("=", 1)
@@ -28,6 +29,8 @@ def main():
             rows = [r for r in csv.DictReader(line for line in f if not line.startswith("#"))]
         for method in sorted({r["method"] for r in rows}):
             sel = [r for r in rows if r["method"] == method and r["shape_error_rel_diameter"] != "failed"]
+            if not sel:
+                continue  # every run of this method failed (listed in the CSV)
             sel.sort(key=lambda r: float(r["wall_time_s"]))
             t = [float(r["wall_time_s"]) for r in sel]
             for ax, key in zip(axes, ["shape_error_rel_diameter", "bulging_error_rel"]):
