@@ -562,11 +562,6 @@ void validateScene(const Scene& s) {
                          "' (available: rkf45, symplectic_euler, rosenbrock2)");
   }
   requirePositive(s.solver.fixed_step, "solver.fixed_step");
-  if (s.solver.carry_stuck_wire &&
-      !(s.physics.contact && s.physics.friction && s.start.frame == "core")) {
-    throw SceneError("solver.carry_stuck_wire",
-                     "needs physics.contact, physics.friction and start.frame: core");
-  }
   if (s.solver.integrator == "symplectic_euler" && s.solver.fixed_step > s.solver.max_step) {
     throw SceneError("solver.fixed_step", "is above solver.max_step");
   }

@@ -30,8 +30,10 @@ void Simulation::afterStep() {
   if (model_->contact()) {
     max_penetration_ = std::max(max_penetration_, model_->contact()->maxPenetration());
   }
+  // Segments of carried wire do not change: they were measured while they
+  // were integrated.
   const int segments = model_->constants().n - 1;
-  for (int j = 0; j < segments; ++j) {
+  for (int j = model_->constants().first - 1; j < segments; ++j) {
     max_axial_force_ = std::max(max_axial_force_, std::abs(model_->axialForce(j)));
   }
 }
@@ -71,7 +73,7 @@ std::unique_ptr<Simulation> Simulation::fromState(const SimulationState& st) {
 
 void Simulation::step(double t_limit) {
   stepper_->step(*model_, t_, y_, t_limit);
-  if (!y_.allFinite()) {
+  if (!y_.head(model_->size()).allFinite()) {
     throw IntegrationError("the state became non-finite at t = " + std::to_string(t_) + " s");
   }
   afterStep();

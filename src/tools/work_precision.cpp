@@ -112,9 +112,9 @@ int runWorkPrecision(const std::string& scene_path, const std::vector<std::strin
   // its step falls 20x below the explicit method's: slower than that, it has
   // lost its purpose.
   for (const char* tol : {"1e-7", "1e-8", "1e-9"}) {
-    runs.push_back(make("rosenbrock2", std::string("atol") + tol,
-                        {"solver.rtol=1e-3", std::string("solver.atol=") + tol,
-                         "solver.min_step=5e-9"}));
+    runs.push_back(
+        make("rosenbrock2", std::string("atol") + tol,
+             {"solver.rtol=1e-3", std::string("solver.atol=") + tol, "solver.min_step=5e-9"}));
   }
   std::mutex log;
   forEachParallel(runs.size(), jobs,
@@ -166,7 +166,10 @@ int runWorkPrecision(const std::string& scene_path, const std::vector<std::strin
   if (!f)
     throw std::runtime_error("cannot write " + (fs::path(dir) / "work_precision.csv").string());
   std::cout << csv.str() << ref_line;
-  return all_ok ? 0 : 1;
+  // A method failing on the scene is a result (in the CSV), not an error of
+  // the command; only a failed reference is.
+  if (!all_ok) std::cerr << "work-precision: some runs failed; see the error column\n";
+  return 0;
 }
 
 }  // namespace cws_tools

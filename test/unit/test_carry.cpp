@@ -17,10 +17,10 @@ const std::string kDefault = std::string(CWS_SOURCE_DIR) + "/config/scenes/defau
 
 // The paper's case at 1200 rpm, 30 N, 2 mm segments, symplectic Euler.
 cws::Scene paperCase(double turns, bool carry) {
-  return cws::loadScene(
-      kDefault, {"process.core_speed_rpm=1200", "wire.segment_length=2e-3",
-                 "solver.fixed_step=2e-7", "process.turns=" + std::to_string(turns),
-                 std::string("solver.carry_stuck_wire=") + (carry ? "true" : "false")});
+  return cws::loadScene(kDefault,
+                        {"process.core_speed_rpm=1200", "wire.segment_length=2e-3",
+                         "solver.fixed_step=2e-7", "process.turns=" + std::to_string(turns),
+                         std::string("solver.carry_stuck_wire=") + (carry ? "true" : "false")});
 }
 
 void runTo(cws::Simulation& sim, double t) {
@@ -54,8 +54,8 @@ TEST(Carry, MatchesTheFullModel) {
   EXPECT_LT(bulge_rel, 2e-2);
   // Energy balance still closes (kinetic + elastic + dissipated = work).
   const cws::EnergyReport e = carried.energy();
-  std::printf("carry: energy imbalance %.2e of %.2e J work done (full model %.2e)\n",
-              e.imbalance(), e.work_done, full.energy().imbalance());
+  std::printf("carry: energy imbalance %.2e of %.2e J work done (full model %.2e)\n", e.imbalance(),
+              e.work_done, full.energy().imbalance());
   EXPECT_LT(std::abs(e.imbalance()), 1e-3 * e.work_done);
 }
 
@@ -76,8 +76,8 @@ TEST(Carry, CarriedPointsMoveRigidlyWithTheCore) {
   for (int i = 1; i <= carried; ++i) {
     const Eigen::Vector3d p = m.committed().p_world.col(i);
     drift = std::max(drift, (m.core()->pointCore(sim.time(), p) - before[i - 1]).norm());
-    speed = std::max(speed,
-                     (m.committed().v_world.col(i) - m.core()->velocityWorld(sim.time(), p)).norm());
+    speed = std::max(
+        speed, (m.committed().v_world.col(i) - m.core()->velocityWorld(sim.time(), p)).norm());
   }
   std::printf("carry: %d carried points drift %.1e m in the core frame, relative speed %.1e m/s\n",
               carried, drift, speed);
@@ -117,5 +117,21 @@ TEST(Carry, ContinuedRunMatchesTheOriginal) {
   ASSERT_EQ(size, b->model().size());
   EXPECT_EQ(a.state().head(size), b->state().head(size));
   EXPECT_EQ(a.model().carriedPoints(), b->model().carriedPoints());
+}
+
+TEST(Carry, NoEffectWhereNothingCanBeCarried) {
+  // Without friction nothing holds wire on the core: the option is inert and
+  // the run is the full model's, number for number.
+  cws::Scene s = paperCase(0.2, true);
+  s.physics.friction = false;
+  cws::Simulation with(s);
+  s.solver.carry_stuck_wire = false;
+  cws::Simulation without(s);
+  with.run();
+  without.run();
+  EXPECT_EQ(with.model().carriedPoints(), 0);
+  const int size = with.model().size();
+  ASSERT_EQ(size, without.model().size());
+  EXPECT_EQ(with.state().head(size), without.state().head(size));
 }
 #endif

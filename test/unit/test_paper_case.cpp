@@ -6,14 +6,17 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "coil_winding_sim/core/simulation.hpp"
 
 #ifdef CWS_SOURCE_DIR
-TEST(PaperCase, PenetrationAndTensionStayBounded) {
+namespace {
+void checkPaperCase(bool carry) {
   const std::string scene = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
   cws::Simulation sim(cws::loadScene(
-      scene, {"process.core_speed_rpm=1200", "process.tension=70", "process.turns=0.3"}));
+      scene, {"process.core_speed_rpm=1200", "process.tension=70", "process.turns=0.3",
+              std::string("solver.carry_stuck_wire=") + (carry ? "true" : "false")}));
   // Stated bound: penetration below 10 % of the wire radius.
   double tension_sum = 0.0, weight = 0.0;
   const auto start = std::chrono::steady_clock::now();
@@ -37,10 +40,20 @@ TEST(PaperCase, PenetrationAndTensionStayBounded) {
   EXPECT_NEAR(tension_sum / weight, 70.0, 0.02 * 70.0);
   // Stated bounds per integrator: the error-controlled RKF45 balances energy
   // to 1e-5 and holds the constraints to 1e-6; the first-order fixed-step
-  // semi-implicit Euler (the scene's default) to 1e-3 and 1e-5.
+  // semi-implicit Euler (the scene's default) to 1e-3 and 1e-5. Carried wire
+  // (the scene's default): a point taken on by the core has its velocity set
+  // to the core's, a jump of at most contact.stick_speed v, which the
+  // boundary frame's constraint absorbs with a residual of about
+  // v / (e nu l) = 1e-3 / (2.72 * 5000 * 1e-3) = 7e-5: bound 1e-4.
   const bool rkf45 = sim.scene().solver.integrator == "rkf45";
+  std::printf("paper case: max constraint residual %.2e (%s%s)\n", sim.maxConstraintResidual(),
+              sim.scene().solver.integrator.c_str(), carry ? ", carried wire" : "");
   EXPECT_LT(std::abs(e.imbalance()), (rkf45 ? 1e-5 : 1e-3) * e.work_done);
-  EXPECT_LT(sim.maxConstraintResidual(), rkf45 ? 1e-6 : 1e-5);
+  EXPECT_LT(sim.maxConstraintResidual(), carry ? 1e-4 : rkf45 ? 1e-6 : 1e-5);
   EXPECT_NEAR(sim.coreTurns(), 0.3, 1e-9);
 }
+}  // namespace
+
+TEST(PaperCase, PenetrationAndTensionStayBounded) { checkPaperCase(true); }
+TEST(PaperCase, PenetrationAndTensionStayBoundedWithoutCarriedWire) { checkPaperCase(false); }
 #endif

@@ -97,7 +97,8 @@ struct SolverParams {
   double fixed_step = 5.0e-8;        // step of the fixed-step integrators [s]
   double baumgarte_nu = 5000.0;      // constraint stabilization nu [1/s], eq. (6)
   // Wound wire held by static friction moves rigidly with the core and leaves
-  // the integrated system (needs contact, friction and start.frame core).
+  // the integrated system (with contact, friction and start.frame core;
+  // elsewhere it has no effect).
   bool carry_stuck_wire = false;
 };
 

@@ -74,7 +74,7 @@ struct ModelState {
   int points_added = 0;
   double committed_time_s = 0.0;
   double port_distance0_m = 0.0;
-  int carried = 0;  // points the core carries (solver.carry_stuck_wire)
+  int carried = 0;                   // points the core carries (solver.carry_stuck_wire)
   std::vector<double> carried_pose;  // per carried point: p_core [m] (3), q_core (4)
 };
 

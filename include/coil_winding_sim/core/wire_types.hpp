@@ -17,7 +17,7 @@ namespace cws {
 // Constants of one wire, derived from the scene once; only n changes, when a
 // supply draws wire in.
 struct WireConstants {
-  int n = 0;                    // mass points now
+  int n = 0;  // mass points now
   // First integrated point: points 0..first-1 follow prescribed motion (the
   // clamp, and wound wire the core carries, solver.carry_stuck_wire); the
   // effects skip what lies wholly among them.

@@ -58,9 +58,9 @@ class Contact : public ForceEffect {
   int touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n_world) const;
   // Tangential friction force on point i [N] given the committed stick state;
   // sets `slipping` when the stick spring would exceed mu_s N.
-  Eigen::Vector3d friction(int i, const Eigen::Vector3d& p_world,
-                           const Eigen::Vector3d& vh_world, const Eigen::Vector3d& n_world,
-                           double normal_force, bool& slipping) const;
+  Eigen::Vector3d friction(int i, const Eigen::Vector3d& p_world, const Eigen::Vector3d& vh_world,
+                           const Eigen::Vector3d& n_world, double normal_force,
+                           bool& slipping) const;
 
   const WireConstants& c_;  // the model's: n grows with a supply
   ContactParams p_;
@@ -68,7 +68,7 @@ class Contact : public ForceEffect {
   std::vector<Eigen::Vector3d> centers_core_;
   std::vector<double> radii_;
   mutable std::vector<Eigen::Vector3d> centers_world_;  // scratch, sized once
-  mutable Eigen::Matrix3d rot_world_core_;               // core pose as placed
+  mutable Eigen::Matrix3d rot_world_core_;              // core pose as placed
   // Faces: start, unit direction and outward normal in the core frame, length.
   std::vector<Eigen::Vector3d> face_from_core_, face_dir_core_, face_normal_core_;
   std::vector<double> face_length_;
