@@ -4,9 +4,6 @@
 #include <cmath>
 #include <sstream>
 
-#include "coil_winding_sim/core/time_steppers/rosenbrock2.hpp"
-#include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
-
 namespace cws {
 
 namespace {
@@ -47,17 +44,7 @@ double Rkf45::attempt(OdeSystem& sys, double t, const Eigen::VectorXd& y, double
     y_new_.head(n).noalias() += (h * kB5[s]) * k_[s].head(n);
     err_.head(n).noalias() += (h * (kB5[s] - kB4[s])) * k_[s].head(n);
   }
-  // Max norm of the error scaled by atol + rtol |y|.
-  const Eigen::VectorXd& atol = sys.absoluteTolerance();
-  const Eigen::VectorXd& rweight = sys.relativeToleranceWeight();
-  double norm = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double scale =
-        atol[i] + rweight[i] * p_.rtol * std::max(std::abs(y[i]), std::abs(y_new_[i]));
-    const double e = std::abs(err_[i]) / scale;
-    if (!(e <= norm)) norm = e;  // NaN propagates as a failure
-  }
-  return norm;
+  return scaledErrorNorm(sys, p_.rtol, y, y_new_, err_, n);
 }
 
 void Rkf45::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) {
@@ -90,14 +77,6 @@ void Rkf45::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) 
       throw IntegrationError(msg.str());
     }
   }
-}
-
-std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, const OdeSystem& sys) {
-  if (p.integrator == "rkf45") return std::make_unique<Rkf45>(p, sys.capacity());
-  if (p.integrator == "symplectic_euler")
-    return std::make_unique<SymplecticEuler>(p, sys.capacity());
-  if (p.integrator == "rosenbrock2") return std::make_unique<Rosenbrock2>(p, sys);
-  throw std::invalid_argument("unknown integrator '" + p.integrator + "'");
 }
 
 }  // namespace cws

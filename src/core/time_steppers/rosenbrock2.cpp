@@ -126,17 +126,7 @@ double Rosenbrock2::attempt(OdeSystem& sys, double t, const Eigen::VectorXd& y, 
   // components, which the method damps, do not count (as in Radau5).
   err_.head(n) = (0.5 * h) * (k1_.head(n) + k2_.head(n));
   lu_.solve(err_.head(n));
-  // Max norm of the error scaled by atol + rtol |y|.
-  const Eigen::VectorXd& atol = sys.absoluteTolerance();
-  const Eigen::VectorXd& rweight = sys.relativeToleranceWeight();
-  double norm = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double scale =
-        atol[i] + rweight[i] * p_.rtol * std::max(std::abs(y[i]), std::abs(y_new_[i]));
-    const double e = std::abs(err_[i]) / scale;
-    if (!(e <= norm)) norm = e;  // NaN propagates as a failure
-  }
-  return norm;
+  return scaledErrorNorm(sys, p_.rtol, y, y_new_, err_, n);
 }
 
 void Rosenbrock2::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) {

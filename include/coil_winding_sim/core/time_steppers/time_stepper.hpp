@@ -32,6 +32,12 @@ class TimeStepper {
   virtual void restore(double next_step, double last_step, const StepCounts& counts) = 0;
 };
 
+// Max norm of an error estimate `err` over the first n components, each
+// scaled by atol + rtol max(|y|, |y_new|) (rtol where the system's weight is
+// 1); NaN comes out as NaN, which fails every "<= 1" test.
+double scaledErrorNorm(const OdeSystem& sys, double rtol, const Eigen::VectorXd& y,
+                       const Eigen::VectorXd& y_new, const Eigen::VectorXd& err, Eigen::Index n);
+
 // The integrator named by solver.integrator, sized for `sys`.
 std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, const OdeSystem& sys);
 

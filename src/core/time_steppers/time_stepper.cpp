@@ -1,0 +1,33 @@
+#include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "coil_winding_sim/core/time_steppers/rkf45.hpp"
+#include "coil_winding_sim/core/time_steppers/rosenbrock2.hpp"
+#include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
+
+namespace cws {
+
+double scaledErrorNorm(const OdeSystem& sys, double rtol, const Eigen::VectorXd& y,
+                       const Eigen::VectorXd& y_new, const Eigen::VectorXd& err, Eigen::Index n) {
+  const Eigen::VectorXd& atol = sys.absoluteTolerance();
+  const Eigen::VectorXd& rweight = sys.relativeToleranceWeight();
+  double norm = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double scale = atol[i] + rweight[i] * rtol * std::max(std::abs(y[i]), std::abs(y_new[i]));
+    const double e = std::abs(err[i]) / scale;
+    if (!(e <= norm)) norm = e;  // NaN propagates as a failure
+  }
+  return norm;
+}
+
+std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, const OdeSystem& sys) {
+  if (p.integrator == "rkf45") return std::make_unique<Rkf45>(p, sys.capacity());
+  if (p.integrator == "symplectic_euler")
+    return std::make_unique<SymplecticEuler>(p, sys.capacity());
+  if (p.integrator == "rosenbrock2") return std::make_unique<Rosenbrock2>(p, sys);
+  throw std::invalid_argument("unknown integrator '" + p.integrator + "'");
+}
+
+}  // namespace cws
