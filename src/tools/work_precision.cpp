@@ -73,6 +73,8 @@ Run make(const std::string& method, const std::string& setting,
   r.name = method + "_" + setting;
   r.overrides = overrides;
   r.overrides.push_back("solver.integrator=" + method);
+  // The full model unless a run says otherwise (the scene may carry wire).
+  r.overrides.insert(r.overrides.begin(), "solver.carry_stuck_wire=false");
   return r;
 }
 
@@ -84,8 +86,9 @@ int runWorkPrecision(const std::string& scene_path, const std::vector<std::strin
   cws::checkOutputDir(dir);
   const double diameter = scene.wire.diameter;
 
-  // The reference and the sweeps: RKF45 over tolerances, the fixed-step
-  // method over steps (each halving), with and without carried wire.
+  // The reference (full model) and the sweeps: RKF45 over tolerances, the
+  // fixed-step method over steps (each halving), with and without carried
+  // wire; the implicit method over tolerances.
   std::vector<Run> runs;
   runs.push_back(make("rkf45", "reference", {"solver.rtol=1e-8", "solver.atol=1e-13"}));
   for (const char* tol : {"1e-4", "1e-5", "1e-6"}) {
