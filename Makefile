@@ -103,6 +103,8 @@ work-precision: build
 	cp out/wp_600/work_precision.csv "$(PERF_OUT)/work_precision_600rpm.csv"
 	$(PYTHON) src/tools/plot_work_precision.py "$(PERF_OUT)/work_precision.png" \
 	  "1200 rpm=out/wp_1200" "600 rpm=out/wp_600"
+	$(PYTHON) src/tools/work_precision_table.py "1200 rpm=out/wp_1200" "600 rpm=out/wp_600" \
+	  > "$(PERF_OUT)/work_precision_tables.md"
 
 # Per-step cost against the number of points (Google Benchmark).
 bench: build

@@ -15,16 +15,15 @@ FrameConstraints::FrameConstraints(const WireConstants& c, double nu)
       elim_(c.capacity),
       b_blk_(c.capacity),
       gamma_(c.capacity),
-      lambda_(c.capacity),
-      col0_(c.capacity),
-      col1_(c.capacity),
-      x0_(c.capacity),
-      x1_(c.capacity) {}
+      lambda_(c.capacity) {}
 
-void FrameConstraints::solve(std::vector<Eigen::Vector3d>& rhs,
-                             std::vector<Eigen::Vector3d>& x) const {
+void FrameConstraints::forward(std::vector<Eigen::Vector3d>& rhs) const {
+  for (int i = c_.first + 1; i < c_.n; ++i) rhs[i] -= elim_[i] * rhs[i - 1];
+}
+
+void FrameConstraints::backward(const std::vector<Eigen::Vector3d>& rhs,
+                                std::vector<Eigen::Vector3d>& x) const {
   const int n = c_.n, f = c_.first;
-  for (int i = f + 1; i < n; ++i) rhs[i] -= elim_[i] * rhs[i - 1];
   for (int i = n - 1; i >= f; --i) {
     Eigen::Vector3d r = rhs[i];
     if (i + 1 < n) r -= off_blk_[i] * x[i + 1];
@@ -103,7 +102,8 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
   Eigen::Matrix<double, 2, 3> pp;
   Eigen::Matrix<double, 2, 4> pq;
   if (!port) {
-    solve(gamma_, lambda_);
+    forward(gamma_);
+    backward(gamma_, lambda_);
   } else {
     // Port rows on the last point L and its frame.
     const int l = n - 1;
@@ -131,19 +131,18 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     const Eigen::Matrix<double, 3, 2> border =
         inv_m * a_blk_[l] * pp.transpose() + inv_mq * b_blk_[l] * pq.transpose();
     const Eigen::Matrix2d corner = inv_m * pp * pp.transpose() + inv_mq * pq * pq.transpose();
-    for (int i = first; i < n; ++i) {
-      col0_[i].setZero();
-      col1_[i].setZero();
-    }
-    col0_[l] = border.col(0);
-    col1_[l] = border.col(1);
-    solve(gamma_, lambda_);
-    solve(col0_, x0_);
-    solve(col1_, x1_);
-    const Eigen::Matrix2d schur =
-        corner - border.transpose() * (Eigen::Matrix<double, 3, 2>() << x0_[l], x1_[l]).finished();
-    mu = schur.inverse() * (g - border.transpose() * lambda_[l]);
-    for (int i = first; i < n; ++i) lambda_[i] -= x0_[i] * mu[0] + x1_[i] * mu[1];
+    // The border touches the last block only, so one block solve does: a
+    // right-hand side nonzero only in the last block passes the forward
+    // elimination unchanged, and back substitution starts with the last
+    // block. Forward-eliminate gamma; the last block of S^-1 gamma and of
+    // S^-1 border give the 2x2 Schur complement and mu; back-substitute
+    // gamma - border mu.
+    forward(gamma_);
+    const Eigen::Matrix<double, 3, 2> x_border = d_inv_[l] * border;
+    const Eigen::Matrix2d schur = corner - border.transpose() * x_border;
+    mu = schur.inverse() * (g - border.transpose() * (d_inv_[l] * gamma_[l]));
+    gamma_[l] -= border * mu;
+    backward(gamma_, lambda_);
   }
 
   // Constraint forces J^T lambda added to the accelerations.

@@ -16,7 +16,7 @@
 // segment: (p_L - p_s) . xi_L = 0 and (p_L - p_s) . eta_L = 0 for the last
 // point L (the paper's boundary segment lies on that line, eq. 21). Its two
 // rows touch only block L; they border the block system and are solved by a
-// 2x2 Schur complement (three O(n) solves with one factorization).
+// 2x2 Schur complement within one O(n) block solve.
 #pragma once
 
 #include <vector>
@@ -62,8 +62,10 @@ class FrameConstraints {
   double maxResidual(const WireKinematics& k) const;
 
  private:
-  // Solves S x = rhs with the factorization of the last accelerations() call.
-  void solve(std::vector<Eigen::Vector3d>& rhs, std::vector<Eigen::Vector3d>& x) const;
+  // S x = rhs with the factorization of the last accelerations() call, in
+  // two halves: forward elimination (in place), then back substitution.
+  void forward(std::vector<Eigen::Vector3d>& rhs) const;
+  void backward(const std::vector<Eigen::Vector3d>& rhs, std::vector<Eigen::Vector3d>& x) const;
 
   const WireConstants& c_;  // the model's: n grows with a supply
   double nu_;
@@ -71,7 +73,7 @@ class FrameConstraints {
   // blocks and their factorization, right-hand sides and multipliers.
   std::vector<Eigen::Matrix3d> a_blk_, d_blk_, off_blk_, d_inv_, elim_;
   std::vector<quat::Mat34> b_blk_;
-  std::vector<Eigen::Vector3d> gamma_, lambda_, col0_, col1_, x0_, x1_;
+  std::vector<Eigen::Vector3d> gamma_, lambda_;
   double port_power_ = 0.0;
 };
 
