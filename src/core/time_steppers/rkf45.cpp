@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 namespace cws {
 
@@ -68,14 +67,7 @@ void Rkf45::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) 
     ++counts_.rejected;
     const double shrink = std::isfinite(e) ? std::max(0.1, 0.9 * std::pow(e, -0.25)) : 0.25;
     h_ = h * shrink;
-    if (h_ < p_.min_step) {
-      std::ostringstream msg;
-      msg << "step size fell below solver.min_step = " << p_.min_step << " s at t = " << t
-          << " s (error norm " << e << " at step " << h
-          << " s): the scene is too stiff or unstable for rkf45; "
-             "lower solver.min_step, loosen solver.rtol/atol, or check the scene";
-      throw IntegrationError(msg.str());
-    }
+    if (h_ < p_.min_step) throwStepFloor(name(), p_.min_step, t, e, h);
   }
 }
 

@@ -162,14 +162,7 @@ void Rosenbrock2::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_l
     if (stale) jacobian_valid_ = false;
     const double shrink = std::isfinite(e) ? std::max(0.1, 0.9 / std::sqrt(e)) : 0.25;
     h_ = h * (stale ? std::max(shrink, 0.5) : shrink);
-    if (h_ < p_.min_step) {
-      std::ostringstream msg;
-      msg << "step size fell below solver.min_step = " << p_.min_step << " s at t = " << t
-          << " s (error norm " << e << " at step " << h
-          << " s) with rosenbrock2; lower solver.min_step, loosen solver.rtol/atol, "
-             "or check the scene";
-      throw IntegrationError(msg.str());
-    }
+    if (h_ < p_.min_step) throwStepFloor(name(), p_.min_step, t, e, h);
   }
 }
 

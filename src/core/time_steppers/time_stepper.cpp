@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "coil_winding_sim/core/time_steppers/rkf45.hpp"
 #include "coil_winding_sim/core/time_steppers/rosenbrock2.hpp"
@@ -20,6 +21,15 @@ double scaledErrorNorm(const OdeSystem& sys, double rtol, const Eigen::VectorXd&
     if (!(e <= norm)) norm = e;  // NaN propagates as a failure
   }
   return norm;
+}
+
+void throwStepFloor(const char* method, double min_step, double t, double e, double h) {
+  std::ostringstream msg;
+  msg << "step size fell below solver.min_step = " << min_step << " s at t = " << t
+      << " s (error norm " << e << " at step " << h
+      << " s): the scene is too stiff or unstable for " << method
+      << "; lower solver.min_step, loosen solver.rtol/atol, or check the scene";
+  throw IntegrationError(msg.str());
 }
 
 std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, const OdeSystem& sys) {

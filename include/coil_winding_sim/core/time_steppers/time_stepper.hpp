@@ -38,6 +38,10 @@ class TimeStepper {
 double scaledErrorNorm(const OdeSystem& sys, double rtol, const Eigen::VectorXd& y,
                        const Eigen::VectorXd& y_new, const Eigen::VectorXd& err, Eigen::Index n);
 
+// Stops an error-controlled run whose step fell below solver.min_step [s] at
+// time t [s], after an attempt of step h [s] with error norm e.
+[[noreturn]] void throwStepFloor(const char* method, double min_step, double t, double e, double h);
+
 // The integrator named by solver.integrator, sized for `sys`.
 std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, const OdeSystem& sys);
 
