@@ -52,7 +52,16 @@ void BM_Step(benchmark::State& state, const char* integrator) {
   }
   cws::Simulation sim(s);
   for (int i = 0; i < 50; ++i) sim.step(sim.endTime());
+  const cws::StepCounts before = sim.stepper().counts();
   for (auto _ : state) sim.step(sim.endTime());
+  // Work per accepted step: right-hand sides (Jacobian builds included) and
+  // rejected attempts, so that a growth in time per point can be told apart
+  // from a growth in work.
+  const cws::StepCounts& after = sim.stepper().counts();
+  const double steps = static_cast<double>(after.accepted - before.accepted);
+  state.counters["rhs_per_step"] =
+      (after.derivative_evaluations - before.derivative_evaluations) / steps;
+  state.counters["rejected_per_step"] = (after.rejected - before.rejected) / steps;
   state.counters["points"] = n;
   state.counters["per_point"] =
       benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate |
