@@ -513,6 +513,7 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
   committed_time_ = m.committed_time_s;
   port_distance0_ = m.port_distance0_m;
   c_.first = m.carried + 1;
+  carry_frame_time_ = std::numeric_limits<double>::quiet_NaN();  // the core moved
   unpack(committed_time_, y, committed_);
   for (int i = 1; i < c_.first; ++i) {
     const double* pose = m.carried_pose.data() + 7 * (i - 1);
