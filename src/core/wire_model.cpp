@@ -246,11 +246,7 @@ void WireModel::derivative(double t, ConstRef y, Ref dydt) {
     qdd_boundary = qdd_.col(boundary);
   }
   // Forces on the integrated points and the prescribed one before them.
-  const int active = c_.n - boundary;
-  forces_.f_world.middleCols(boundary, active).setZero();
-  forces_.f_q.middleCols(boundary, active).setZero();
-  forces_.power_external = 0.0;
-  forces_.power_dissipated = 0.0;
+  forces_.setZero(boundary, c_.n - boundary);
   for (const ForceEffect* e : all_) e->addForces(t, kin_, forces_);
   PortMotion port;
   if (supply_) port = supply_->port(t);

@@ -59,9 +59,11 @@ struct WireForces {
     f_world.resize(3, n);
     f_q.resize(4, n);
   }
-  void setZero() {
-    f_world.setZero();
-    f_q.setZero();
+  // Zeroes the forces on points first..first+count-1 and the powers (the
+  // effects add only to points from the boundary of the integrated wire on).
+  void setZero(int first, int count) {
+    f_world.middleCols(first, count).setZero();
+    f_q.middleCols(first, count).setZero();
     power_external = 0.0;
     power_dissipated = 0.0;
   }

@@ -44,6 +44,7 @@ class Rosenbrock2 : public TimeStepper {
     h_last_ = last_step;
     counts_ = counts;
     jacobian_valid_ = false;
+    f0_valid_ = false;  // F(t, y) belongs to the state before the restore
   }
   long jacobianEvaluations() const { return jacobians_; }
   long factorizations() const { return factorizations_; }
