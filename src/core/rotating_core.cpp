@@ -1,6 +1,7 @@
 #include "coil_winding_sim/core/rotating_core.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "coil_winding_sim/core/quaternion.hpp"
 
@@ -24,6 +25,12 @@ Eigen::Quaterniond RotatingCore::quaternionWorldCore(double t) const {
   const double half = 0.5 * angle(t);
   const Eigen::Vector3d v = std::sin(half) * axis_world_;
   return Eigen::Quaterniond(std::cos(half), v.x(), v.y(), v.z()) * q_world_core0_;
+}
+
+double RotatingCore::rampEnd() const {
+  const double dw = omega_cmd_ - omega0_;
+  if (dw == 0.0) return std::numeric_limits<double>::infinity();
+  return t0_ + std::abs(dw) / alpha_max_;
 }
 
 double RotatingCore::omega(double t) const {

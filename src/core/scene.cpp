@@ -565,24 +565,16 @@ void validateScene(const Scene& s) {
   if (s.solver.integrator == "symplectic_euler" && s.solver.fixed_step > s.solver.max_step) {
     throw SceneError("solver.fixed_step", "is above solver.max_step");
   }
-  // The explicit method's stability limit: a wave crosses a segment in l / c
-  // (axial c = sqrt(EA / rho); torsional c = sqrt(GJ / (2/5 rho r^2)), the
-  // frames' inertia per length). Above it symplectic Euler stays bounded
-  // but wrong, with no warning (measured on the paper's case at 2 mm: three
+  // Above the explicit stability limit symplectic Euler stays bounded but
+  // wrong, with no warning (measured on the paper's case at 2 mm: three
   // wire diameters off at 1.05 l / c, right at 0.53 l / c).
   if (s.solver.integrator == "symplectic_euler") {
-    const double l = s.physics.supply ? s.wire.segment_length : s.naturalSegmentLength();
-    double c = std::sqrt(s.wire.stretch.elastic_rigidity / s.wire.line_density);
-    if (s.physics.torsion) {
-      const double r = 0.5 * s.wire.diameter;
-      c = std::max(
-          c, std::sqrt(s.wire.torsion.elastic_rigidity / (0.4 * s.wire.line_density * r * r)));
-    }
-    if (s.solver.fixed_step > l / c) {
+    const double limit = explicitStepLimit(s);
+    if (s.solver.fixed_step > limit) {
       std::ostringstream why;
-      why << s.solver.fixed_step << " s is above the stability limit l / c = " << l / c
-          << " s of this wire (segment l = " << l << " m, wave speed c = " << c
-          << " m/s); symplectic_euler would run but be wrong: use at most that step, or rkf45";
+      why << s.solver.fixed_step << " s is above the stability limit l / c = " << limit
+          << " s of this wire (the time a wave needs to cross a segment); symplectic_euler "
+             "would run but be wrong: use at most that step, or rkf45";
       throw SceneError("solver.fixed_step", why.str());
     }
   }
@@ -678,6 +670,19 @@ std::string sceneToYamlText(const Scene& scene) {
   out.SetDoublePrecision(10);
   out << toYaml(scene);
   return std::string(out.c_str()) + "\n";
+}
+
+// A wave crosses a segment in l / c: axial c = sqrt(EA / rho); torsional
+// c = sqrt(GJ / (2/5 rho r^2)), the frames' inertia per length.
+double explicitStepLimit(const Scene& s) {
+  const double l = s.physics.supply ? s.wire.segment_length : s.naturalSegmentLength();
+  double c = std::sqrt(s.wire.stretch.elastic_rigidity / s.wire.line_density);
+  if (s.physics.torsion) {
+    const double r = 0.5 * s.wire.diameter;
+    c = std::max(c,
+                 std::sqrt(s.wire.torsion.elastic_rigidity / (0.4 * s.wire.line_density * r * r)));
+  }
+  return l / c;
 }
 
 }  // namespace cws

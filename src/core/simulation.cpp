@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <sstream>
 
 namespace cws {
 
@@ -17,6 +18,7 @@ Simulation::Simulation(const Scene& scene) : scene_(validated(scene)) {
   stepper_ = makeTimeStepper(scene_.solver, *model_);
   y_ = model_->initialState();
   t_end_ = scene_.endTime();
+  collapse_step_s_ = kCollapseRatio * explicitStepLimit(scene_);
   afterStep();
 }
 
@@ -72,13 +74,40 @@ std::unique_ptr<Simulation> Simulation::fromState(const SimulationState& st) {
 }
 
 void Simulation::step(double t_limit) {
+  // No step across the end of a core speed ramp (RotatingCore::rampEnd);
+  // a ramp end within rounding of t is passed.
+  if (const RotatingCore* core = model_->core()) {
+    const double t_ramp = core->rampEnd();
+    if (t_ramp < t_limit && t_ramp > t_ + 1e-12 * std::max(1.0, std::abs(t_))) t_limit = t_ramp;
+  }
   stepper_->step(*model_, t_, y_, t_limit);
   // One pass: a sum is finite only if every term is (states never come
   // near the overflow that could make finite terms sum to infinity).
   if (!std::isfinite(y_.head(model_->size()).sum())) {
     throw IntegrationError("the state became non-finite at t = " + std::to_string(t_) + " s");
   }
+  if (stepper_->errorControlled()) checkCollapse();
   afterStep();
+}
+
+void Simulation::checkCollapse() {
+  const double h = stepper_->lastStep();
+  // (A single step clipped short to an end time counts once; the next
+  // normal step clears the count.)
+  if (h >= collapse_step_s_) {
+    small_steps_ = 0;
+    return;
+  }
+  if (small_steps_++ == 0) small_since_s_ = t_ - h;
+  if (small_steps_ < kCollapseSteps) return;
+  std::ostringstream msg;
+  msg << stepper_->name() << ": the step size collapsed: " << small_steps_
+      << " steps in a row below " << collapse_step_s_ << " s (1/" << 1.0 / kCollapseRatio
+      << " of the explicit stability limit l / c) from t = " << small_since_s_ << " s to "
+      << t_ << " s, last " << h << " s: the scene is too stiff for " << stepper_->name()
+      << " at solver.rtol = " << scene_.solver.rtol << " (stiff contact or stick/slip "
+      << "switching); use symplectic_euler";
+  throw IntegrationError(msg.str());
 }
 
 void Simulation::run(const std::function<void(const Simulation&)>& progress) {

@@ -4,6 +4,9 @@
 //   wire_sim print-scene [--scene FILE] [--set key.path=value ...]
 //   wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
 //   wire_sim work-precision [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
+//   wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]
+//                      [--budget SECONDS]
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -13,6 +16,7 @@
 #include "coil_winding_sim/core/output.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
+#include "stability.hpp"
 #include "study.hpp"
 #include "work_precision.hpp"
 
@@ -27,11 +31,17 @@ const char* kUsage =
     "       wire_sim print-scene [--scene FILE] [--set key.path=value ...]\n"
     "       wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]\n"
     "       wire_sim work-precision [--scene FILE] [--set ...] [--out DIR] [--jobs N]\n"
+    "       wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]\n"
+    "                          [--budget SECONDS]\n"
     "Without --scene the package's default scene is used; --out defaults to out/run\n"
     "(out/study for study). study runs the paper's 2 x 2 case study (600/1200 rpm x\n"
     "30/70 N, 1 3/4 turns) on N threads (default 2) and writes tables of the results.\n"
     "work-precision runs the scene with every integrator over a range of tolerances or\n"
-    "steps against a tight reference and writes the errors and wall times (CSV).\n";
+    "steps against a tight reference and writes the errors and wall times (CSV).\n"
+    "stability runs the extreme cases of docs/STABILITY.md (those whose name contains\n"
+    "NAME) with every integrator, checks each run against the stability criteria and\n"
+    "writes DIR/STABILITY.md and DIR/stability.csv (default out/stability); a run\n"
+    "longer than SECONDS of wall time (default 1800) is stopped and reported.\n";
 
 struct Args {
   std::string command;
@@ -39,6 +49,8 @@ struct Args {
   std::vector<std::string> overrides;
   std::string out;
   int jobs = 2;
+  std::string only;         // stability: cases whose name contains this
+  double budget_s = 1800.0;  // stability: wall time per run [s]
 };
 
 // Exit codes: 0 success, 1 the run failed, 2 bad command line or scene.
@@ -59,6 +71,11 @@ int run(const Args& a) {
   if (a.command == "work-precision") {
     return cws_tools::runWorkPrecision(scene_path, a.overrides,
                                        a.out.empty() ? "out/work_precision" : a.out, a.jobs);
+  }
+  if (a.command == "stability") {
+    return cws_tools::runStability(scene_path, a.overrides,
+                                   a.out.empty() ? "out/stability" : a.out, a.jobs, a.only,
+                                   a.budget_s);
   }
   if (a.command == "study") {
     return cws_tools::runStudy(scene_path, a.overrides, a.out.empty() ? "out/study" : a.out,
@@ -118,7 +135,7 @@ int main(int argc, char** argv) {
   Args a;
   a.command = args[0];
   if (a.command != "run" && a.command != "print-scene" && a.command != "study" &&
-      a.command != "work-precision") {
+      a.command != "work-precision" && a.command != "stability") {
     return usageError("unknown command '" + a.command + "'");
   }
   for (std::size_t i = 1; i < args.size(); ++i) {
@@ -136,7 +153,22 @@ int main(int argc, char** argv) {
       a.overrides.push_back(kv);
     } else if (opt == "--out" && a.command != "print-scene") {
       if (!value(a.out)) return usageError("--out needs a directory");
-    } else if (opt == "--jobs" && (a.command == "study" || a.command == "work-precision")) {
+    } else if (opt == "--only" && a.command == "stability") {
+      if (!value(a.only)) return usageError("--only needs a case name");
+    } else if (opt == "--budget" && a.command == "stability") {
+      std::string b;
+      if (!value(b)) return usageError("--budget needs seconds");
+      try {
+        std::size_t used = 0;
+        a.budget_s = std::stod(b, &used);
+        if (used != b.size() || !(a.budget_s > 0.0) || !std::isfinite(a.budget_s)) {
+          throw std::invalid_argument(b);
+        }
+      } catch (const std::exception&) {
+        return usageError("--budget needs a positive number of seconds, got '" + b + "'");
+      }
+    } else if (opt == "--jobs" && (a.command == "study" || a.command == "work-precision" ||
+                                   a.command == "stability")) {
       std::string j;
       if (!value(j)) return usageError("--jobs needs a number");
       try {

@@ -28,6 +28,11 @@ class RotatingCore {
   double angularAcceleration(double t) const;  // [rad/s^2]
   // Moves the reference state to time t (an accepted step).
   void commit(double t);
+  // Time [s] the present speed change ends (the acceleration drops to 0), or
+  // infinity at the commanded speed. Steps end there so that no step spans
+  // the kink: a step over a short, steep ramp would miss the acceleration
+  // and hand the wire a velocity jump the constraints cannot follow.
+  double rampEnd() const;
 
   // Rotation of the core frame in the world frame at time t.
   Eigen::Matrix3d rotationWorldCore(double t) const;

@@ -181,6 +181,10 @@ struct Scene {
 // Checks every value; throws SceneError naming the first bad key.
 void validateScene(const Scene& scene);
 
+// Stability limit of an explicit step for this wire [s]: the time l / c a
+// wave needs to cross a segment (axial, or torsional with torsion on).
+double explicitStepLimit(const Scene& scene);
+
 // Loads the defaults, then `path` (if not empty; a top-level `base: FILE`
 // in it loads FILE, relative to it, first), then each "key.path=value"
 // override in order; refuses unknown keys and wrong types, then validates.

@@ -19,6 +19,8 @@ class TimeStepper {
  public:
   virtual ~TimeStepper() = default;
   virtual const char* name() const = 0;
+  // True for methods that choose their step by an error estimate.
+  virtual bool errorControlled() const { return true; }
   // Advances (t, y) by one accepted step that does not pass t_limit [s];
   // rejected attempts are retried with smaller steps. Calls sys.acceptStep
   // once. Throws IntegrationError when the step falls below its floor.

@@ -1,0 +1,351 @@
+#include "stability.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "coil_winding_sim/core/output.hpp"
+#include "coil_winding_sim/core/run_checks.hpp"
+#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/simulation.hpp"
+#include "parallel.hpp"
+
+namespace cws_tools {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kRpm = 2.0 * M_PI / 60.0;  // [rad/s] per rpm
+
+// A change of the core's commanded speed during a run.
+struct SpeedEvent {
+  double time_s;
+  double speed_rad_s;
+};
+
+struct Case {
+  std::string name, what;
+  std::vector<std::string> overrides;
+  std::vector<SpeedEvent> events;
+};
+
+// How a run ended.
+enum class Outcome { kStable, kViolated, kStopped, kRefused, kBudget };
+
+const char* outcomeName(Outcome o) {
+  switch (o) {
+    case Outcome::kStable: return "stable";
+    case Outcome::kViolated: return "CRITERIA BROKEN";
+    case Outcome::kStopped: return "stopped";
+    case Outcome::kRefused: return "refused";
+    case Outcome::kBudget: return "BUDGET";
+  }
+  return "?";
+}
+
+struct Run {
+  const Case* c = nullptr;
+  std::string method;
+  Outcome outcome = Outcome::kStopped;
+  std::string message;  // why it stopped, was refused, or which criteria it broke
+  cws::RunMeasures m;
+  bool measured = false;
+  double wall_s = 0.0, sim_s = 0.0, end_s = 0.0, step_s = 0.0;
+};
+
+// The cases of the issue, as overrides of the base scene (the paper's
+// case at 2 mm segments and 1200 rpm, see runStability).
+std::vector<Case> matrixCases() {
+  const char* x100[] = {"wire.stretch.elastic_rigidity=4.89e6",
+                        "wire.stretch.plastic_rigidity=1.10e5",
+                        "wire.bend.elastic_rigidity=0.306",
+                        "wire.bend.plastic_rigidity=1.13e-2",
+                        "wire.torsion.elastic_rigidity=0.432",
+                        "wire.torsion.plastic_rigidity=9.0e-3"};
+  std::vector<Case> cases;
+  cases.push_back({"baseline", "the paper's case (1 3/4 turns)", {}, {}});
+  cases.push_back({"rigidity_x100", "all rigidities x100, 1/2 turn",
+                   {x100, x100 + 6},
+                   {}});
+  cases.back().overrides.push_back("process.turns=0.5");
+  cases.push_back(
+      {"segment_0.2mm", "segments of 0.2 mm, 1/2 turn",
+       {"wire.segment_length=2e-4", "process.turns=0.5"}, {}});
+  cases.push_back({"segment_5mm", "segments of 5 mm", {"wire.segment_length=5e-3"}, {}});
+  cases.push_back({"core_20000rpm", "core speed 0 -> 20,000 rpm in one instant at t = 0",
+                   {"process.core_speed_rpm=20000", "process.max_core_speed_rpm=20000",
+                    "core.start_at_speed=false", "core.max_angular_acceleration=1e12"},
+                   {}});
+  cases.push_back({"tension_0N", "slack wire: supply tension 0 N", {"process.tension=0"}, {}});
+  cases.push_back(
+      {"tension_300N", "supply tension 300 N (far past axial yield)", {"process.tension=300"}, {}});
+  cases.push_back({"friction_0", "no friction (mu_s = mu_d = 0)",
+                   {"contact.static_friction=0", "contact.kinetic_friction=0"},
+                   {}});
+  cases.push_back({"friction_1", "mu_s = mu_d = 1",
+                   {"contact.static_friction=1", "contact.kinetic_friction=1"},
+                   {}});
+  cases.push_back({"perfectly_plastic", "zero plastic rigidities",
+                   {"wire.stretch.plastic_rigidity=0", "wire.bend.plastic_rigidity=0",
+                    "wire.torsion.plastic_rigidity=0"},
+                   {}});
+  cases.push_back({"purely_elastic", "no plasticity", {"physics.plasticity=false"}, {}});
+  // The core at rest, then 1200 rpm within one step (the acceleration
+  // limit raised far above any machine's).
+  cases.push_back({"speed_step", "core speed 0 -> 1200 rpm in one instant at t = 0",
+                   {"core.start_at_speed=false", "core.max_angular_acceleration=1e12"},
+                   {}});
+  // Forward half a turn, then reversed at the scene's acceleration limit.
+  cases.push_back({"reversal", "1200 rpm, reversed to -1200 rpm at t = 25 ms, until t = 75 ms",
+                   {"core.start_at_speed=true", "process.duration=0.075"},
+                   {{0.025, -1200.0 * kRpm}}});
+  cases.push_back({"turns_100", "100 turns", {"process.turns=100"}, {}});
+  return cases;
+}
+
+void execute(const std::string& scene_path, const std::vector<std::string>& base, Run& r,
+             double budget_s, std::mutex& log) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto wall = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  std::unique_ptr<cws::Simulation> sim;
+  try {
+    std::vector<std::string> o = base;
+    o.insert(o.end(), r.c->overrides.begin(), r.c->overrides.end());
+    o.push_back("solver.integrator=" + r.method);
+    // (Loaded with a step any wire accepts; the case's step is set below.)
+    if (r.method == "symplectic_euler") o.push_back("solver.fixed_step=1e-10");
+    cws::Scene scene = cws::loadScene(scene_path, o);
+    // The fixed-step method at a quarter of its stability limit, as the
+    // default scene is (1e-7 s at 1 mm).
+    if (r.method == "symplectic_euler") scene.solver.fixed_step = 0.25 * cws::explicitStepLimit(scene);
+    r.step_s = scene.solver.fixed_step;
+    sim = std::make_unique<cws::Simulation>(scene);
+  } catch (const cws::SceneError& e) {
+    r.outcome = Outcome::kRefused;
+    r.message = e.what();
+    r.wall_s = wall();
+    std::lock_guard<std::mutex> lock(log);
+    std::cerr << "stability: " << r.c->name << " / " << r.method << ": refused: " << e.what()
+              << "\n";
+    return;
+  }
+  r.end_s = sim->endTime();
+  std::size_t next_event = 0;
+  try {
+    long k = 0;
+    double next_report_s = 60.0;
+    while (sim->time() < sim->endTime()) {
+      const auto& ev = r.c->events;
+      double t_limit = sim->endTime();
+      if (next_event < ev.size()) {
+        if (sim->time() >= ev[next_event].time_s) {
+          sim->setCoreSpeed(ev[next_event].speed_rad_s);
+          ++next_event;
+          continue;
+        }
+        t_limit = std::min(t_limit, ev[next_event].time_s);
+      }
+      sim->step(t_limit);
+      if (++k % 1000 != 0) continue;
+      if (wall() > next_report_s) {
+        std::lock_guard<std::mutex> lock(log);
+        std::cerr << "  " << r.c->name << " / " << r.method << ": t = " << sim->time() << " s of "
+                  << sim->endTime() << " s, step " << sim->stepper().lastStep() << " s\n";
+        next_report_s += 60.0;
+      }
+      if (wall() > budget_s) {
+        std::ostringstream msg;
+        msg << "not finished within the budget of " << budget_s << " s of wall time (t = "
+            << sim->time() << " s of " << sim->endTime() << " s)";
+        r.outcome = Outcome::kBudget;
+        r.message = msg.str();
+        break;
+      }
+    }
+    if (r.message.empty()) {
+      r.outcome = Outcome::kStable;
+    }
+  } catch (const std::exception& e) {
+    // A detected failure: the message must name its cause.
+    r.outcome = Outcome::kStopped;
+    r.message = e.what();
+  }
+  r.m = cws::measureRun(*sim);
+  r.measured = true;
+  r.wall_s = wall();
+  r.sim_s = sim->time();
+  if (r.outcome == Outcome::kStable) {
+    const std::vector<std::string> v = cws::stabilityViolations(r.m);
+    if (!v.empty()) {
+      r.outcome = Outcome::kViolated;
+      for (const std::string& s : v) r.message += (r.message.empty() ? "" : "; ") + s;
+    }
+  }
+  std::lock_guard<std::mutex> lock(log);
+  std::cerr << "stability: " << r.c->name << " / " << r.method << ": "
+            << outcomeName(r.outcome) << " in " << r.wall_s << " s" << (r.message.empty() ? "" : ": ")
+            << r.message << "\n";
+}
+
+std::string fmt(const char* f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+// One line of the machine's CPU, for the record.
+std::string machine() {
+  std::ifstream f("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(f, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      const auto colon = line.find(':');
+      if (colon != std::string::npos) {
+        return line.substr(colon + 2) + ", " + std::to_string(std::thread::hardware_concurrency()) +
+               " cores";
+      }
+    }
+  }
+  return std::to_string(std::thread::hardware_concurrency()) + " cores";
+}
+
+std::string cell(std::string s) {
+  for (char& ch : s) {
+    if (ch == '|' || ch == '\n') ch = ' ';
+  }
+  return s;
+}
+
+const char* kPreamble = R"(# Numerical stability on stiff and extreme cases
+
+Generated by `make stability` (`wire_sim stability`); do not edit by hand.
+Every case runs with every integrator; each run is checked against the
+criteria below, in `cws::stabilityViolations` (core/run_checks), which the
+GoogleTest cases in test/unit/test_stability.cpp assert as well.
+
+## Criteria
+
+A run counts as **stable** when it reaches its end time and
+
+- **no non-finite number** appears: the simulation checks the state after
+  every accepted step and stops with "the state became non-finite at t = ..."
+  otherwise;
+- **energy balance**: |kinetic + elastic + dissipated - work done| is at most
+  1 % of max(|work done|, kinetic + elastic + dissipated). Each term is
+  computed independently (kinetic and elastic from the state, plastic work
+  from the hysteresis loops, friction and viscous losses and the work of the
+  core, supply and loads integrated from their power). The paper's case
+  balances to about 1e-4; 1 % is far below what a diverging or
+  energy-creating run shows;
+- **constraint residual** (a segment off its frame's tangent, or a
+  quaternion off unit length) at most 1e-3 rad at every accepted step:
+  below the joint angle at first bending yield, kappa_y l = 1.6e-3 rad per
+  mm of segment, so the constraint error cannot pass for plastic bending;
+- **penetration** into the core at most half the wire radius at every
+  accepted step: beyond it the penalty contact no longer holds the wire on
+  the core's surface;
+- **no step-size collapse**: an error-controlled method stops with a message
+  naming the cause when its step falls below `solver.min_step`, or when it
+  stays far below the explicit stability limit l / c (where an explicit or
+  implicit method has lost its purpose; see the messages below).
+
+A run that cannot meet them must **stop with a message that names the
+cause** (outcome *stopped*), or be **refused** at validation with a message
+naming the key (outcome *refused*). *CRITERIA BROKEN* or *BUDGET* (not
+finished within the study's wall-time budget) would be defects.
+
+## Set-up
+
+)";
+
+}  // namespace
+
+int runStability(const std::string& scene_path, const std::vector<std::string>& overrides,
+                 const std::string& dir, int jobs, const std::string& only, double budget_s) {
+  // The base: the given scene with the study's segment length and speed.
+  std::vector<std::string> base = {"wire.segment_length=2e-3", "process.core_speed_rpm=1200"};
+  base.insert(base.end(), overrides.begin(), overrides.end());
+  cws::loadScene(scene_path, base);  // refuse a bad base scene first
+  cws::checkOutputDir(dir);
+
+  static const std::vector<Case> cases = matrixCases();
+  std::vector<Run> runs;
+  for (const Case& c : cases) {
+    if (!only.empty() && c.name.find(only) == std::string::npos) continue;
+    for (const char* m : {"symplectic_euler", "rkf45", "rosenbrock2"}) {
+      Run r;
+      r.c = &c;
+      r.method = m;
+      runs.push_back(r);
+    }
+  }
+  if (runs.empty()) {
+    std::cerr << "stability: no case name contains '" << only << "'\n";
+    return 2;
+  }
+  std::mutex log;
+  forEachParallel(runs.size(), jobs,
+                  [&](std::size_t i) { execute(scene_path, base, runs[i], budget_s, log); });
+
+  std::ostringstream csv, md;
+  csv << "case,method,outcome,energy_error_rel,max_residual,max_penetration_rel_radius,steps,"
+         "rejected,mean_step_s,sim_time_s,end_time_s,wall_time_s,message\n";
+  md << kPreamble
+     << "Base scene: the package's default scene (the paper's case in its planar form, 30 N) "
+        "with 2 mm segments at 1200 rpm (`--set wire.segment_length=2e-3 --set "
+        "process.core_speed_rpm=1200`), carried wire on. Each case changes what its column "
+        "says. symplectic_euler steps at a quarter of the case's l / c; rkf45 and rosenbrock2 "
+        "use the scene's tolerances (rtol 1e-6, atol 1e-11). Wall-time budget per run: "
+     << budget_s << " s. Machine: " << machine() << "; " << jobs
+     << " runs in parallel.\n\n"
+        "| case | method | outcome | energy error | max residual | max penetration / r | "
+        "steps | mean step [s] | wall [s] | message |\n"
+        "|---|---|---|---|---|---|---|---|---|---|\n";
+  int bad = 0;
+  for (const Run& r : runs) {
+    if (r.outcome == Outcome::kViolated || r.outcome == Outcome::kBudget) ++bad;
+    std::string msg = r.message;
+    for (char& ch : msg) {
+      if (ch == '"') ch = '\'';
+    }
+    csv << r.c->name << ',' << r.method << ',' << outcomeName(r.outcome) << ',';
+    if (r.measured) {
+      csv << r.m.energy_rel << ',' << r.m.residual << ',' << r.m.penetration_ratio << ','
+          << r.m.steps << ',' << r.m.rejected << ',' << r.m.mean_step_s << ',';
+    } else {
+      csv << ",,,,,,";
+    }
+    csv << r.sim_s << ',' << r.end_s << ',' << r.wall_s << ",\"" << msg << "\"\n";
+    md << "| " << r.c->name << " (" << r.c->what << ") | " << r.method << " | "
+       << outcomeName(r.outcome) << " | ";
+    if (r.measured) {
+      md << fmt("%.2e", r.m.energy_rel) << " | " << fmt("%.2e", r.m.residual) << " | "
+         << fmt("%.3f", r.m.penetration_ratio) << " | " << r.m.steps << " | "
+         << fmt("%.2e", r.m.mean_step_s);
+    } else {
+      md << "- | - | - | - | -";
+    }
+    md << " | " << fmt("%.1f", r.wall_s) << " | " << cell(r.message) << " |\n";
+  }
+  md << "\nRegenerate: `make stability` (writes this file and docs/stability/stability.csv; "
+        "about "
+     << "an hour on the machine above). One case: `wire_sim stability --only NAME --out DIR`.\n";
+  std::ofstream(fs::path(dir) / "stability.csv") << csv.str();
+  std::ofstream(fs::path(dir) / "STABILITY.md") << md.str();
+  std::cout << csv.str();
+  if (bad > 0) {
+    std::cerr << "stability: " << bad << " run(s) broke the criteria or the budget\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace cws_tools
