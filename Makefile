@@ -6,6 +6,7 @@
 #   make study    the paper's 2 x 2 study: table and figure in docs/study (STUDY_OUT)
 #   make bench    per-step cost against the number of points (Google Benchmark)
 #   make work-precision   error against run time of every integrator (docs/performance)
+#   make stability        extreme cases x every integrator, checked (docs/STABILITY.md)
 #   make test     build and run all tests; non-zero exit if any test fails
 #   make format   clang-format -i all C++ sources
 #   make clean    remove the workspace .ws/
@@ -52,7 +53,7 @@ CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCATKIN_ENABLE_TESTING=ON \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON
 
-.PHONY: deps build run study bench work-precision test format format-check clean
+.PHONY: deps build run study bench work-precision stability test format format-check clean
 
 deps:
 ifeq ($(SKIP_DEPS),1)
@@ -105,6 +106,18 @@ work-precision: build
 	  "1200 rpm=out/wp_1200" "600 rpm=out/wp_600"
 	$(PYTHON) src/tools/work_precision_table.py "1200 rpm=out/wp_1200" "600 rpm=out/wp_600" \
 	  > "$(PERF_OUT)/work_precision_tables.md"
+
+# The stability matrix: every extreme case with every integrator, checked
+# against the stated criteria: docs/STABILITY.md and docs/stability/*.csv.
+# Fails (after writing them) when a run broke a criterion or its budget.
+stability: build
+	mkdir -p docs/stability
+	@rc=0; $(WIRE_SIM) stability --out out/stability --jobs $(JOBS) $(ARGS) || rc=$$?; \
+	if [ -f out/stability/STABILITY.md ]; then \
+	  cp out/stability/STABILITY.md docs/STABILITY.md; \
+	  cp out/stability/stability.csv docs/stability/stability.csv; \
+	fi; \
+	exit $$rc
 
 # Per-step cost against the number of points (Google Benchmark).
 bench: build

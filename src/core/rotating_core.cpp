@@ -1,5 +1,6 @@
 #include "coil_winding_sim/core/rotating_core.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -7,12 +8,14 @@
 
 namespace cws {
 
-RotatingCore::RotatingCore(const CoreParams& p, double omega_initial, double omega_command)
+RotatingCore::RotatingCore(const CoreParams& p, double omega_command)
     : origin_world_(p.position_world),
       axis_world_(p.axis_world.normalized()),
       alpha_max_(p.max_angular_acceleration),
-      omega_cmd_(omega_command),
-      omega0_(omega_initial) {
+      start_at_speed_(p.start_at_speed),
+      alpha_(0.0),
+      omega_cmd_(omega_command) {
+  alpha_ = rampAcceleration();
   // Core z is the axis; x, y as the quaternion frame with zeta = axis.
   const quat::Vec4 q = quat::fromZetaDirection(axis_world_);
   rot_world_core0_.col(0) = quat::xi(q);
@@ -27,31 +30,39 @@ Eigen::Quaterniond RotatingCore::quaternionWorldCore(double t) const {
   return Eigen::Quaterniond(std::cos(half), v.x(), v.y(), v.z()) * q_world_core0_;
 }
 
+double RotatingCore::rampAcceleration() const {
+  // The instant start lasts from t = 0 at rest to its first commit.
+  if (start_at_speed_ && t0_ == 0.0 && omega0_ == 0.0) {
+    return std::max(alpha_max_, std::abs(omega_cmd_) / kInstantRamp_s);
+  }
+  return alpha_max_;
+}
+
 double RotatingCore::rampEnd() const {
   const double dw = omega_cmd_ - omega0_;
   if (dw == 0.0) return std::numeric_limits<double>::infinity();
-  return t0_ + std::abs(dw) / alpha_max_;
+  return t0_ + std::abs(dw) / alpha_;
 }
 
 double RotatingCore::omega(double t) const {
   const double dt = t - t0_;
   const double dw = omega_cmd_ - omega0_;
-  const double t_ramp = std::abs(dw) / alpha_max_;
+  const double t_ramp = std::abs(dw) / alpha_;
   if (dt >= t_ramp) return omega_cmd_;
-  return omega0_ + std::copysign(alpha_max_, dw) * dt;
+  return omega0_ + std::copysign(alpha_, dw) * dt;
 }
 
 double RotatingCore::angularAcceleration(double t) const {
   const double dw = omega_cmd_ - omega0_;
-  if (t - t0_ >= std::abs(dw) / alpha_max_) return 0.0;
-  return std::copysign(alpha_max_, dw);
+  if (t - t0_ >= std::abs(dw) / alpha_) return 0.0;
+  return std::copysign(alpha_, dw);
 }
 
 double RotatingCore::angle(double t) const {
   const double dt = t - t0_;
   const double dw = omega_cmd_ - omega0_;
-  const double t_ramp = std::abs(dw) / alpha_max_;
-  if (dt <= t_ramp) return angle0_ + omega0_ * dt + 0.5 * std::copysign(alpha_max_, dw) * dt * dt;
+  const double t_ramp = std::abs(dw) / alpha_;
+  if (dt <= t_ramp) return angle0_ + omega0_ * dt + 0.5 * std::copysign(alpha_, dw) * dt * dt;
   // Ramp to the command, then constant speed.
   return angle0_ + 0.5 * (omega0_ + omega_cmd_) * t_ramp + omega_cmd_ * (dt - t_ramp);
 }
@@ -60,6 +71,7 @@ void RotatingCore::commit(double t) {
   angle0_ = angle(t);
   omega0_ = omega(t);
   t0_ = t;
+  if (omega0_ == omega_cmd_) alpha_ = alpha_max_;
 }
 
 Eigen::Matrix3d RotatingCore::rotationWorldCore(double t) const {

@@ -504,7 +504,7 @@ void validateScene(const Scene& s) {
     }
     // The port must lie outside the core (the convex hull of its cylinders).
     const Eigen::Vector3d axis = s.core.axis_world.normalized();
-    const RotatingCore core(s.core, 0.0, 0.0);
+    const RotatingCore core(s.core, 0.0);
     const Eigen::Vector3d port_core = core.pointCore(0.0, s.supply.port_position_world);
     const double gap = CoreSection(s.core).signedDistance(port_core.head<2>());
     if (gap <= 0.5 * s.wire.diameter) {

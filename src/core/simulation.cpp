@@ -18,7 +18,7 @@ Simulation::Simulation(const Scene& scene) : scene_(validated(scene)) {
   stepper_ = makeTimeStepper(scene_.solver, *model_);
   y_ = model_->initialState();
   t_end_ = scene_.endTime();
-  collapse_step_s_ = kCollapseRatio * explicitStepLimit(scene_);
+  collapse_step_s_ = stepper_->collapseRatio() * explicitStepLimit(scene_);
   afterStep();
 }
 
@@ -86,7 +86,7 @@ void Simulation::step(double t_limit) {
   if (!std::isfinite(y_.head(model_->size()).sum())) {
     throw IntegrationError("the state became non-finite at t = " + std::to_string(t_) + " s");
   }
-  if (stepper_->errorControlled()) checkCollapse();
+  if (collapse_step_s_ > 0.0) checkCollapse();
   afterStep();
 }
 
@@ -101,12 +101,18 @@ void Simulation::checkCollapse() {
   if (small_steps_++ == 0) small_since_s_ = t_ - h;
   if (small_steps_ < kCollapseSteps) return;
   std::ostringstream msg;
+  const double ratio = stepper_->collapseRatio();
   msg << stepper_->name() << ": the step size collapsed: " << small_steps_
-      << " steps in a row below " << collapse_step_s_ << " s (1/" << 1.0 / kCollapseRatio
-      << " of the explicit stability limit l / c) from t = " << small_since_s_ << " s to "
-      << t_ << " s, last " << h << " s: the scene is too stiff for " << stepper_->name()
-      << " at solver.rtol = " << scene_.solver.rtol << " (stiff contact or stick/slip "
-      << "switching); use symplectic_euler";
+      << " steps in a row below " << collapse_step_s_ << " s (";
+  if (ratio == 1.0) {
+    msg << "the explicit stability limit l / c";
+  } else {
+    msg << ratio << " x the explicit stability limit l / c";
+  }
+  msg << ") from t = " << small_since_s_ << " s to " << t_ << " s, last " << h
+      << " s: the scene is too stiff for " << stepper_->name()
+      << " at solver.rtol = " << scene_.solver.rtol
+      << " (contact or stick/slip switching holds its step); use symplectic_euler";
   throw IntegrationError(msg.str());
 }
 

@@ -27,7 +27,7 @@ double coreSpeedCommand(const Scene& s) { return s.process.core_speed_rpm * 2.0 
 // Clamp position at t = 0 in the world frame.
 Eigen::Vector3d clampStartWorld(const Scene& s) {
   if (s.start.frame != "core") return s.start.position;
-  const RotatingCore core(s.core, 0.0, 0.0);
+  const RotatingCore core(s.core, 0.0);
   return core.pointWorld(0.0, s.start.position);
 }
 
@@ -90,8 +90,7 @@ WireModel::WireModel(const Scene& s)
   // the wire on it.
   if (needsCore(s)) {
     const double omega_cmd = coreSpeedCommand(s);
-    core_ =
-        std::make_unique<RotatingCore>(s.core, s.core.start_at_speed ? omega_cmd : 0.0, omega_cmd);
+    core_ = std::make_unique<RotatingCore>(s.core, omega_cmd);
   }
   if (s.physics.planar) planar_normal_world_ = s.core.axis_world.normalized();
   if (core_ && !(s.core.cylinders.empty() && s.core.faces.empty())) {

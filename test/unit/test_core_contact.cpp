@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "wire_test_support.hpp"
 
@@ -15,7 +16,8 @@ constexpr double kPi = 3.14159265358979323846;
 TEST(RotatingCore, SpeedRampFollowsTheAccelerationLimit) {
   cws::CoreParams p;
   p.max_angular_acceleration = 100.0;  // [rad/s^2]
-  cws::RotatingCore core(p, 0.0, 50.0);
+  p.start_at_speed = false;
+  cws::RotatingCore core(p, 50.0);
   // Ramp for 0.5 s, then constant speed: angle = a t^2 / 2, then w (t - 0.25).
   EXPECT_NEAR(core.omega(0.2), 20.0, 1e-12);
   EXPECT_NEAR(core.angle(0.2), 0.5 * 100.0 * 0.04, 1e-12);
@@ -33,15 +35,38 @@ TEST(RotatingCore, SpeedRampFollowsTheAccelerationLimit) {
   EXPECT_NEAR(core.angle(0.7), angle_at_05 - 10.0 * 0.2, 1e-12);
 }
 
+// core.start_at_speed: at rest at t = 0, at speed after the instant ramp,
+// which ends a step (rampEnd) and gives way to the acceleration limit.
+TEST(RotatingCore, InstantStartReachesSpeedWithinItsRamp) {
+  cws::CoreParams p;
+  p.start_at_speed = true;
+  p.max_angular_acceleration = 100.0;  // [rad/s^2]
+  cws::RotatingCore core(p, 50.0);
+  const double ramp = cws::RotatingCore::kInstantRamp_s;
+  EXPECT_EQ(core.omega(0.0), 0.0);
+  EXPECT_NEAR(core.omega(0.5 * ramp), 25.0, 1e-6);
+  EXPECT_DOUBLE_EQ(core.rampEnd(), ramp);
+  EXPECT_EQ(core.omega(ramp), 50.0);
+  EXPECT_NEAR(core.angle(1.0), 50.0 * (1.0 - 0.5 * ramp), 1e-12);
+  core.commit(ramp);
+  EXPECT_EQ(core.rampEnd(), std::numeric_limits<double>::infinity());
+  // Later commands ramp at the machine's limit.
+  core.setCommand(0.0);
+  EXPECT_NEAR(core.rampEnd(), ramp + 0.5, 1e-12);
+}
+
 TEST(RotatingCore, MaterialPointsMoveRigidly) {
   cws::CoreParams p;
   p.position_world = {0.01, -0.02, 0.03};
   p.axis_world = {0.0, 0.0, 2.0};
-  cws::RotatingCore core(p, 2.0 * kPi * 10.0, 2.0 * kPi * 10.0);  // 600 rpm
+  p.start_at_speed = true;
+  cws::RotatingCore core(p, 2.0 * kPi * 10.0);  // 600 rpm
   const Eigen::Vector3d p_core(0.004, 0.003, 0.001);
-  // A quarter turn takes 25 ms; the radius stays 5 mm and z is kept.
+  // A quarter turn takes 25 ms (after the instant start, which lags the
+  // angle by half its duration); the radius stays 5 mm and z is kept.
+  const double lag = 0.5 * cws::RotatingCore::kInstantRamp_s;
   const Eigen::Vector3d a = core.pointWorld(0.0, p_core) - p.position_world;
-  const Eigen::Vector3d b = core.pointWorld(0.025, p_core) - p.position_world;
+  const Eigen::Vector3d b = core.pointWorld(0.025 + lag, p_core) - p.position_world;
   EXPECT_NEAR(a.head<2>().norm(), 0.005, 1e-15);
   EXPECT_NEAR(a.head<2>().dot(b.head<2>()), 0.0, 1e-15);
   EXPECT_NEAR(a.head<2>().x() * b.head<2>().y() - a.head<2>().y() * b.head<2>().x(), 2.5e-5,

@@ -5,6 +5,13 @@
 // acceleration up to the command, then constant speed), so trial stages of a
 // step evaluate it without changing it; commit() moves the reference to an
 // accepted time.
+//
+// A core that starts at speed (core.start_at_speed) is at rest at t = 0 and
+// reaches its speed within kInstantRamp_s: the wire, at rest at t = 0, then
+// follows the clamp's velocity jump through the constraint solve of one
+// short step instead of lagging it (a jump of v at the clamp with no
+// acceleration seen would leave the frames off their segments by about
+// v / (e nu l)).
 #pragma once
 
 #include <Eigen/Core>
@@ -16,11 +23,18 @@ namespace cws {
 
 class RotatingCore {
  public:
-  // omega_* in [rad/s], positive counter-clockwise about the axis.
-  RotatingCore(const CoreParams& p, double omega_initial, double omega_command);
+  static constexpr double kInstantRamp_s = 1.0e-9;
 
-  // New commanded speed [rad/s], effective from the last committed time.
-  void setCommand(double omega_command) { omega_cmd_ = omega_command; }
+  // omega_command in [rad/s], positive counter-clockwise about the axis;
+  // at rest at t = 0 (see above for p.start_at_speed).
+  RotatingCore(const CoreParams& p, double omega_command);
+
+  // New commanded speed [rad/s], effective from the last committed time,
+  // reached at max_angular_acceleration.
+  void setCommand(double omega_command) {
+    omega_cmd_ = omega_command;
+    alpha_ = alpha_max_;
+  }
   double command() const { return omega_cmd_; }
 
   double omega(double t) const;                // [rad/s]
@@ -58,6 +72,7 @@ class RotatingCore {
     angle0_ = in[1];
     omega0_ = in[2];
     omega_cmd_ = in[3];
+    alpha_ = rampAcceleration();
   }
 
   const Eigen::Vector3d& axisWorld() const { return axis_world_; }
@@ -67,7 +82,13 @@ class RotatingCore {
   Eigen::Vector3d origin_world_, axis_world_;
   Eigen::Matrix3d rot_world_core0_;  // the core frame at angle 0
   Eigen::Quaterniond q_world_core0_;
+  // The present ramp's acceleration: the instant start's until it is over,
+  // else alpha_max_ [rad/s^2].
+  double rampAcceleration() const;
+
   double alpha_max_;
+  bool start_at_speed_;
+  double alpha_;  // [rad/s^2] of the present ramp
   double omega_cmd_;
   // Reference state at the last commit.
   double t0_ = 0.0, angle0_ = 0.0, omega0_ = 0.0;

@@ -43,12 +43,10 @@ class Simulation {
   void setSupplyTension(double tension) { model_->setSupplyTension(tension); }
 
   // Step-size collapse: an error-controlled method whose accepted step stays
-  // below kCollapseRatio x the explicit stability limit l / c for
+  // below its collapseRatio() x the explicit stability limit l / c for
   // kCollapseSteps steps in a row is stopped (IntegrationError naming the
-  // cause): below that an explicit method is far slower than the fixed-step
-  // one and an implicit one has lost its purpose, and such runs would
-  // otherwise crawl for hours before reaching solver.min_step.
-  static constexpr double kCollapseRatio = 1.0e-2;
+  // cause and the remedy): such runs would otherwise crawl for hours before
+  // reaching solver.min_step.
   static constexpr long kCollapseSteps = 10000;
 
   // One accepted step, not past t_limit [s]. Throws IntegrationError.
@@ -89,7 +87,7 @@ class Simulation {
   double max_residual_ = 0.0;
   double max_axial_force_ = 0.0;
   double max_penetration_ = 0.0;
-  double collapse_step_s_ = 0.0;  // kCollapseRatio l / c [s]
+  double collapse_step_s_ = 0.0;  // the stepper's collapseRatio() l / c [s]
   long small_steps_ = 0;          // accepted steps in a row below it
   double small_since_s_ = 0.0;    // time the present run of them began [s]
 };

@@ -14,7 +14,7 @@ class SymplecticEuler : public TimeStepper {
   SymplecticEuler(const SolverParams& p, int capacity);
 
   const char* name() const override { return "symplectic_euler"; }
-  bool errorControlled() const override { return false; }
+  double collapseRatio() const override { return 0.0; }
   void step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) override;
   double nextStep() const override { return h_; }
   double lastStep() const override { return h_last_; }

@@ -19,8 +19,10 @@ class TimeStepper {
  public:
   virtual ~TimeStepper() = default;
   virtual const char* name() const = 0;
-  // True for methods that choose their step by an error estimate.
-  virtual bool errorControlled() const { return true; }
+  // Step-size collapse (Simulation::checkCollapse): the fraction of the
+  // explicit stability limit l / c below which this method's step must not
+  // stay; 0: not checked (a fixed-step method).
+  virtual double collapseRatio() const = 0;
   // Advances (t, y) by one accepted step that does not pass t_limit [s];
   // rejected attempts are retried with smaller steps. Calls sys.acceptStep
   // once. Throws IntegrationError when the step falls below its floor.
