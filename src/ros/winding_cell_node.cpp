@@ -104,7 +104,8 @@ class WindingCell {
   // The simulation loop; returns when ROS shuts down.
   void run() {
     restartPace();
-    auto next_state = Clock::now(), next_marker = Clock::now(), next_clock = Clock::now();
+    auto next_state = Clock::now(), next_marker = Clock::now(), next_clock = Clock::now(),
+         next_diagnostics = Clock::now();
     while (ros::ok()) {
       bool done = false;
       {
@@ -129,7 +130,13 @@ class WindingCell {
         next_marker = now + std::chrono::duration_cast<Clock::duration>(
                                 std::chrono::duration<double>(1.0 / marker_rate_));
       }
-      diagnostics_.update();
+      // Once a second of wall time: the updater's own period counts ROS
+      // time, with ~publish_clock the simulated time (100 s of wall time
+      // between reports at a real-time factor of 0.01).
+      if (now >= next_diagnostics) {
+        diagnostics_.force_update();
+        next_diagnostics = now + std::chrono::seconds(1);
+      }
       // Ahead of the target pace (or idle): wait a little.
       const double ahead_s = aheadOfPace();
       if (done || ahead_s > 0.0) {
