@@ -11,11 +11,9 @@
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
-#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -45,13 +43,9 @@ double rpmToRadPerS(double rpm) { return rpm * 2.0 * M_PI / 60.0; }
 // Wall-time limit of reading a snapshot in the reader process [s].
 constexpr double kRestoreTimeout = 20.0;
 
-// This executable, which also reads snapshots (main: --read-snapshot).
-std::string thisExecutable() {
-  char buf[PATH_MAX];
-  const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
-  if (n <= 0) throw std::runtime_error(std::string("/proc/self/exe: ") + std::strerror(errno));
-  return std::string(buf, static_cast<std::size_t>(n));
-}
+// This executable, which also reads snapshots (main: --read-snapshot). The
+// link of the process itself: it still works after a rebuild replaced the file.
+const char* const kThisExecutable = "/proc/self/exe";
 
 class WindingCell {
  public:
@@ -76,7 +70,6 @@ class WindingCell {
     if (!(state_rate_ > 0.0) || !(marker_rate_ > 0.0)) {
       throw std::invalid_argument("~state_rate and ~marker_rate must be positive [Hz]");
     }
-    executable_ = thisExecutable();
     setScene(cws::loadScene(scene_path_, overrides_));
     sim_ = std::make_unique<cws::Simulation>(scene_);
     speed_setpoint_ = rpmToRadPerS(scene_.process.core_speed_rpm);
@@ -483,7 +476,7 @@ class WindingCell {
     // reader or exhaust the memory, which must not take this node with it.
     try {
       const cws::SimulationState state = cws_ros::fromSnapshotMsg(
-          cws_ros::readSnapshotBagIsolated(req.path, executable_, kRestoreTimeout));
+          cws_ros::readSnapshotBagIsolated(req.path, kThisExecutable, kRestoreTimeout));
       auto restored = cws::Simulation::fromState(state);
       // Its setpoints pass the checks of the setpoint topics.
       const cws::Scene& scene = restored->scene();
@@ -540,7 +533,6 @@ class WindingCell {
   double stamp_tolerance_ = 1.0;  // [s] of the node's clock
   bool publish_clock_ = false, stop_at_end_ = true;
   cws_ros::Frames frames_;
-  std::string executable_;  // this program, the snapshot reader
 
   std::mutex sim_mutex_;  // guards everything below but the atomics
   cws::Scene scene_;
