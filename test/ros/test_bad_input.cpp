@@ -411,6 +411,15 @@ TEST(BadInput, RestoreOfBadFiles) {
 
   // (file, what its refusal must say besides its path)
   std::vector<std::pair<std::string, std::string>> bad;
+  // Removes the files also when an assertion below ends the test early.
+  struct Cleanup {
+    const std::string& good;
+    const std::vector<std::pair<std::string, std::string>>& bad;
+    ~Cleanup() {
+      fs::remove(good);
+      for (const auto& b : bad) fs::remove(b.first);
+    }
+  } cleanup{good, bad};
   // Truncated: the bag's magic only, half of it, all but the last byte.
   for (std::size_t size : {std::size_t{13}, bytes.size() / 2, bytes.size() - 1}) {
     const std::string path = tmpPath("truncated_" + std::to_string(size) + ".bag");
@@ -490,9 +499,7 @@ TEST(BadInput, RestoreOfBadFiles) {
         << "expected '" << says << "' in: " << res.message;
     std::printf("%s: %s\n", fs::path(path).filename().c_str(), res.message.c_str());
     expectRunWentOn(before, delete_all, "restore of " + path);
-    fs::remove(path);
   }
-  fs::remove(good);
 }
 
 // Restore while paused: the restored run stays paused at the snapshot's
