@@ -15,6 +15,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -36,6 +38,15 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
+double rpmToRadPerS(double rpm) { return rpm * 2.0 * M_PI / 60.0; }
+
+// Wall-time limit of reading a snapshot in the reader process [s].
+constexpr double kRestoreTimeout = 20.0;
+
+// This executable, which also reads snapshots (main: --read-snapshot). The
+// link of the process itself: it still works after a rebuild replaced the file.
+const char* const kThisExecutable = "/proc/self/exe";
+
 class WindingCell {
  public:
   WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh), diagnostics_(nh, pnh) {
@@ -49,15 +60,19 @@ class WindingCell {
     pnh_.param<std::string>("world_frame", frames_.world, "world");
     pnh_.param<std::string>("core_frame", frames_.core, "core");
     pnh_.param<std::string>("port_frame", frames_.port, "supply_port");
+    pnh_.param("setpoint_stamp_tolerance", stamp_tolerance_, 1.0);
     if (!(target_rtf_ >= 0.0) || !std::isfinite(target_rtf_)) {
       throw std::invalid_argument("~real_time_factor must be >= 0 (0: as fast as possible)");
+    }
+    if (!(stamp_tolerance_ >= 0.0) || !std::isfinite(stamp_tolerance_)) {
+      throw std::invalid_argument("~setpoint_stamp_tolerance must be a finite number >= 0 [s]");
     }
     if (!(state_rate_ > 0.0) || !(marker_rate_ > 0.0)) {
       throw std::invalid_argument("~state_rate and ~marker_rate must be positive [Hz]");
     }
-    scene_ = cws::loadScene(scene_path_, overrides_);
+    setScene(cws::loadScene(scene_path_, overrides_));
     sim_ = std::make_unique<cws::Simulation>(scene_);
-    speed_setpoint_ = scene_.process.core_speed_rpm * 2.0 * M_PI / 60.0;
+    speed_setpoint_ = rpmToRadPerS(scene_.process.core_speed_rpm);
     tension_setpoint_ = scene_.process.tension;
 
     state_pub_ = nh_.advertise<coil_winding_sim::WireState>("wire_state", 5);
@@ -82,7 +97,8 @@ class WindingCell {
   // The simulation loop; returns when ROS shuts down.
   void run() {
     restartPace();
-    auto next_state = Clock::now(), next_marker = Clock::now(), next_clock = Clock::now();
+    auto next_state = Clock::now(), next_marker = Clock::now(), next_clock = Clock::now(),
+         next_diagnostics = Clock::now();
     while (ros::ok()) {
       bool done = false;
       {
@@ -90,6 +106,7 @@ class WindingCell {
         applySetpoints();
         if (!paused_ && !failed_ && !finished()) advanceChunk();
         done = paused_ || failed_ || finished();
+        clock_s_ = stamp().toSec();
       }
       const auto now = Clock::now();
       if (publish_clock_ && now >= next_clock) {
@@ -106,7 +123,13 @@ class WindingCell {
         next_marker = now + std::chrono::duration_cast<Clock::duration>(
                                 std::chrono::duration<double>(1.0 / marker_rate_));
       }
-      diagnostics_.update();
+      // Once a second of wall time: the updater's own period counts ROS
+      // time, with ~publish_clock the simulated time (100 s of wall time
+      // between reports at a real-time factor of 0.01).
+      if (now >= next_diagnostics) {
+        diagnostics_.force_update();
+        next_diagnostics = now + std::chrono::seconds(1);
+      }
       // Ahead of the target pace (or idle): wait a little.
       const double ahead_s = aheadOfPace();
       if (done || ahead_s > 0.0) {
@@ -231,32 +254,140 @@ class WindingCell {
   }
 
   // ---- setpoints ---------------------------------------------------------------
-  // Checked here, applied by the simulation loop between chunks.
+  // Checked here, applied by the simulation loop between chunks. Neither
+  // takes the simulation's lock: a burst of setpoints cannot hold up the
+  // simulation or the services.
   void onSpeed(const coil_winding_sim::CoreSpeedSetpoint::ConstPtr& msg) {
     const double w = msg->angular_velocity;
-    const double limit = scene_.process.max_core_speed_rpm * 2.0 * M_PI / 60.0;
+    const double limit = max_speed_;
     if (!std::isfinite(w) || std::abs(w) > limit) {
-      ROS_WARN_THROTTLE(1.0,
-                        "winding_cell: refused core_speed_setpoint %g rad/s (finite, |w| <= %g "
-                        "rad/s = process.max_core_speed_rpm); keeping %g rad/s",
-                        w, limit, speed_setpoint_.load());
+      warn(speed_gate_.value_warning, "refused core_speed_setpoint " + number(w) +
+                                          " rad/s (finite, |w| <= " + number(limit) +
+                                          " rad/s = process.max_core_speed_rpm); keeping " +
+                                          number(speed_setpoint_) + " rad/s");
       return;
     }
-    speed_setpoint_ = w;
-    setpoints_changed_ = true;
+    if (admitStamp("core_speed_setpoint", msg->header.stamp, speed_gate_)) {
+      speed_setpoint_ = w;
+      setpoints_changed_ = true;
+    }
   }
 
   void onTension(const coil_winding_sim::TensionSetpoint::ConstPtr& msg) {
     const double f = msg->tension;
-    if (!std::isfinite(f) || f < 0.0 || f > scene_.process.max_tension) {
-      ROS_WARN_THROTTLE(1.0,
-                        "winding_cell: refused tension_setpoint %g N (finite, 0 .. %g N = "
-                        "process.max_tension); keeping %g N",
-                        f, scene_.process.max_tension, tension_setpoint_.load());
+    const double limit = max_tension_;
+    if (!std::isfinite(f) || f < 0.0 || f > limit) {
+      warn(tension_gate_.value_warning,
+           "refused tension_setpoint " + number(f) + " N (finite, 0 .. " + number(limit) +
+               " N = process.max_tension); keeping " + number(tension_setpoint_) + " N");
       return;
     }
-    tension_setpoint_ = f;
-    setpoints_changed_ = true;
+    if (admitStamp("tension_setpoint", msg->header.stamp, tension_gate_)) {
+      tension_setpoint_ = f;
+      setpoints_changed_ = true;
+    }
+  }
+
+  // Warnings at most once a second of wall time, with the number left out.
+  // (ROS_WARN_THROTTLE counts ROS time: with ~publish_clock that is the
+  // simulated time, and one second of it can take minutes.)
+  class WallThrottle {
+   public:
+    // True when a warning is due; `skipped` is the number suppressed since.
+    bool due(int& skipped) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      const auto now = Clock::now();
+      if (warned_ && now - last_ < std::chrono::seconds(1)) {
+        ++skipped_;
+        return false;
+      }
+      warned_ = true;
+      last_ = now;
+      skipped = skipped_;
+      skipped_ = 0;
+      return true;
+    }
+
+   private:
+    std::mutex mutex_;
+    bool warned_ = false;
+    Clock::time_point last_;
+    int skipped_ = 0;
+  };
+
+  static void warn(WallThrottle& throttle, const std::string& text) {
+    int skipped = 0;
+    if (!throttle.due(skipped)) return;
+    if (skipped > 0) {
+      ROS_WARN("winding_cell: %s (and %d more like it since the last report)", text.c_str(),
+               skipped);
+    } else {
+      ROS_WARN("winding_cell: %s", text.c_str());
+    }
+  }
+
+  static std::string number(double v, const char* format = "%g") {
+    char text[64];
+    std::snprintf(text, sizeof text, format, v);
+    return text;
+  }
+
+  // A setpoint topic's memory of stamps and its warnings.
+  struct SetpointGate {
+    ros::Time last_stamp;  // of the last applied setpoint (stamp_mutex_)
+    WallThrottle value_warning, future_warning, order_warning;
+  };
+
+  // The node's clock: its own /clock with ~publish_clock, else ROS time.
+  ros::Time nodeClock() const {
+    return publish_clock_ ? ros::Time(clock_s_.load()) : ros::Time::now();
+  }
+
+  // Setpoint stamps (README, "Setpoint stamps"): zero is always admitted; a
+  // stamp more than ~setpoint_stamp_tolerance ahead of the node's clock is
+  // refused, and so is one older than that of the topic's last applied
+  // setpoint. An admitted stamp becomes the topic's last.
+  bool admitStamp(const char* topic, const ros::Time& stamp, SetpointGate& gate) {
+    if (stamp.isZero()) return true;
+    std::lock_guard<std::mutex> lock(stamp_mutex_);
+    const ros::Time clock = nodeClock();
+    // The clock went back (another node's /clock, e.g. a looping bag):
+    // stamps of the new time line must not lose against the old one.
+    if (clock < last_clock_seen_) clearStamps();
+    last_clock_seen_ = clock;
+    // Without ~publish_clock and before the first /clock, ROS time is zero:
+    // there is no clock to compare with yet.
+    const bool have_clock = publish_clock_ || !clock.isZero();
+    if (have_clock && stamp.toSec() > clock.toSec() + stamp_tolerance_) {
+      warn(gate.future_warning, "refused " + std::string(topic) + " stamped " +
+                                    number(stamp.toSec(), "%.6f") + " s: more than " +
+                                    number(stamp_tolerance_) +
+                                    " s (~setpoint_stamp_tolerance) ahead of the node's clock " +
+                                    number(clock.toSec(), "%.6f") + " s");
+      return false;
+    }
+    if (stamp < gate.last_stamp) {
+      warn(gate.order_warning, "dropped " + std::string(topic) + " stamped " +
+                                   number(stamp.toSec(), "%.6f") +
+                                   " s: out of order, older than the last applied one (" +
+                                   number(gate.last_stamp.toSec(), "%.6f") + " s)");
+      return false;
+    }
+    gate.last_stamp = stamp;
+    return true;
+  }
+
+  // Forgets the stamps of the last applied setpoints (stamp_mutex_ held).
+  void clearStamps() {
+    speed_gate_.last_stamp = ros::Time();
+    tension_gate_.last_stamp = ros::Time();
+  }
+
+  // Makes `scene` the scene in use (its limits apply to the setpoints).
+  void setScene(const cws::Scene& scene) {
+    scene_ = scene;
+    max_speed_ = rpmToRadPerS(scene_.process.max_core_speed_rpm);
+    max_tension_ = scene_.process.max_tension;
   }
 
   void applySetpoints() {
@@ -268,10 +399,17 @@ class WindingCell {
   // ---- services ----------------------------------------------------------------
   bool onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
     try {
-      auto fresh = std::make_unique<cws::Simulation>(scene_);
+      // A copy of the scene: a concurrent restore may replace it.
+      cws::Scene scene;
+      {
+        std::lock_guard<std::mutex> lock(sim_mutex_);
+        scene = scene_;
+      }
+      auto fresh = std::make_unique<cws::Simulation>(scene);
       std::lock_guard<std::mutex> lock(sim_mutex_);
+      setScene(scene);
       replace(std::move(fresh));
-      speed_setpoint_ = scene_.process.core_speed_rpm * 2.0 * M_PI / 60.0;
+      speed_setpoint_ = rpmToRadPerS(scene_.process.core_speed_rpm);
       tension_setpoint_ = scene_.process.tension;
       res.success = true;
       res.message = "reset to the scene's initial state";
@@ -334,12 +472,29 @@ class WindingCell {
   bool onRestore(coil_winding_sim::Restore::Request& req,
                  coil_winding_sim::Restore::Response& res) {
     // Read and rebuild outside the lock; swap only a complete simulation.
+    // The file is read in a child process: a corrupt bag can crash rosbag's
+    // reader or exhaust the memory, which must not take this node with it.
     try {
-      const cws::SimulationState state =
-          cws_ros::fromSnapshotMsg(cws_ros::readSnapshotBag(req.path));
+      const cws::SimulationState state = cws_ros::fromSnapshotMsg(
+          cws_ros::readSnapshotBagIsolated(req.path, kThisExecutable, kRestoreTimeout));
       auto restored = cws::Simulation::fromState(state);
+      // Its setpoints pass the checks of the setpoint topics.
+      const cws::Scene& scene = restored->scene();
+      const double speed = state.model.core[3];
+      const double speed_limit = rpmToRadPerS(scene.process.max_core_speed_rpm);
+      if (restored->model().core() && std::abs(speed) > speed_limit) {
+        throw std::runtime_error("'" + req.path + "': its core speed setpoint " + number(speed) +
+                                 " rad/s exceeds its scene's process.max_core_speed_rpm (" +
+                                 number(speed_limit) + " rad/s)");
+      }
+      if (restored->model().supply() && state.model.tension_N > scene.process.max_tension) {
+        throw std::runtime_error("'" + req.path + "': its tension " +
+                                 number(state.model.tension_N) +
+                                 " N exceeds its scene's process.max_tension (" +
+                                 number(scene.process.max_tension) + " N)");
+      }
       std::lock_guard<std::mutex> lock(sim_mutex_);
-      scene_ = restored->scene();
+      setScene(scene);
       replace(std::move(restored));
       speed_setpoint_ = state.model.core[3];
       tension_setpoint_ = sim_->model().supply() ? state.model.tension_N : scene_.process.tension;
@@ -353,10 +508,17 @@ class WindingCell {
   }
 
   // Swaps in a new simulation (lock held): the clock stays monotonic, rviz
-  // gets a DELETEALL, pacing restarts.
+  // gets a DELETEALL, pacing restarts, the pause state stays, a pending
+  // ~run_until is dropped and the setpoint stamps are forgotten (a new run:
+  // a client may start its stamps anew).
   void replace(std::unique_ptr<cws::Simulation> next) {
     clock_offset_ += sim_->time() - next->time();
     sim_ = std::move(next);
+    clock_s_ = stamp().toSec();
+    {
+      std::lock_guard<std::mutex> lock(stamp_mutex_);
+      clearStamps();
+    }
     run_until_.reset();
     failed_ = false;
     failure_.clear();
@@ -368,6 +530,7 @@ class WindingCell {
   std::string scene_path_;
   std::vector<std::string> overrides_;
   double target_rtf_ = 1.0, state_rate_ = 20.0, marker_rate_ = 10.0;
+  double stamp_tolerance_ = 1.0;  // [s] of the node's clock
   bool publish_clock_ = false, stop_at_end_ = true;
   cws_ros::Frames frames_;
 
@@ -382,6 +545,14 @@ class WindingCell {
   double pace_sim0_ = 0.0, rtf_sim_ = 0.0, measured_rtf_ = 0.0;
   std::atomic<double> speed_setpoint_{0.0}, tension_setpoint_{0.0};
   std::atomic<bool> setpoints_changed_{false};
+  // Limits of the scene in use: |speed| [rad/s], tension [N].
+  std::atomic<double> max_speed_{0.0}, max_tension_{0.0};
+  // The node's clock with ~publish_clock [s] (read by the setpoint callbacks).
+  std::atomic<double> clock_s_{0.0};
+
+  std::mutex stamp_mutex_;  // guards the stamps below
+  SetpointGate speed_gate_, tension_gate_;
+  ros::Time last_clock_seen_;
 
   ros::Publisher state_pub_, metrics_pub_, marker_pub_, clock_pub_;
   ros::Subscriber speed_sub_, tension_sub_;
@@ -393,6 +564,10 @@ class WindingCell {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The snapshot reader process of ~restore (cws_ros::readSnapshotBagIsolated).
+  if (argc == 3 && std::strcmp(argv[1], cws_ros::kReadSnapshotArg) == 0) {
+    return cws_ros::snapshotReaderMain(argv[2], cws_ros::kSnapshotReaderFd);
+  }
   ros::init(argc, argv, "winding_cell");
   ros::NodeHandle nh, pnh("~");
   std::unique_ptr<WindingCell> cell;
