@@ -78,7 +78,19 @@ std::vector<Case> matrixCases() {
   cases.push_back({"segment_0.2mm", "segments of 0.2 mm, 1/10 turn",
                    {"wire.segment_length=2e-4", "process.turns=0.1"},
                    {}});
+  // The paper's 2.5 mm cylinders refuse segments longer than their radius
+  // (a segment could pass through one); a core of 5 mm cylinders takes them.
   cases.push_back({"segment_5mm", "segments of 5 mm", {"wire.segment_length=5e-3"}, {}});
+  cases.push_back({"segment_5mm_core_r5mm",
+                   "segments of 5 mm on a core of 5 mm-radius cylinders (25 x 15 mm)",
+                   {"wire.segment_length=5e-3",
+                    "core.cylinders=[{center: [7.5e-3, 2.5e-3], radius: 5e-3}, "
+                    "{center: [-7.5e-3, 2.5e-3], radius: 5e-3}, "
+                    "{center: [-7.5e-3, -2.5e-3], radius: 5e-3}, "
+                    "{center: [7.5e-3, -2.5e-3], radius: 5e-3}]",
+                    "start.position=[7.5e-3, -8.0e-3, 0]",
+                    "supply.port_position=[-27.5e-3, -8.0e-3, 0]"},
+                   {}});
   cases.push_back({"core_20000rpm", "core speed 0 -> 20,000 rpm in one instant at t = 0",
                    {"process.core_speed_rpm=20000", "process.max_core_speed_rpm=20000",
                     "core.start_at_speed=false", "core.max_angular_acceleration=1e12"},
