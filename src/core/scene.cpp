@@ -1,5 +1,6 @@
 #include "coil_winding_sim/core/scene.hpp"
 
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -633,8 +634,9 @@ std::string clampText(const Scene& s) {
 
 // The keys the estimate of the drawn-in wire depends on, for its message.
 const char* kSupplyEstimateKeys =
-    "process.turns or process.duration, process.core_speed_rpm, the size of core.cylinders "
-    "and core.faces, supply.port_position, wire.segment_length";
+    "process.turns or process.duration, process.core_speed_rpm (with its ramp at "
+    "core.max_angular_acceleration when core.start_at_speed is false), the size of "
+    "core.cylinders and core.faces, supply.port_position, wire.segment_length";
 }  // namespace
 
 int Scene::segmentCount() const {
@@ -946,22 +948,58 @@ void validateScene(const Scene& s) {
 }
 
 namespace {
+// Records where each document starts, ignoring everything else.
+class DocumentStarts : public YAML::EventHandler {
+ public:
+  std::vector<YAML::Mark> starts;
+  void OnDocumentStart(const YAML::Mark& mark) override { starts.push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
 // The one YAML document of `text` (null if it has none), refused under
 // `key` with `what` (the file) named: text that is not YAML (yaml-cpp's
-// message gives line and column), and more than one document, of which
-// YAML::Load would silently drop all but the first.
+// message gives line and column), more than one document (YAML::Load would
+// silently drop all but the first), and text yaml-cpp cannot read on after
+// its first document (a stray ',' or ']' at the top level, which
+// YAML::Load silently drops; YAML::LoadAll never returns on it and
+// allocates until memory runs out, yaml-cpp 0.7 issue 1040). The documents
+// are therefore counted by the parser, a bounded number of times.
 YAML::Node parseOne(const std::string& text, const std::string& key, const std::string& what) {
-  std::vector<YAML::Node> docs;
+  YAML::Node doc;
+  DocumentStarts docs;
   try {
-    docs = YAML::LoadAll(text);
+    doc = YAML::Load(text);
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    while (docs.starts.size() < 3 && parser.HandleNextDocument(docs)) {
+    }
   } catch (const YAML::Exception& e) {
     throw SceneError(key, what + " is not valid YAML: " + printable(e.what(), 300));
   }
-  if (docs.size() > 1) {
-    throw SceneError(key, what + " holds " + std::to_string(docs.size()) +
-                              " YAML documents (separated by ---); a scene is one");
+  for (std::size_t i = 1; i < docs.starts.size(); ++i) {
+    const YAML::Mark& m = docs.starts[i];
+    if (m.pos == docs.starts[i - 1].pos) {
+      throw SceneError(key, what + " is not valid YAML: at line " + std::to_string(m.line + 1) +
+                                ", column " + std::to_string(m.column + 1) +
+                                " the text cannot be read on (a stray ',' or bracket?)");
+    }
   }
-  return docs.empty() ? YAML::Node() : docs.front();
+  if (docs.starts.size() > 1) {
+    throw SceneError(key, what +
+                              " holds more than one YAML document (separated by ---); a "
+                              "scene is one");
+  }
+  return doc;
 }
 
 // Scene files are small; anything larger (such as /dev/zero) is not one.
@@ -971,24 +1009,25 @@ constexpr std::size_t kMaxSceneFileBytes = 16u << 20;
 // opened or read (an I/O error), and a file too large to be a scene are
 // refused by its path.
 std::string readSceneFile(const std::string& path) {
+  const std::string shown = printable(path, 4096);  // a path may hold any bytes
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
-    throw SceneError("(file)", "'" + path + "' is a directory, not a scene file");
+    throw SceneError("(file)", "'" + shown + "' is a directory, not a scene file");
   }
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) {
-    throw SceneError("(file)", "cannot open scene file '" + path + "': " + std::strerror(errno));
+    throw SceneError("(file)", "cannot open scene file '" + shown + "': " + std::strerror(errno));
   }
   std::string text;
   char buf[1 << 16];
   for (std::size_t got; (got = std::fread(buf, 1, sizeof buf, f.get())) > 0;) {
     text.append(buf, got);
     if (text.size() > kMaxSceneFileBytes) {
-      throw SceneError("(file)", "'" + path + "' is larger than 16 MiB, not a scene file");
+      throw SceneError("(file)", "'" + shown + "' is larger than 16 MiB, not a scene file");
     }
   }
   if (std::ferror(f.get())) {
-    throw SceneError("(file)", "cannot read scene file '" + path + "': " + std::strerror(errno));
+    throw SceneError("(file)", "cannot read scene file '" + shown + "': " + std::strerror(errno));
   }
   return text;
 }
@@ -996,30 +1035,31 @@ std::string readSceneFile(const std::string& path) {
 // Merges the scene file at `path` into root: first its `base` file (a path
 // relative to it), if it names one, then its own keys.
 void mergeFile(YAML::Node root, const std::string& path, int depth) {
-  if (depth > 8) throw SceneError("base", "more than 8 nested base files at '" + path + "'");
+  const std::string shown = printable(path, 4096);  // a path may hold any bytes
+  if (depth > 8) throw SceneError("base", "more than 8 nested base files at '" + shown + "'");
   const std::string text = readSceneFile(path);
-  YAML::Node user = parseOne(text, "(file)", "'" + path + "'");
+  YAML::Node user = parseOne(text, "(file)", "'" + shown + "'");
   // An empty file is more likely a failed write (print-scene > file after an
   // error) than a wish for the defaults, which `{}` states.
   if (user.IsNull()) {
-    throw SceneError("(file)", "'" + path +
+    throw SceneError("(file)", "'" + shown +
                                    "' holds no settings (it is empty or only comments); write {} "
                                    "for a scene of the defaults");
   }
   if (!user.IsMap()) {
     throw SceneError("(top level)",
-                     "'" + path + "' must hold a map of keys, got " + describe(user));
+                     "'" + shown + "' must hold a map of keys, got " + describe(user));
   }
   keysOf(user, "");  // plain names, none twice (base included)
   if (user["base"]) {
     const YAML::Node base = user["base"];
-    if (!base.IsScalar()) throw SceneError("base", "expected a file name in '" + path + "'");
+    if (!base.IsScalar()) throw SceneError("base", "expected a file name in '" + shown + "'");
     const std::string dir = std::filesystem::path(path).parent_path().string();
     try {
       mergeFile(root, (std::filesystem::path(dir) / base.Scalar()).string(), depth + 1);
     } catch (const SceneError& e) {
       // Name the file that asked for the base too.
-      throw SceneError(e.key(), e.why() + " (in the base file of '" + path + "')");
+      throw SceneError(e.key(), e.why() + " (in the base file of '" + shown + "')");
     }
     user.remove("base");
   }

@@ -403,7 +403,7 @@ TEST_F(WireSimCli, BadSceneFilesAreNamed) {
       {write("broken.yaml", "wire: {diameter: [1\n"), "not valid YAML"},
       {write("tab.yaml", "wire:\n\tdiameter: 1.0e-3\n"), "not valid YAML"},
       {write("two_docs.yaml", "process: {tension: 40}\n---\nprocess: {tension: 50}\n"),
-       "2 YAML documents"},
+       "more than one YAML document"},
       {"/dev/zero", "larger than 16 MiB"},
   };
   for (const auto& [scene, why] : cases) {
