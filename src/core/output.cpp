@@ -20,20 +20,44 @@ std::string num(double v) {
   return s.str();
 }
 
-void writeAtomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".partial";
-  {
+// The files writeOutputs writes.
+const char* const kOutputFiles[] = {"summary.json", "wire.csv", "shape_core.csv"};
+}  // namespace
+
+void writeFileAtomically(const std::string& path, const std::string& text) {
+  const fs::path tmp = path + ".partial";
+  std::error_code ec;
+  try {
     std::ofstream f(tmp);
     if (!f) throw std::runtime_error("cannot write '" + tmp.string() + "'");
     f << text;
     f.flush();
     if (!f) throw std::runtime_error("failed writing '" + tmp.string() + "'");
+  } catch (...) {
+    fs::remove(tmp, ec);  // no half-written file left behind
+    throw;
   }
-  std::error_code ec;
   fs::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error("cannot rename to '" + path.string() + "': " + ec.message());
+  if (ec) {
+    const std::string why = ec.message();
+    fs::remove(tmp, ec);
+    throw std::runtime_error("cannot rename to '" + path + "': " + why);
+  }
 }
-}  // namespace
+
+void removeOutputs(const std::string& dir) {
+  for (const char* name : kOutputFiles) {
+    for (const char* suffix : {"", ".partial"}) {
+      const fs::path p = fs::path(dir) / (std::string(name) + suffix);
+      std::error_code ec;
+      fs::remove(p, ec);
+      if (ec) {
+        throw std::runtime_error("cannot remove the earlier result '" + p.string() +
+                                 "': " + ec.message());
+      }
+    }
+  }
+}
 
 void writeSummaryJson(const Simulation& sim, std::ostream& out) {
   const EnergyReport e = sim.energy();
@@ -126,13 +150,13 @@ void writeOutputs(const Simulation& sim, const std::string& dir) {
   std::ostringstream summary, csv;
   writeSummaryJson(sim, summary);
   writeWireCsv(sim, csv);
-  writeAtomically(fs::path(dir) / "wire.csv", csv.str());
+  writeFileAtomically((fs::path(dir) / "wire.csv").string(), csv.str());
   if (sim.model().core() && !sim.scene().core.cylinders.empty()) {
     std::ostringstream shape;
     writeShapeCsv(sim, shape);
-    writeAtomically(fs::path(dir) / "shape_core.csv", shape.str());
+    writeFileAtomically((fs::path(dir) / "shape_core.csv").string(), shape.str());
   }
-  writeAtomically(fs::path(dir) / "summary.json", summary.str());
+  writeFileAtomically((fs::path(dir) / "summary.json").string(), summary.str());
 }
 
 }  // namespace cws

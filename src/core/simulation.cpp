@@ -116,13 +116,15 @@ void Simulation::checkCollapse() {
   throw IntegrationError(msg.str());
 }
 
-void Simulation::run(const std::function<void(const Simulation&)>& progress) {
+void Simulation::run(const std::function<void(const Simulation&)>& progress,
+                     const std::function<bool()>& stop) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   const double wall0 = wall_s_;
   auto last_report = start;
   const auto interval = std::chrono::duration<double>(scene_.output.progress_interval_s);
   while (t_ < t_end_) {
+    if (stop && stop()) break;
     step(t_end_);
     const auto now = Clock::now();
     if (progress && now - last_report >= interval) {

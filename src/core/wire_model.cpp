@@ -36,39 +36,19 @@ WireConstants constantsOf(const Scene& s) {
   WireConstants c;
   c.line_density = s.wire.line_density;
   c.radius = 0.5 * s.wire.diameter;
+  // Point counts and storage come from the scene, which validated them.
+  c.n = static_cast<int>(s.initialPoints());
+  c.capacity = static_cast<int>(s.pointCapacity());
   if (!s.physics.supply) {
     // A wire of fixed length: eq. (1), M = rho L / n.
-    c.n = s.segmentCount() + 1;
     c.segment_length = s.naturalSegmentLength();
     c.point_mass = s.wire.line_density * s.wire.length / c.n;
-    c.capacity = c.n;
   } else {
     // A drawn-in wire: straight from the clamp towards the port, segments of
     // exactly segment_length, the last point within one segment of the port;
     // every point (new ones too) carries rho l, eq. (1) for n -> infinity.
     c.segment_length = s.wire.segment_length;
-    const double span = (s.supply.port_position_world - clampStartWorld(s)).norm();
-    c.n = static_cast<int>(std::ceil(span / c.segment_length - 1e-9));
     c.point_mass = s.wire.line_density * c.segment_length;
-    if (s.supply.max_points > 0) {
-      c.capacity = std::max(c.n, s.supply.max_points);
-    } else {
-      // Wound length <= core angle x largest radius of the core, plus the
-      // free span; 20 % margin.
-      double r_max = 0.0;
-      const Eigen::Vector3d axis = s.core.axis_world.normalized();
-      for (const CylinderParams& cyl : s.core.cylinders) {
-        r_max = std::max(r_max, cyl.center_core.norm() + cyl.radius + c.radius);
-      }
-      for (const FaceParams& f : s.core.faces) {
-        r_max = std::max({r_max, f.from_core.norm() + c.radius, f.to_core.norm() + c.radius});
-      }
-      const double angle = std::abs(coreSpeedCommand(s)) * s.endTime();
-      Eigen::Vector3d port_rel = s.supply.port_position_world - s.core.position_world;
-      port_rel -= port_rel.dot(axis) * axis;
-      const double fed = angle * r_max + 2.0 * port_rel.norm();
-      c.capacity = c.n + static_cast<int>(std::ceil(1.2 * fed / c.segment_length)) + 8;
-    }
   }
   c.point_inertia = 0.4 * c.point_mass * c.radius * c.radius;
   c.point_length = c.point_mass / c.line_density;
@@ -417,6 +397,19 @@ void WireModel::acceptStep(double t, Eigen::VectorXd& y) {
   if (core_) core_->commit(t);
   if (supply_) {
     while (portDistance(t, committed_) > supply_->boundaryLength()) appendPoint(t, y);
+    // The supply only feeds wire in (section IV): wire drawn back out past
+    // the port (the core turning backwards) would leave the boundary
+    // segment pointing the wrong way through the port, so the run stops at
+    // the accepted state before it.
+    const double d = portDistance(t, committed_);
+    if (d < 0.0) {
+      std::ostringstream msg;
+      msg << "at t = " << t << " s the wire is drawn back out through the supply port (its last "
+          << "point is " << -d << " m past supply.port_position): the supply only feeds wire "
+          << "in, so a core turning backwards (a negative core speed) cannot be simulated "
+          << "with physics.supply";
+      throw IntegrationError(msg.str());
+    }
   }
   if (carry_) updateCarried(t, y);
 }

@@ -2,7 +2,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <mutex>
@@ -76,12 +75,8 @@ void runCase(const std::string& scene_path, const std::vector<std::string>& over
   }
 }
 
-void writeFile(const fs::path& path, const std::string& text) {
-  std::ofstream f(path);
-  f << text;
-  if (!f) throw std::runtime_error("cannot write '" + path.string() + "'");
-}
-
+// The study's tables in DIR.
+const char* const kTables[] = {"study.csv", "study.md", "core_cylinders.csv"};
 }  // namespace
 
 int runStudy(const std::string& scene_path, const std::vector<std::string>& overrides,
@@ -103,6 +98,14 @@ int runStudy(const std::string& scene_path, const std::vector<std::string>& over
                std::to_string(static_cast<int>(tension)) + "N";
       cases.push_back(c);
     }
+  }
+  // Results of an earlier study go first: a case that fails now, or a study
+  // that is stopped, must not leave an earlier case's summary or table.
+  for (const Case& c : cases) cws::removeOutputs((fs::path(dir) / c.name).string());
+  for (const char* t : kTables) {
+    std::error_code ec;
+    fs::remove(fs::path(dir) / t, ec);
+    if (ec) throw std::runtime_error("cannot remove '" + (fs::path(dir) / t).string() + "'");
   }
   std::mutex log;
   forEachParallel(cases.size(), jobs,
@@ -139,9 +142,9 @@ int runStudy(const std::string& scene_path, const std::vector<std::string>& over
   for (const cws::CylinderParams& c : scene.core.cylinders) {
     cyl << c.center_core.x() << ',' << c.center_core.y() << ',' << c.radius << '\n';
   }
-  writeFile(fs::path(dir) / "study.csv", csv.str());
-  writeFile(fs::path(dir) / "study.md", md.str());
-  writeFile(fs::path(dir) / "core_cylinders.csv", cyl.str());
+  cws::writeFileAtomically((fs::path(dir) / "study.csv").string(), csv.str());
+  cws::writeFileAtomically((fs::path(dir) / "study.md").string(), md.str());
+  cws::writeFileAtomically((fs::path(dir) / "core_cylinders.csv").string(), cyl.str());
   std::cout << md.str();
   return all_ok ? 0 : 1;
 }

@@ -6,10 +6,14 @@
 //   wire_sim work-precision [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
 //   wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]
 //                      [--budget SECONDS]
+#include <signal.h>
+
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -41,7 +45,12 @@ const char* kUsage =
     "stability runs the extreme cases of docs/STABILITY.md (those whose name contains\n"
     "NAME) with every integrator, checks each run against the stability criteria and\n"
     "writes DIR/STABILITY.md and DIR/stability.csv (default out/stability); a run\n"
-    "longer than SECONDS of wall time (default 1800) is stopped and reported.\n";
+    "longer than SECONDS of wall time (default 1800) is stopped and reported.\n"
+    "Exit status: 0 done; 1 the run failed; 2 bad command line, scene or --out (nothing\n"
+    "is run); 130 / 143 a run stopped by SIGINT (Ctrl-C) / SIGTERM, which ends it after\n"
+    "the current step and writes no results (a second signal ends it at once). Before\n"
+    "running, the results of an earlier run in the output directory are removed, so a\n"
+    "failed or stopped run leaves no summary.json.\n";
 
 struct Args {
   std::string command;
@@ -49,14 +58,46 @@ struct Args {
   std::vector<std::string> overrides;
   std::string out;
   int jobs = 2;
-  std::string only;         // stability: cases whose name contains this
+  std::string only;          // stability: cases whose name contains this
   double budget_s = 1800.0;  // stability: wall time per run [s]
 };
 
-// Exit codes: 0 success, 1 the run failed, 2 bad command line or scene.
+// Exit codes: 0 success, 1 the run failed, 2 bad command line or scene,
+// 128 + N stopped by signal N.
 int usageError(const std::string& msg) {
   std::cerr << "wire_sim: " << msg << "\n" << kUsage;
   return 2;
+}
+
+// An output directory that cannot be used (exit 2, like a bad option).
+class OutDirError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Creates and probes the output directory; a failure is the --out option's.
+void checkOut(const std::string& dir) {
+  try {
+    cws::checkOutputDir(dir);
+  } catch (const std::exception& e) {
+    throw OutDirError(std::string("bad --out: ") + e.what());
+  }
+}
+
+// SIGINT / SIGTERM during `run`: the signal number, and the run stops after
+// its current step. SA_RESETHAND restores the default action, so a second
+// signal ends the process at once (a step that never ends).
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+void onStopSignal(int sig) { g_stop_signal = sig; }
+
+void installStopHandlers() {
+  struct sigaction sa {};
+  sa.sa_handler = onStopSignal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
 }
 
 std::string defaultScene() {
@@ -68,42 +109,58 @@ std::string defaultScene() {
 
 int run(const Args& a) {
   const std::string scene_path = a.scene.empty() ? defaultScene() : a.scene;
-  if (a.command == "work-precision") {
-    return cws_tools::runWorkPrecision(scene_path, a.overrides,
-                                       a.out.empty() ? "out/work_precision" : a.out, a.jobs);
-  }
-  if (a.command == "stability") {
-    return cws_tools::runStability(scene_path, a.overrides,
-                                   a.out.empty() ? "out/stability" : a.out, a.jobs, a.only,
-                                   a.budget_s);
-  }
-  if (a.command == "study") {
-    return cws_tools::runStudy(scene_path, a.overrides, a.out.empty() ? "out/study" : a.out,
-                               a.jobs);
-  }
+  // The scene first (a refused scene leaves the output directory untouched),
+  // then the output directory; both before anything runs.
   const cws::Scene scene = cws::loadScene(scene_path, a.overrides);
   if (a.command == "print-scene") {
     std::cout << cws::sceneToYamlText(scene);
     return 0;
   }
-  // Refuse an unusable output directory before running, and remove results
-  // of an earlier run so that a failed run leaves no valid-looking summary.
+  if (a.command == "work-precision") {
+    const std::string out = a.out.empty() ? "out/work_precision" : a.out;
+    checkOut(out);
+    return cws_tools::runWorkPrecision(scene_path, a.overrides, out, a.jobs);
+  }
+  if (a.command == "stability") {
+    const std::string out = a.out.empty() ? "out/stability" : a.out;
+    checkOut(out);
+    return cws_tools::runStability(scene_path, a.overrides, out, a.jobs, a.only, a.budget_s);
+  }
+  if (a.command == "study") {
+    const std::string out = a.out.empty() ? "out/study" : a.out;
+    checkOut(out);
+    return cws_tools::runStudy(scene_path, a.overrides, out, a.jobs);
+  }
+  // Remove the results of an earlier run, so that a failed or stopped run
+  // leaves no valid-looking summary.
   const std::string out = a.out.empty() ? "out/run" : a.out;
-  cws::checkOutputDir(out);
-  for (const char* f : {"summary.json", "wire.csv", "shape_core.csv"}) {
-    std::filesystem::remove(std::filesystem::path(out) / f);
+  checkOut(out);
+  try {
+    cws::removeOutputs(out);
+  } catch (const std::exception& e) {
+    throw OutDirError(std::string("bad --out: ") + e.what());
   }
 
   cws::Simulation sim(scene);
   std::cerr << "wire_sim: " << sim.model().constants().n << " points, " << sim.stepper().name()
             << ", until t = " << sim.endTime() << " s\n";
-  sim.run([](const cws::Simulation& s) {
-    const double rtf = s.realTimeFactor();
-    const double remaining = rtf > 0.0 ? (s.endTime() - s.time()) / rtf : 0.0;
+  sim.run(
+      [](const cws::Simulation& s) {
+        const double rtf = s.realTimeFactor();
+        const double remaining = rtf > 0.0 ? (s.endTime() - s.time()) / rtf : 0.0;
+        std::fprintf(stderr,
+                     "  t = %.6f s of %.6f s, real-time factor %.3g, ~%.0f s left, step %.3g s\n",
+                     s.time(), s.endTime(), rtf, remaining, s.stepper().lastStep());
+      },
+      [] { return g_stop_signal != 0; });
+  if (g_stop_signal != 0) {
+    // Stopped: the state is not the scene's result, so nothing is written.
+    const int sig = g_stop_signal;
     std::fprintf(stderr,
-                 "  t = %.6f s of %.6f s, real-time factor %.3g, ~%.0f s left, step %.3g s\n",
-                 s.time(), s.endTime(), rtf, remaining, s.stepper().lastStep());
-  });
+                 "wire_sim: stopped by %s at t = %.6g s of %.6g s; no results written to %s\n",
+                 sig == SIGINT ? "SIGINT" : "SIGTERM", sim.time(), sim.endTime(), out.c_str());
+    return 128 + sig;
+  }
   cws::writeOutputs(sim, out);
   const cws::EnergyReport e = sim.energy();
   std::printf(
@@ -128,9 +185,15 @@ int run(const Args& a) {
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
-    std::cout << kUsage;
-    return args.empty() ? 2 : 0;
+  if (args.empty()) {
+    std::cerr << kUsage;
+    return 2;
+  }
+  for (const std::string& arg : args) {
+    if (arg == "--help" || arg == "-h") {
+      std::cout << kUsage;
+      return 0;
+    }
   }
   Args a;
   a.command = args[0];
@@ -138,54 +201,90 @@ int main(int argc, char** argv) {
       a.command != "work-precision" && a.command != "stability") {
     return usageError("unknown command '" + a.command + "'");
   }
+  const bool takes_out = a.command != "print-scene";
+  const bool takes_jobs =
+      a.command == "study" || a.command == "work-precision" || a.command == "stability";
+  const bool stability = a.command == "stability";
+  bool seen_scene = false, seen_out = false, seen_jobs = false, seen_only = false,
+       seen_budget = false;
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& opt = args[i];
-    auto value = [&](std::string& dst) -> bool {
-      if (i + 1 >= args.size()) return false;
-      dst = args[++i];
-      return true;
+    // The option's value: present and not empty (an empty --scene or --out,
+    // say from an unset shell variable, would silently mean the default).
+    std::string value;
+    auto take = [&](const char* what) -> std::string {
+      if (i + 1 >= args.size()) return opt + " needs " + what;
+      value = args[++i];
+      if (value.empty()) return opt + " needs " + what + ", got an empty argument";
+      return "";
     };
+    // Each of these options once: a second one would silently win.
+    auto once = [&](bool& seen) -> std::string {
+      if (seen) return opt + " given twice";
+      seen = true;
+      return "";
+    };
+    std::string problem;
     if (opt == "--scene") {
-      if (!value(a.scene)) return usageError("--scene needs a file");
+      problem = once(seen_scene);
+      if (problem.empty()) problem = take("a file");
+      a.scene = value;
     } else if (opt == "--set") {
-      std::string kv;
-      if (!value(kv)) return usageError("--set needs key.path=value");
-      a.overrides.push_back(kv);
-    } else if (opt == "--out" && a.command != "print-scene") {
-      if (!value(a.out)) return usageError("--out needs a directory");
-    } else if (opt == "--only" && a.command == "stability") {
-      if (!value(a.only)) return usageError("--only needs a case name");
-    } else if (opt == "--budget" && a.command == "stability") {
-      std::string b;
-      if (!value(b)) return usageError("--budget needs seconds");
-      try {
-        std::size_t used = 0;
-        a.budget_s = std::stod(b, &used);
-        if (used != b.size() || !(a.budget_s > 0.0) || !std::isfinite(a.budget_s)) {
-          throw std::invalid_argument(b);
+      problem = take("key.path=value");
+      a.overrides.push_back(value);
+    } else if (opt == "--out" && takes_out) {
+      problem = once(seen_out);
+      if (problem.empty()) problem = take("a directory");
+      a.out = value;
+    } else if (opt == "--jobs" && takes_jobs) {
+      problem = once(seen_jobs);
+      if (problem.empty()) problem = take("a number");
+      if (problem.empty()) {
+        try {
+          std::size_t used = 0;
+          a.jobs = std::stoi(value, &used);
+          if (used != value.size() || a.jobs < 1 || a.jobs > 64) {
+            throw std::invalid_argument(value);
+          }
+        } catch (const std::exception&) {
+          problem = "--jobs needs a whole number from 1 to 64, got '" + value + "'";
         }
-      } catch (const std::exception&) {
-        return usageError("--budget needs a positive number of seconds, got '" + b + "'");
       }
-    } else if (opt == "--jobs" && (a.command == "study" || a.command == "work-precision" ||
-                                   a.command == "stability")) {
-      std::string j;
-      if (!value(j)) return usageError("--jobs needs a number");
-      try {
-        std::size_t used = 0;
-        a.jobs = std::stoi(j, &used);
-        if (used != j.size() || a.jobs < 1 || a.jobs > 64) throw std::invalid_argument(j);
-      } catch (const std::exception&) {
-        return usageError("--jobs needs a whole number from 1 to 64, got '" + j + "'");
+    } else if (opt == "--only" && stability) {
+      problem = once(seen_only);
+      if (problem.empty()) problem = take("a case name");
+      a.only = value;
+    } else if (opt == "--budget" && stability) {
+      problem = once(seen_budget);
+      if (problem.empty()) problem = take("seconds");
+      if (problem.empty()) {
+        try {
+          std::size_t used = 0;
+          a.budget_s = std::stod(value, &used);
+          if (used != value.size() || !(a.budget_s > 0.0) || !std::isfinite(a.budget_s)) {
+            throw std::invalid_argument(value);
+          }
+        } catch (const std::exception&) {
+          problem = "--budget needs a positive number of seconds, got '" + value + "'";
+        }
       }
+    } else if (!opt.empty() && opt[0] == '-') {
+      problem = "unknown option '" + opt + "' for " + a.command + " (it takes --scene, --set" +
+                (takes_out ? ", --out" : "") + (takes_jobs ? ", --jobs" : "") +
+                (stability ? ", --only, --budget" : "") + ")";
     } else {
-      return usageError("unknown option '" + opt + "'");
+      problem = "unexpected argument '" + opt + "' (options come as --scene FILE, --set ...)";
     }
+    if (!problem.empty()) return usageError(problem);
   }
+  if (a.command == "run") installStopHandlers();
   try {
     return run(a);
   } catch (const cws::SceneError& e) {
     std::cerr << "wire_sim: bad scene: " << e.what() << "\n";
+    return 2;
+  } catch (const OutDirError& e) {
+    std::cerr << "wire_sim: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "wire_sim: run failed: " << e.what() << "\n";

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <mutex>
@@ -119,6 +118,13 @@ int runWorkPrecision(const std::string& scene_path, const std::vector<std::strin
         make("rosenbrock2", std::string("atol") + tol,
              {"solver.rtol=1e-3", std::string("solver.atol=") + tol, "solver.min_step=5e-9"}));
   }
+  // Results of an earlier sweep go first, so that none is taken for this one's.
+  for (const Run& r : runs) cws::removeOutputs((fs::path(dir) / r.name).string());
+  {
+    std::error_code ec;
+    fs::remove(fs::path(dir) / "work_precision.csv", ec);
+    if (ec) throw std::runtime_error("cannot remove an earlier work_precision.csv in " + dir);
+  }
   std::mutex log;
   forEachParallel(runs.size(), jobs,
                   [&](std::size_t i) { execute(scene_path, overrides, dir, runs[i], log); });
@@ -164,10 +170,7 @@ int runWorkPrecision(const std::string& scene_path, const std::vector<std::strin
                 "# reference: rkf45 rtol 1e-8 atol 1e-13, %.1f s wall, "
                 "bulging %.5f mm, %d points\n",
                 ref.wall_s, 1e3 * ref.bulging_m, ref.points);
-  std::ofstream f(fs::path(dir) / "work_precision.csv");
-  f << csv.str() << ref_line;
-  if (!f)
-    throw std::runtime_error("cannot write " + (fs::path(dir) / "work_precision.csv").string());
+  cws::writeFileAtomically((fs::path(dir) / "work_precision.csv").string(), csv.str() + ref_line);
   std::cout << csv.str() << ref_line;
   // A method failing on the scene is a result (in the CSV), not an error of
   // the command; only a failed reference is.

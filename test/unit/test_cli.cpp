@@ -6,7 +6,10 @@
 // default scene (config/scenes/default.yaml) cannot change the outcome.
 #ifdef CWS_WIRE_SIM_EXE
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -190,15 +193,13 @@ TEST_F(WireSimCli, UnwritableOutputDirectoryFails) {
   const std::string plain = write("plain_file", "not a directory\n");
   const fs::path out = fs::path(plain) / "sub";
   const RunResult r = runSmall(out.string());
-  EXPECT_NE(r.status, 0);
-  EXPECT_NE(r.status, -1);
+  EXPECT_EQ(r.status, 2);  // a bad --out is a bad command line
   EXPECT_TRUE(contains(r.err, out.string())) << r.err;
   EXPECT_FALSE(fs::exists(out / "summary.json"));
   EXPECT_EQ(readAll(plain), "not a directory\n");  // the file is untouched
   // --out naming the regular file itself.
   const RunResult f = runSmall(plain);
-  EXPECT_NE(f.status, 0);
-  EXPECT_NE(f.status, -1);
+  EXPECT_EQ(f.status, 2);
   EXPECT_TRUE(contains(f.err, plain)) << f.err;
   EXPECT_TRUE(fs::is_regular_file(plain));
 }
@@ -281,6 +282,289 @@ TEST_F(WireSimCli, PrintSceneAppliesOverride) {
   ASSERT_EQ(twice.status, 0) << twice.err;
   EXPECT_TRUE(contains(twice.out, "tension: 43")) << twice.out;
   EXPECT_FALSE(contains(twice.out, "tension: 42")) << twice.out;
+}
+
+// ---------------------------------------------------------------------------
+// Bad command lines: exit 2, the message names the option, and no summary.
+
+// The status and messages of a refused command line, for a failure message.
+std::string shownRun(const RunResult& r) {
+  return "status " + std::to_string(r.status) + ", stderr: " + r.err;
+}
+
+// No summary.json in `dir`, nor a temporary one.
+void expectNoSummary(const fs::path& dir, const std::string& what) {
+  EXPECT_FALSE(fs::exists(dir / "summary.json")) << what;
+  EXPECT_FALSE(fs::exists(dir / "summary.json.partial")) << what;
+}
+
+TEST_F(WireSimCli, UnknownOptionsOfEveryCommandAreRefused) {
+  const fs::path out = dir_ / "out";
+  for (const std::string command : {"run", "print-scene", "study", "work-precision"}) {
+    const bool takes_out = command != "print-scene";
+    for (const std::vector<std::string>& extra :
+         std::vector<std::vector<std::string>>{{"--bogus"},
+                                               {"-x"},
+                                               {"--scene=file.yaml"},  // no '=' form
+                                               {"stray.yaml"},
+                                               {"--jobs", "2"},
+                                               {"--out", (dir_ / "o2").string()}}) {
+      // --jobs belongs to study and work-precision, --out to all but
+      // print-scene: those are fine there.
+      if (extra[0] == "--jobs" && (command == "study" || command == "work-precision")) continue;
+      if (extra[0] == "--out" && takes_out) continue;
+      std::vector<std::string> args{command};
+      args.insert(args.end(), extra.begin(), extra.end());
+      if (takes_out) {
+        args.push_back("--out");
+        args.push_back(out.string());
+      }
+      const RunResult r = run(args);
+      const std::string what = command + " " + extra[0];
+      EXPECT_EQ(r.status, 2) << what << ": " << shownRun(r);
+      EXPECT_TRUE(contains(r.err, "'" + extra[0] + "'")) << what << ": " << r.err;
+      EXPECT_TRUE(contains(r.err, "usage")) << what << ": " << r.err;
+      EXPECT_TRUE(r.out.empty()) << what << ": " << r.out;
+      EXPECT_FALSE(fs::exists(out)) << what << ": nothing may be created";
+    }
+  }
+}
+
+// An option given twice or with an empty value (an unset shell variable)
+// would silently mean the last one or the default.
+TEST_F(WireSimCli, RepeatedOrEmptyOptionsAreRefused) {
+  const fs::path out = dir_ / "out";
+  const std::string scene = write("quiet.yaml", kQuietScene);
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"run", "--out", out.string(), "--out", (dir_ / "b").string()}, "--out given twice"},
+      {{"run", "--scene", scene, "--scene", scene, "--out", out.string()}, "--scene given twice"},
+      {{"study", "--jobs", "1", "--jobs", "2", "--out", out.string()}, "--jobs given twice"},
+      {{"run", "--scene", "", "--out", out.string()}, "--scene needs a file, got an empty"},
+      {{"run", "--out", ""}, "--out needs a directory, got an empty"},
+      {{"print-scene", "--set", ""}, "--set needs key.path=value, got an empty"},
+      {{"work-precision", "--jobs", "", "--out", out.string()}, "--jobs needs a number, got an"},
+  };
+  for (const auto& [args, message] : cases) {
+    const RunResult r = run(args);
+    EXPECT_EQ(r.status, 2) << message << ": " << shownRun(r);
+    EXPECT_TRUE(contains(r.err, message)) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << message;
+  }
+}
+
+TEST_F(WireSimCli, MalformedSetNamesTheKey) {
+  const fs::path out = dir_ / "out";
+  // --set value, and words the message must hold.
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+      {"process.tension", {"'process.tension'", "key.path=value"}},  // no '='
+      {"=5", {"'=5'", "key.path=value"}},                            // no key
+      {"process..tension=5", {"process..tension", "empty key"}},
+      {".tension=5", {".tension", "empty key"}},
+      {"process.tension=", {"'process.tension'", "number", "null"}},  // no value
+      {"process.tensoin=5", {"'process.tensoin'", "unknown key", "tension"}},
+      {"nosuch.key=5", {"'nosuch'", "unknown key"}},
+      {"process.tension=strong", {"'process.tension'", "number", "strong"}},
+      {"physics.gravity=maybe", {"'physics.gravity'", "true or false"}},
+      {"start.direction=[1, 0]", {"'start.direction'", "three", "list of 2"}},
+      {"process.tension=[1,", {"'process.tension'", "cannot parse"}},
+      {"wire.diameter.x=1", {"wire.diameter.x", "'wire.diameter' is a value"}},
+      {"wire=3", {"'wire'", "map of keys"}},
+      {"core.cylinders.0.radius=1", {"'core.cylinders' is a list", "core.cylinders=[...]"}},
+  };
+  for (const auto& [set, words] : cases) {
+    const RunResult r = runSmall(out.string(), {"--set", set});
+    EXPECT_EQ(r.status, 2) << "--set '" << set << "': " << shownRun(r);
+    for (const std::string& w : words) {
+      EXPECT_TRUE(contains(r.err, w)) << "--set '" << set << "': missing '" << w << "' in\n"
+                                      << r.err;
+    }
+    EXPECT_FALSE(fs::exists(out)) << "--set '" << set << "': a refused scene touches nothing";
+  }
+}
+
+TEST_F(WireSimCli, BadSceneFilesAreNamed) {
+  const fs::path out = dir_ / "out";
+  const fs::path subdir = dir_ / "a_directory";
+  fs::create_directories(subdir);
+  // --scene, and words the message must hold besides the path.
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {subdir.string(), "is a directory"},
+      // Unreadable even for root: reading /proc/self/mem at offset 0 fails.
+      {"/proc/self/mem", "cannot read"},
+      {(dir_ / "missing.yaml").string(), "cannot open"},
+      {write("empty.yaml", ""), "no settings"},
+      {write("comments.yaml", "# nothing but a comment\n"), "no settings"},
+      {write("binary.yaml", std::string("\x7f"
+                                        "ELF\x02\x01\x01\0\0\0",
+                                        10)),
+       "not valid YAML: yaml-cpp: error at line 1, column"},
+      {write("word.yaml", "hello world\n"), "must hold a map"},
+      {write("list.yaml", "- wire\n- core\n"), "must hold a map"},
+      {write("broken.yaml", "wire: {diameter: [1\n"), "not valid YAML"},
+      {write("tab.yaml", "wire:\n\tdiameter: 1.0e-3\n"), "not valid YAML"},
+      {write("two_docs.yaml", "process: {tension: 40}\n---\nprocess: {tension: 50}\n"),
+       "more than one YAML document"},
+      {"/dev/zero", "larger than 16 MiB"},
+  };
+  for (const auto& [scene, why] : cases) {
+    for (const std::string command : {"run", "print-scene"}) {
+      std::vector<std::string> args{command, "--scene", scene};
+      if (command == "run") {
+        args.push_back("--out");
+        args.push_back(out.string());
+      }
+      const RunResult r = run(args);
+      EXPECT_EQ(r.status, 2) << command << " --scene " << scene << ": " << shownRun(r);
+      EXPECT_TRUE(contains(r.err, "'" + scene + "'")) << r.err;
+      EXPECT_TRUE(contains(r.err, why)) << "missing '" << why << "' in\n" << r.err;
+      EXPECT_TRUE(r.out.empty()) << command << " --scene " << scene << ": " << r.out;
+      EXPECT_FALSE(fs::exists(out)) << scene << ": a refused scene touches nothing";
+    }
+  }
+}
+
+// Output directories that cannot be used, found before anything runs. Root
+// may write anywhere chmod forbids, so these are paths nobody can use.
+TEST_F(WireSimCli, UnusableOutDirIsABadCommandLine) {
+  const std::string plain = write("plain_file", "keep\n");
+  fs::create_directories(dir_ / "blocked" / "summary.json" / "x");  // cannot be removed
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {plain, "cannot create output directory"},
+      {(fs::path(plain) / "sub").string(), "cannot create output directory"},
+      {"/proc", "not writable"},
+      {"/proc/self/no_such_dir/sub", "cannot create output directory"},
+      {(dir_ / "blocked").string(), "cannot remove the earlier result"},
+  };
+  for (const auto& [out, why] : cases) {
+    const RunResult r = runSmall(out);
+    EXPECT_EQ(r.status, 2) << "--out " << out << ": " << shownRun(r);
+    EXPECT_TRUE(contains(r.err, "bad --out")) << r.err;
+    EXPECT_TRUE(contains(r.err, "'" + out)) << r.err;
+    EXPECT_TRUE(contains(r.err, why)) << "missing '" << why << "' in\n" << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+  EXPECT_EQ(readAll(plain), "keep\n");
+  // study and work-precision check their directory the same way.
+  for (const std::string command : {"study", "work-precision"}) {
+    const RunResult r = run({command, "--out", plain});
+    EXPECT_EQ(r.status, 2) << command << ": " << shownRun(r);
+    EXPECT_TRUE(contains(r.err, "bad --out")) << r.err;
+  }
+}
+
+TEST_F(WireSimCli, JobsMustBeAWholeNumberFrom1To64) {
+  const fs::path out = dir_ / "out";
+  for (const std::string command : {"study", "work-precision"}) {
+    for (const std::string jobs :
+         {"abc", "0", "65", "-1", "1.5", "2x", " ", "0x2", "99999999999999999999"}) {
+      const RunResult r = run({command, "--jobs", jobs, "--out", out.string()});
+      EXPECT_EQ(r.status, 2) << command << " --jobs '" << jobs << "': " << shownRun(r);
+      EXPECT_TRUE(contains(r.err, "--jobs needs a whole number from 1 to 64, got '" + jobs + "'"))
+          << r.err;
+      EXPECT_FALSE(fs::exists(out)) << command << " --jobs '" << jobs << "'";
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Runs that fail or are stopped part way leave no summary.
+
+// A run that integrates for a while and then fails: a 1 kN end force applied
+// at t = 1 ms to a small wire makes rkf45 need steps below solver.min_step
+// (1e-8 s) soon after; until then it steps normally.
+TEST_F(WireSimCli, RunFailingMidwayLeavesNoSummary) {
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(runSmall(out.string()).status, 0);
+  ASSERT_TRUE(fs::exists(out / "summary.json"));
+  const RunResult r = runSmall(
+      out.string(), {"--set", "process.duration=2e-3", "--set", "solver.integrator=rkf45", "--set",
+                     "end.load=[{time: 0}, {time: 1e-3}, {time: 1.001e-3, force: [0, 1e3, 0]}]",
+                     "--set", "solver.min_step=1e-8", "--set", "solver.initial_step=1e-6"});
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_TRUE(contains(r.err, "run failed")) << r.err;
+  EXPECT_TRUE(contains(r.err, "min_step")) << r.err;
+  // It failed after the load came on, not at the start.
+  const std::size_t at = r.err.find("at t = ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_GE(std::strtod(r.err.c_str() + at + 7, nullptr), 1e-3) << r.err;
+  expectNoSummary(out, "failed run");
+  EXPECT_FALSE(fs::exists(out / "wire.csv"));
+}
+
+// SIGINT (Ctrl-C) and SIGTERM stop a run after its current step: exit
+// 128 + signal, a message saying so, and no results (an earlier run's
+// summary in the directory is gone too). Without a handler the process would
+// die of the signal instead of exiting.
+TEST_F(WireSimCli, StoppedRunWritesNoResults) {
+  const fs::path out = dir_ / "out";
+  const std::string scene = write("quiet.yaml", kQuietScene);
+  for (const int sig : {SIGINT, SIGTERM}) {
+    ASSERT_EQ(runSmall(out.string()).status, 0);
+    ASSERT_TRUE(fs::exists(out / "summary.json"));
+    // A run of 1000 s of simulated time: far longer than this test.
+    const fs::path err = dir_ / "stopped_stderr.txt";
+    std::vector<std::string> args{CWS_WIRE_SIM_EXE, "run", "--scene", scene};
+    args.insert(args.end(), kSmallRun.begin(), kSmallRun.end());
+    for (const std::string& a : {std::string("--set"), std::string("process.duration=1000"),
+                                 std::string("--out"), out.string()}) {
+      args.push_back(a);
+    }
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t io;
+    posix_spawn_file_actions_init(&io);
+    posix_spawn_file_actions_addopen(&io, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&io, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&io, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    pid_t pid = 0;
+    ASSERT_EQ(posix_spawn(&pid, CWS_WIRE_SIM_EXE, &io, nullptr, argv.data(), environ), 0);
+    posix_spawn_file_actions_destroy(&io);
+    // Wait until it is running (it prints its size first); a guard, not a
+    // timing assertion: it gives up after 10 minutes.
+    bool started = false;
+    for (int i = 0; i < 60000 && !started; ++i) {
+      started = contains(readAll(err), " points, ");
+      if (!started) usleep(10000);
+    }
+    EXPECT_TRUE(started) << readAll(err);
+    ASSERT_EQ(kill(pid, sig), 0);
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    const std::string text = readAll(err);
+    ASSERT_TRUE(WIFEXITED(status))
+        << "signal " << sig << ": ended by a signal, not an exit; " << text;
+    EXPECT_EQ(WEXITSTATUS(status), 128 + sig) << text;
+    EXPECT_TRUE(contains(text, sig == SIGINT ? "stopped by SIGINT" : "stopped by SIGTERM")) << text;
+    EXPECT_TRUE(contains(text, "no results written")) << text;
+    expectNoSummary(out, "stopped run");
+    EXPECT_FALSE(fs::exists(out / "wire.csv"));
+    EXPECT_FALSE(fs::exists(out / "wire.csv.partial"));
+  }
+}
+
+// study removes an earlier study's results before it runs: a case that now
+// fails leaves no summary of the earlier one. Every case fails at its first
+// step here (a 0.1 ms step floor), so this runs in well under a second.
+TEST_F(WireSimCli, StudyRemovesEarlierResultsFirst) {
+  const fs::path out = dir_ / "study";
+  for (const char* c : {"600rpm_30N", "600rpm_70N", "1200rpm_30N", "1200rpm_70N"}) {
+    fs::create_directories(out / c);
+    std::ofstream(out / c / "summary.json") << "{\"sim_time_s\": 0.175}\n";
+  }
+  std::ofstream(out / "study.csv") << "case,earlier\n";
+  const RunResult r =
+      run({"study", "--jobs", "1", "--out", out.string(), "--set", "solver.integrator=rkf45",
+           "--set", "solver.min_step=1e-4", "--set", "solver.initial_step=1e-4"});
+  EXPECT_EQ(r.status, 1) << r.err;
+  for (const char* c : {"600rpm_30N", "600rpm_70N", "1200rpm_30N", "1200rpm_70N"}) {
+    expectNoSummary(out / c, c);
+  }
+  // The new table has the header only: no case succeeded.
+  const std::vector<std::string> lines = splitLines(readAll(out / "study.csv"));
+  ASSERT_EQ(lines.size(), 1u) << readAll(out / "study.csv");
+  EXPECT_TRUE(contains(lines[0], "bulging_height_mm")) << lines[0];
+  EXPECT_TRUE(contains(readAll(out / "study.md"), "failed")) << readAll(out / "study.md");
 }
 
 }  // namespace

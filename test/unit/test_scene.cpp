@@ -203,8 +203,21 @@ TEST_F(SceneFiles, PrintedNonDefaultSceneLoadsBackIdentical) {
   expectSameScene(back, s);
 }
 
-TEST_F(SceneFiles, EmptyFileGivesDefaults) {
-  expectSameScene(cws::loadScene(write("empty.yaml", ""), {}), cws::Scene{});
+// An empty file is refused (most likely a failed write); `{}` asks for the
+// defaults.
+TEST_F(SceneFiles, EmptyFileIsRefusedEmptyMapGivesDefaults) {
+  for (const char* text : {"", "\n  \n", "# only a comment\n"}) {
+    const std::string path = write("empty.yaml", text);
+    try {
+      cws::loadScene(path, {});
+      ADD_FAILURE() << "an empty scene file was accepted: '" << text << "'";
+    } catch (const cws::SceneError& e) {
+      EXPECT_EQ(e.key(), "(file)");
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("no settings"), std::string::npos) << e.what();
+    }
+  }
+  expectSameScene(cws::loadScene(write("defaults.yaml", "{}\n"), {}), cws::Scene{});
 }
 
 TEST_F(SceneFiles, PartialFileKeepsOtherDefaults) {

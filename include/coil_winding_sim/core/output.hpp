@@ -24,4 +24,14 @@ void writeOutputs(const Simulation& sim, const std::string& dir);
 // Refuses early (before a run) a directory that cannot be created or written.
 void checkOutputDir(const std::string& dir);
 
+// Removes DIR's results of an earlier run (the files writeOutputs writes and
+// leftover temporaries), so that a run that then fails or is stopped leaves
+// none that looks like its own. Throws std::runtime_error naming a file that
+// cannot be removed.
+void removeOutputs(const std::string& dir);
+
+// Writes `text` to `path` through a temporary file renamed into place: the
+// file is complete or absent. Throws std::runtime_error naming the path.
+void writeFileAtomically(const std::string& path, const std::string& text);
+
 }  // namespace cws

@@ -13,15 +13,22 @@
 
 namespace cws {
 
+// The most mass points a scene may ask for. Storage grows with the points
+// (about 25 kB per point with rosenbrock2's banded Jacobian, 2.5 kB with
+// rkf45), so validateScene refuses more instead of exhausting memory.
+constexpr int kMaxScenePoints = 100000;
+
 // A scene that cannot be run. key() names the offending YAML key path.
 class SceneError : public std::runtime_error {
  public:
   SceneError(const std::string& key, const std::string& why)
-      : std::runtime_error("scene key '" + key + "': " + why), key_(key) {}
+      : std::runtime_error("scene key '" + key + "': " + why), key_(key), why_(why) {}
   const std::string& key() const { return key_; }
+  const std::string& why() const { return why_; }  // the message without the key
 
  private:
   std::string key_;
+  std::string why_;
 };
 
 // Two-line (bilinear, kinematic-hardening) law of one deformation mode, per
@@ -176,6 +183,18 @@ struct Scene {
   // Simulated time to run [s]: process.duration, else the time the core
   // needs for process.turns (at process.core_speed_rpm, after its ramp).
   double endTime() const;
+  // Length of the model's segments [m]: wire.segment_length with a supply,
+  // else naturalSegmentLength().
+  double modelSegmentLength() const;
+  // Mass points at t = 0 and the storage reserved for points [-], as
+  // doubles so that an absurd scene cannot overflow them (validateScene
+  // bounds both by kMaxScenePoints before the model converts them). Without
+  // a supply both are segmentCount() + 1. With one, the points are the span
+  // from the clamp to the port in segments of wire.segment_length, and the
+  // storage is supply.max_points or an estimate of the wire drawn in until
+  // endTime().
+  double initialPoints() const;
+  double pointCapacity() const;
 };
 
 // Checks every value; throws SceneError naming the first bad key.

@@ -52,8 +52,11 @@ class Simulation {
   // One accepted step, not past t_limit [s]. Throws IntegrationError.
   void step(double t_limit);
   // Steps until the scene's end time; `progress` is called about every
-  // output.progress_interval_s of wall time. Accumulates wall time.
-  void run(const std::function<void(const Simulation&)>& progress = {});
+  // output.progress_interval_s of wall time. Accumulates wall time. `stop`,
+  // if given, is asked before every step: when it returns true the run ends
+  // there, before the end time (a user's interrupt).
+  void run(const std::function<void(const Simulation&)>& progress = {},
+           const std::function<bool()>& stop = {});
 
   double time() const { return t_; }           // simulated time [s]
   double endTime() const { return t_end_; }    // [s]
