@@ -307,6 +307,18 @@ void WireModel::appendPoint(double t, Eigen::VectorXd& y) {
           stretching_->virginWork(stretching_->strain(committed_, last));
 }
 
+void WireModel::removeLastPoint(double t, Eigen::VectorXd& y) {
+  const EnergyReport before = energy(y);
+  for (ForceEffect* e : all_) e->shrink(committed_);
+  --c_.n;
+  --points_added_;
+  unpack(t, y, committed_);
+  // The wire that leaves takes its kinetic and recoverable energy with it:
+  // work done by the wire on the supply (its plastic work stays counted).
+  const EnergyReport after = energy(y);
+  y[0] -= (before.kinetic - after.kinetic) + (before.elastic - after.elastic);
+}
+
 void WireModel::placeCarried(double t, int i, Eigen::VectorXd& y) {
   // The core's pose at t, once per accepted step (a sine and cosine each).
   if (t != carry_frame_time_) {
@@ -397,19 +409,10 @@ void WireModel::acceptStep(double t, Eigen::VectorXd& y) {
   if (core_) core_->commit(t);
   if (supply_) {
     while (portDistance(t, committed_) > supply_->boundaryLength()) appendPoint(t, y);
-    // The supply only feeds wire in (section IV): wire drawn back out past
-    // the port (the core turning backwards) would leave the boundary
-    // segment pointing the wrong way through the port, so the run stops at
-    // the accepted state before it.
-    const double d = portDistance(t, committed_);
-    if (d < 0.0) {
-      std::ostringstream msg;
-      msg << "at t = " << t << " s the wire is drawn back out through the supply port (its last "
-          << "point is " << -d << " m past supply.port_position): the supply only feeds wire "
-          << "in, so a core turning backwards (a negative core speed) cannot be simulated "
-          << "with physics.supply";
-      throw IntegrationError(msg.str());
-    }
+    // Wire drawn back out (a tension jump that makes wound wire slip, the
+    // core turning backwards): the supply takes it back at its tension, a
+    // point at a time as it passes the port. Two integrated points stay.
+    while (portDistance(t, committed_) < 0.0 && c_.n - 2 > c_.first) removeLastPoint(t, y);
   }
   if (carry_) updateCarried(t, y);
 }

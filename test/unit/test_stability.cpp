@@ -3,6 +3,7 @@
 // detections that stop a method that cannot handle a case.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -125,6 +126,42 @@ TEST(Stability, Instant20000Rpm) {
     EXPECT_NE(msg.find("step size collapsed"), std::string::npos) << msg;
     EXPECT_NE(msg.find("use symplectic_euler"), std::string::npos) << msg;
   }
+}
+
+// Rotation reversal: the core winds half a turn, then turns backwards at
+// its acceleration limit, and the supply takes the wire back through the
+// port a point at a time. The fed length stays continuous through each
+// removal (the point count and the port distance change together), the
+// energy the leaving wire takes is booked, and the run meets the criteria.
+TEST(Stability, ReversalDrawsWireBackThroughThePort) {
+  cws::Simulation sim(scene({"core.start_at_speed=true", "process.duration=0.05"},
+                            "symplectic_euler"));
+  const double step = sim.scene().solver.fixed_step;
+  const double l = sim.scene().wire.segment_length;
+  while (sim.time() < 0.025) sim.step(0.025);
+  sim.setCoreSpeed(-1200.0 * 2.0 * M_PI / 60.0);
+  const int n_reversed = sim.model().constants().n;
+  int n_least = n_reversed;
+  const double fed_reversed = sim.model().fedLength();
+  double fed = fed_reversed, fed_least = fed, worst_jump = 0.0;
+  while (sim.time() < sim.endTime()) {
+    sim.step(sim.endTime());
+    const double now = sim.model().fedLength();
+    worst_jump = std::max(worst_jump, std::abs(now - fed));
+    fed = now;
+    fed_least = std::min(fed_least, now);
+    n_least = std::min(n_least, sim.model().constants().n);
+  }
+  const cws::RunMeasures m = cws::measureRun(sim);
+  std::printf(
+      "reversal: %d points at the reversal, down to %d; fed length down by %.2f mm, largest "
+      "change in one step %.2e m; energy %.2e, residual %.2e\n",
+      n_reversed, n_least, 1e3 * (fed_reversed - fed_least), worst_jump, m.energy_rel,
+      m.residual);
+  EXPECT_LT(n_least, n_reversed - 2) << "the wire was meant to be drawn back";
+  // Wire moves at most ~2 m/s: a step moves it by far less than a segment.
+  EXPECT_LT(worst_jump, 2.0 * 2.0 * step + 1e-3 * l);
+  expectStable(m);
 }
 
 #endif  // CWS_SOURCE_DIR

@@ -150,6 +150,8 @@ class WireModel : public OdeSystem {
   double portDistance(double t, const WireKinematics& k) const;
   // Appends a mass point drawn in through the port (between steps).
   void appendPoint(double t, Eigen::VectorXd& y);
+  // The reverse: the last point, drawn back out past the port, leaves.
+  void removeLastPoint(double t, Eigen::VectorXd& y);
   // Carried wire (solver.carry_stuck_wire): the rigid pose of carried point
   // i at time t, written into y and the committed kinematics; and the
   // decision, after an accepted step, of how much wire the core carries.

@@ -98,6 +98,12 @@ class ForceEffect {
   // Point n-1 was just appended (a wire supply drew it in): initialize the
   // state of the new point, segment n-2 and joint n-2. Runs between steps.
   virtual void grow(const WireKinematics& /*k*/) {}
+  // Point n-1 is about to leave (wire drawn back out through the supply
+  // port): forget the state of point n-1, segment n-2 and joint n-2, and
+  // take their recoverable energy out of the committed work, so that the
+  // plastic work done in them stays counted. Runs between steps, before n
+  // shrinks.
+  virtual void shrink(const WireKinematics& /*k*/) {}
   // Appends the history state (yield points and the work bookkeeping) to
   // `out`; nothing for an effect without history. For snapshots and tests.
   virtual void appendHistory(std::vector<double>& /*out*/) const {}

@@ -175,6 +175,18 @@ void Contact::appendHistory(std::vector<double>& out) const {
   out.push_back(elastic_committed_);
 }
 
+void Contact::shrink(const WireKinematics&) {
+  // The last point sits at the port, away from the core: nothing to book.
+  const int i = c_.n - 1;
+  cylinder_[i] = -1;
+  depth_[i] = 0.0;
+  if (friction_) {
+    stuck_[i] = 0;
+    anchor_core_[i].setZero();
+    friction_force_[i].setZero();
+  }
+}
+
 double Contact::elasticEnergy(const WireKinematics&) const { return elastic_committed_; }
 
 void Contact::restoreHistory(HistoryReader& in) {

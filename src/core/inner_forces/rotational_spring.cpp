@@ -62,6 +62,17 @@ void RotationalSpring::commit(double, const WireKinematics& k) {
   }
 }
 
+void RotationalSpring::shrink(const WireKinematics& k) {
+  if (!plastic_) return;
+  const int j = c_.n - 2;
+  for (int i = 0; i < count_; ++i) {
+    const int idx = j * count_ + i;
+    work_committed_ -= jointLength(j) * law_.elasticEnergy(moment(k, j, i));
+    upper_[idx] = law_.initialUpper();
+    x_committed_[idx] = 0.0;
+  }
+}
+
 double RotationalSpring::elasticEnergy(const WireKinematics& k) const {
   double e = 0.0;
   for (int j = 0; j + 1 < c_.n; ++j) {

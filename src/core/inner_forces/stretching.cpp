@@ -78,6 +78,14 @@ void Stretching::grow(const WireKinematics& k) {
   if (plastic_) loadVirgin(k, c_.n - 2);
 }
 
+void Stretching::shrink(const WireKinematics& k) {
+  if (!plastic_) return;
+  const int j = c_.n - 2;
+  work_committed_ -= c_.segment_length * law_.elasticEnergy(axialForce(k, j));
+  upper_[j] = law_.initialUpper();
+  x_committed_[j] = 0.0;
+}
+
 void Stretching::preload(const WireKinematics& k) {
   if (!plastic_) return;
   for (int j = 0; j + 1 < c_.n; ++j) loadVirgin(k, j);

@@ -35,6 +35,7 @@ class Contact : public ForceEffect {
   const char* name() const override { return "contact"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   void commit(double t, const WireKinematics& k) override;
+  void shrink(const WireKinematics& k) override;
   void appendHistory(std::vector<double>& out) const override;
   void restoreHistory(HistoryReader& in) override;
   // Energy in the normal springs at the last commit [J].

@@ -31,6 +31,7 @@ class RotationalSpring : public ForceEffect {
   const char* name() const override { return name_; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   void commit(double t, const WireKinematics& k) override;
+  void shrink(const WireKinematics& k) override;
   void appendHistory(std::vector<double>& out) const override;
   void restoreHistory(HistoryReader& in) override;
   double elasticEnergy(const WireKinematics& k) const override;
