@@ -16,9 +16,8 @@ RunMeasures measureRun(const Simulation& sim) {
   m.energy_scale_J = std::max(std::abs(e.work_done), e.kinetic + e.elastic + e.dissipated());
   m.energy_rel = m.energy_scale_J > 0.0 ? std::abs(e.imbalance()) / m.energy_scale_J : 0.0;
   m.residual = sim.maxConstraintResidual();
-  m.penetration_ratio = sim.model().contact()
-                            ? sim.maxPenetration() / sim.model().constants().radius
-                            : 0.0;
+  m.penetration_ratio =
+      sim.model().contact() ? sim.maxPenetration() / sim.model().constants().radius : 0.0;
   m.steps = sim.stepper().counts().accepted;
   m.rejected = sim.stepper().counts().rejected;
   m.mean_step_s = m.steps > 0 ? sim.time() / static_cast<double>(m.steps) : 0.0;
@@ -34,7 +33,8 @@ std::vector<std::string> stabilityViolations(const RunMeasures& m, const Stabili
   };
   if (!m.finite) out.push_back("a non-finite number in the state or the energy");
   // NaN fails each "<=" below and is reported as well.
-  if (!(m.energy_rel <= c.energy_rel)) add("energy imbalance (relative)", m.energy_rel, c.energy_rel);
+  if (!(m.energy_rel <= c.energy_rel))
+    add("energy imbalance (relative)", m.energy_rel, c.energy_rel);
   if (!(m.residual <= c.residual)) add("constraint residual", m.residual, c.residual);
   if (!(m.penetration_ratio <= c.penetration_ratio)) {
     add("penetration / wire radius", m.penetration_ratio, c.penetration_ratio);

@@ -41,11 +41,16 @@ enum class Outcome { kStable, kViolated, kStopped, kRefused, kBudget };
 
 const char* outcomeName(Outcome o) {
   switch (o) {
-    case Outcome::kStable: return "stable";
-    case Outcome::kViolated: return "CRITERIA BROKEN";
-    case Outcome::kStopped: return "stopped";
-    case Outcome::kRefused: return "refused";
-    case Outcome::kBudget: return "BUDGET";
+    case Outcome::kStable:
+      return "stable";
+    case Outcome::kViolated:
+      return "CRITERIA BROKEN";
+    case Outcome::kStopped:
+      return "stopped";
+    case Outcome::kRefused:
+      return "refused";
+    case Outcome::kBudget:
+      return "BUDGET";
   }
   return "?";
 }
@@ -63,62 +68,65 @@ struct Run {
 // The cases of the issue, as overrides of the base scene (the paper's
 // case at 2 mm segments and 1200 rpm, see runStability).
 std::vector<Case> matrixCases() {
-  const char* x100[] = {"wire.stretch.elastic_rigidity=4.89e6",
-                        "wire.stretch.plastic_rigidity=1.10e5",
-                        "wire.bend.elastic_rigidity=0.306",
-                        "wire.bend.plastic_rigidity=1.13e-2",
-                        "wire.torsion.elastic_rigidity=0.432",
-                        "wire.torsion.plastic_rigidity=9.0e-3"};
+  const char* x100[] = {
+      "wire.stretch.elastic_rigidity=4.89e6", "wire.stretch.plastic_rigidity=1.10e5",
+      "wire.bend.elastic_rigidity=0.306",     "wire.bend.plastic_rigidity=1.13e-2",
+      "wire.torsion.elastic_rigidity=0.432",  "wire.torsion.plastic_rigidity=9.0e-3"};
   std::vector<Case> cases;
   cases.push_back({"baseline", "the paper's case (1 3/4 turns)", {}, {}});
-  cases.push_back({"rigidity_x100", "all rigidities x100, 1/2 turn",
-                   {x100, x100 + 6},
-                   {}});
+  cases.push_back({"rigidity_x100", "all rigidities x100, 1/2 turn", {x100, x100 + 6}, {}});
   cases.back().overrides.push_back("process.turns=0.5");
-  cases.push_back({"segment_0.2mm", "segments of 0.2 mm, 1/10 turn",
+  cases.push_back({"segment_0.2mm",
+                   "segments of 0.2 mm, 1/10 turn",
                    {"wire.segment_length=2e-4", "process.turns=0.1"},
                    {}});
   // The paper's 2.5 mm cylinders refuse segments longer than their radius
   // (a segment could pass through one); a core of 5 mm cylinders takes them.
   cases.push_back({"segment_5mm", "segments of 5 mm", {"wire.segment_length=5e-3"}, {}});
-  cases.push_back({"segment_5mm_core_r5mm",
-                   "segments of 5 mm on a core of 5 mm-radius cylinders (25 x 15 mm)",
-                   {"wire.segment_length=5e-3",
-                    "core.cylinders=[{center: [7.5e-3, 2.5e-3], radius: 5e-3}, "
-                    "{center: [-7.5e-3, 2.5e-3], radius: 5e-3}, "
-                    "{center: [-7.5e-3, -2.5e-3], radius: 5e-3}, "
-                    "{center: [7.5e-3, -2.5e-3], radius: 5e-3}]",
-                    "start.position=[7.5e-3, -8.0e-3, 0]",
-                    "supply.port_position=[-27.5e-3, -8.0e-3, 0]"},
-                   {}});
-  cases.push_back({"core_20000rpm", "core speed 0 -> 20,000 rpm in one instant at t = 0",
+  cases.push_back(
+      {"segment_5mm_core_r5mm",
+       "segments of 5 mm on a core of 5 mm-radius cylinders (25 x 15 mm)",
+       {"wire.segment_length=5e-3",
+        "core.cylinders=[{center: [7.5e-3, 2.5e-3], radius: 5e-3}, "
+        "{center: [-7.5e-3, 2.5e-3], radius: 5e-3}, "
+        "{center: [-7.5e-3, -2.5e-3], radius: 5e-3}, "
+        "{center: [7.5e-3, -2.5e-3], radius: 5e-3}]",
+        "start.position=[7.5e-3, -8.0e-3, 0]", "supply.port_position=[-27.5e-3, -8.0e-3, 0]"},
+       {}});
+  cases.push_back({"core_20000rpm",
+                   "core speed 0 -> 20,000 rpm in one instant at t = 0",
                    {"process.core_speed_rpm=20000", "process.max_core_speed_rpm=20000",
                     "core.start_at_speed=false", "core.max_angular_acceleration=1e12"},
                    {}});
   cases.push_back({"tension_0N", "slack wire: supply tension 0 N", {"process.tension=0"}, {}});
   cases.push_back(
       {"tension_300N", "supply tension 300 N (far past axial yield)", {"process.tension=300"}, {}});
-  cases.push_back({"friction_0", "no friction (mu_s = mu_d = 0)",
+  cases.push_back({"friction_0",
+                   "no friction (mu_s = mu_d = 0)",
                    {"contact.static_friction=0", "contact.kinetic_friction=0"},
                    {}});
-  cases.push_back({"friction_1", "mu_s = mu_d = 1",
+  cases.push_back({"friction_1",
+                   "mu_s = mu_d = 1",
                    {"contact.static_friction=1", "contact.kinetic_friction=1"},
                    {}});
-  cases.push_back({"perfectly_plastic", "zero plastic rigidities",
+  cases.push_back({"perfectly_plastic",
+                   "zero plastic rigidities",
                    {"wire.stretch.plastic_rigidity=0", "wire.bend.plastic_rigidity=0",
                     "wire.torsion.plastic_rigidity=0"},
                    {}});
   cases.push_back({"purely_elastic", "no plasticity", {"physics.plasticity=false"}, {}});
   // The core at rest, then 1200 rpm within one step (the acceleration
   // limit raised far above any machine's).
-  cases.push_back({"speed_step", "core speed 0 -> 1200 rpm in one instant at t = 0",
+  cases.push_back({"speed_step",
+                   "core speed 0 -> 1200 rpm in one instant at t = 0",
                    {"core.start_at_speed=false", "core.max_angular_acceleration=1e12"},
                    {}});
   // Forward half a turn, then reversed at the scene's acceleration limit:
   // with the supply, until the wire is drawn back through the port (which
   // the supply cannot do: a stated stop); without it, a 50 mm wire clamped
   // on the core whips round and back.
-  cases.push_back({"reversal", "1200 rpm, reversed to -1200 rpm at t = 25 ms, until t = 75 ms",
+  cases.push_back({"reversal",
+                   "1200 rpm, reversed to -1200 rpm at t = 25 ms, until t = 75 ms",
                    {"core.start_at_speed=true", "process.duration=0.075"},
                    {{0.025, -1200.0 * kRpm}}});
   cases.push_back({"reversal_no_supply",
@@ -127,8 +135,10 @@ std::vector<Case> matrixCases() {
                    {{0.025, -1200.0 * kRpm}}});
   // A long run at production speed (the scene's speed limit for setpoints):
   // 100 turns take 1 s, and 3,000 points are fed.
-  cases.push_back(
-      {"turns_100", "100 turns at 6000 rpm", {"process.turns=100", "process.core_speed_rpm=6000"}, {}});
+  cases.push_back({"turns_100",
+                   "100 turns at 6000 rpm",
+                   {"process.turns=100", "process.core_speed_rpm=6000"},
+                   {}});
   return cases;
 }
 
@@ -147,7 +157,8 @@ void execute(const std::string& scene_path, const std::vector<std::string>& base
     cws::Scene scene = cws::loadScene(scene_path, o);
     // The fixed-step method at a quarter of its stability limit, as the
     // default scene is (1e-7 s at 1 mm).
-    if (r.method == "symplectic_euler") scene.solver.fixed_step = 0.25 * cws::explicitStepLimit(scene);
+    if (r.method == "symplectic_euler")
+      scene.solver.fixed_step = 0.25 * cws::explicitStepLimit(scene);
     r.step_s = scene.solver.fixed_step;
     sim = std::make_unique<cws::Simulation>(scene);
   } catch (const cws::SceneError& e) {
@@ -185,8 +196,8 @@ void execute(const std::string& scene_path, const std::vector<std::string>& base
       }
       if (wall() > budget_s) {
         std::ostringstream msg;
-        msg << "not finished within the budget of " << budget_s << " s of wall time (t = "
-            << sim->time() << " s of " << sim->endTime() << " s)";
+        msg << "not finished within the budget of " << budget_s
+            << " s of wall time (t = " << sim->time() << " s of " << sim->endTime() << " s)";
         r.outcome = Outcome::kBudget;
         r.message = msg.str();
         break;
@@ -212,9 +223,8 @@ void execute(const std::string& scene_path, const std::vector<std::string>& base
     }
   }
   std::lock_guard<std::mutex> lock(log);
-  std::cerr << "stability: " << r.c->name << " / " << r.method << ": "
-            << outcomeName(r.outcome) << " in " << r.wall_s << " s" << (r.message.empty() ? "" : ": ")
-            << r.message << "\n";
+  std::cerr << "stability: " << r.c->name << " / " << r.method << ": " << outcomeName(r.outcome)
+            << " in " << r.wall_s << " s" << (r.message.empty() ? "" : ": ") << r.message << "\n";
 }
 
 std::string fmt(const char* f, double v) {

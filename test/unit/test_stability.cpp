@@ -65,15 +65,14 @@ cws::Scene scene(const std::vector<std::string>& overrides, const std::string& i
 }
 
 // Runs to the end and returns the measures (printed for the log).
-cws::RunMeasures runToEnd(const std::vector<std::string>& overrides,
-                          const std::string& integrator, const char* label) {
+cws::RunMeasures runToEnd(const std::vector<std::string>& overrides, const std::string& integrator,
+                          const char* label) {
   cws::Simulation sim(scene(overrides, integrator));
   sim.run();
   const cws::RunMeasures m = cws::measureRun(sim);
-  std::printf(
-      "%s, %s: energy %.2e, residual %.2e, penetration %.3f r, %ld steps, %.1f s wall\n",
-      label, integrator.c_str(), m.energy_rel, m.residual, m.penetration_ratio, m.steps,
-      sim.wallTime());
+  std::printf("%s, %s: energy %.2e, residual %.2e, penetration %.3f r, %ld steps, %.1f s wall\n",
+              label, integrator.c_str(), m.energy_rel, m.residual, m.penetration_ratio, m.steps,
+              sim.wallTime());
   return m;
 }
 
@@ -85,9 +84,9 @@ void expectStable(const cws::RunMeasures& m) {
 // the step ends where the ramp ends, so the constraint solve sees the
 // core's acceleration for the whole ramp.
 TEST(Stability, StepsEndWhereASpeedRampEnds) {
-  cws::Simulation sim(scene({"core.start_at_speed=false", "core.max_angular_acceleration=1e12",
-                             "process.turns=0.01"},
-                            "symplectic_euler"));
+  cws::Simulation sim(scene(
+      {"core.start_at_speed=false", "core.max_angular_acceleration=1e12", "process.turns=0.01"},
+      "symplectic_euler"));
   const double omega = 1200.0 * 2.0 * M_PI / 60.0;
   const double ramp_s = omega / 1e12;
   ASSERT_LT(ramp_s, sim.scene().solver.fixed_step);
@@ -103,19 +102,18 @@ TEST(Stability, StepsEndWhereASpeedRampEnds) {
 // acceleration to follow it, and the frames would lag the segments by
 // about dv / (e nu l) = 0.04 rad.
 TEST(Stability, InstantSpeedStep) {
-  expectStable(runToEnd({"core.start_at_speed=false", "core.max_angular_acceleration=1e12",
-                         "process.turns=0.25"},
-                        "symplectic_euler", "speed step 0 -> 1200 rpm"));
+  expectStable(runToEnd(
+      {"core.start_at_speed=false", "core.max_angular_acceleration=1e12", "process.turns=0.25"},
+      "symplectic_euler", "speed step 0 -> 1200 rpm"));
 }
 
 // 0 -> 20,000 rpm in one instant, 1 3/4 turns: both explicit methods meet
 // the criteria; the implicit one is stopped by the collapse detection, with
 // its cause and the remedy in the message.
 TEST(Stability, Instant20000Rpm) {
-  const std::vector<std::string> o = {"process.core_speed_rpm=20000",
-                                      "process.max_core_speed_rpm=20000",
-                                      "core.start_at_speed=false",
-                                      "core.max_angular_acceleration=1e12"};
+  const std::vector<std::string> o = {
+      "process.core_speed_rpm=20000", "process.max_core_speed_rpm=20000",
+      "core.start_at_speed=false", "core.max_angular_acceleration=1e12"};
   expectStable(runToEnd(o, "symplectic_euler", "0 -> 20,000 rpm"));
   expectStable(runToEnd(o, "rkf45", "0 -> 20,000 rpm"));
   try {
@@ -134,8 +132,8 @@ TEST(Stability, Instant20000Rpm) {
 // removal (the point count and the port distance change together), the
 // energy the leaving wire takes is booked, and the run meets the criteria.
 TEST(Stability, ReversalDrawsWireBackThroughThePort) {
-  cws::Simulation sim(scene({"core.start_at_speed=true", "process.duration=0.05"},
-                            "symplectic_euler"));
+  cws::Simulation sim(
+      scene({"core.start_at_speed=true", "process.duration=0.05"}, "symplectic_euler"));
   const double step = sim.scene().solver.fixed_step;
   const double l = sim.scene().wire.segment_length;
   while (sim.time() < 0.025) sim.step(0.025);
@@ -156,8 +154,7 @@ TEST(Stability, ReversalDrawsWireBackThroughThePort) {
   std::printf(
       "reversal: %d points at the reversal, down to %d; fed length down by %.2f mm, largest "
       "change in one step %.2e m; energy %.2e, residual %.2e\n",
-      n_reversed, n_least, 1e3 * (fed_reversed - fed_least), worst_jump, m.energy_rel,
-      m.residual);
+      n_reversed, n_least, 1e3 * (fed_reversed - fed_least), worst_jump, m.energy_rel, m.residual);
   EXPECT_LT(n_least, n_reversed - 2) << "the wire was meant to be drawn back";
   // Wire moves at most ~2 m/s: a step moves it by far less than a segment.
   EXPECT_LT(worst_jump, 2.0 * 2.0 * step + 1e-3 * l);

@@ -24,21 +24,20 @@ struct StabilityCriteria {
 
 // Figures of a run against those criteria.
 struct RunMeasures {
-  bool finite = true;          // state and energy terms all finite
-  double energy_rel = 0.0;     // relative energy imbalance [-]
-  double energy_scale_J = 0.0; // max(|W|, KE + U + D) [J]
-  double residual = 0.0;       // largest constraint residual [-]
+  bool finite = true;              // state and energy terms all finite
+  double energy_rel = 0.0;         // relative energy imbalance [-]
+  double energy_scale_J = 0.0;     // max(|W|, KE + U + D) [J]
+  double residual = 0.0;           // largest constraint residual [-]
   double penetration_ratio = 0.0;  // deepest penetration / radius [-] (0 without contact)
-  long steps = 0;              // accepted steps
+  long steps = 0;                  // accepted steps
   long rejected = 0;
-  double mean_step_s = 0.0;    // simulated time / accepted steps [s]
+  double mean_step_s = 0.0;  // simulated time / accepted steps [s]
 };
 
 RunMeasures measureRun(const Simulation& sim);
 
 // The criteria `m` breaks, one line each naming the figure and its bound;
 // empty when the run counts as stable.
-std::vector<std::string> stabilityViolations(const RunMeasures& m,
-                                             const StabilityCriteria& c = {});
+std::vector<std::string> stabilityViolations(const RunMeasures& m, const StabilityCriteria& c = {});
 
 }  // namespace cws
