@@ -35,6 +35,7 @@
 #include "coil_winding_sim/SimulationSnapshot.h"
 #include "coil_winding_sim/Snapshot.h"
 #include "coil_winding_sim/WindingMetrics.h"
+#include "ros_test_support.hpp"
 
 namespace fs = std::filesystem;
 using coil_winding_sim::WindingMetrics;
@@ -115,15 +116,7 @@ class Observer {
 Observer* observer = nullptr;
 ros::Publisher* speed_pub = nullptr;
 
-// Waits (wall time) until pred() holds.
-bool waitFor(const std::function<bool()>& pred, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::WallTime::now() < end) {
-    if (pred()) return true;
-    ros::WallDuration(0.01).sleep();
-  }
-  return pred();
-}
+using cws_ros_test::waitFor;
 
 // The metrics after `n` more messages (20 Hz): a state published after
 // this call, with time for a DELETEALL marker (10 Hz) to arrive.

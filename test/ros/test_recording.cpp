@@ -16,6 +16,7 @@
 
 #include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/WindingMetrics.h"
+#include "ros_test_support.hpp"
 
 namespace fs = std::filesystem;
 
@@ -31,15 +32,7 @@ void onMetrics(const coil_winding_sim::WindingMetrics::ConstPtr& m) {
   ++count;
 }
 
-template <class Pred>
-bool waitFor(Pred pred, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::WallTime::now() < end) {
-    if (pred()) return true;
-    ros::WallDuration(0.05).sleep();
-  }
-  return pred();
-}
+using cws_ros_test::waitFor;
 
 double tensionNow() {
   std::lock_guard<std::mutex> l(mutex);

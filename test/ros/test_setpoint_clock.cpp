@@ -12,6 +12,7 @@
 
 #include "coil_winding_sim/CoreSpeedSetpoint.h"
 #include "coil_winding_sim/WindingMetrics.h"
+#include "ros_test_support.hpp"
 
 namespace {
 std::mutex mutex;
@@ -29,14 +30,7 @@ coil_winding_sim::WindingMetrics latest() {
   return metrics;
 }
 
-bool waitFor(const std::function<bool()>& pred, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::WallTime::now() < end) {
-    if (pred()) return true;
-    ros::WallDuration(0.01).sleep();
-  }
-  return pred();
-}
+using cws_ros_test::waitFor;
 
 // True if the speed setpoint stays `w` for a second (wall time).
 bool stays(double w) {

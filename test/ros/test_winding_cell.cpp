@@ -21,6 +21,7 @@
 #include "coil_winding_sim/Snapshot.h"
 #include "coil_winding_sim/WindingMetrics.h"
 #include "coil_winding_sim/WireState.h"
+#include "ros_test_support.hpp"
 
 namespace {
 
@@ -69,16 +70,7 @@ class Listener {
   ros::Subscriber metrics_, markers_, tf_;
 };
 
-// Waits (wall time) until pred() holds.
-template <class Pred>
-bool waitFor(Pred pred, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::WallTime::now() < end) {
-    if (pred()) return true;
-    ros::WallDuration(0.02).sleep();
-  }
-  return pred();
-}
+using cws_ros_test::waitFor;
 
 coil_winding_sim::WindingMetrics latest(Listener& l) {
   std::lock_guard<std::mutex> lock(l.mutex);
