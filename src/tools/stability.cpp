@@ -378,9 +378,9 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
     }
     md << " | " << fmt("%.1f", r.wall_s) << " | " << cell(r.message) << " |\n";
   }
-  md << "\nRegenerate: `make stability` (writes this file and docs/stability/stability.csv; "
-        "about "
-     << "an hour on the machine above). One case: `wire_sim stability --only NAME --out DIR`.\n";
+  md << "\nRegenerate: `make stability` (this file and docs/stability/stability.csv; "
+        "`make stability ARGS=\"--budget 900\"` took 21 minutes on the machine above). One "
+        "case: `wire_sim stability --only NAME --out DIR`.\n";
   cws::writeFileAtomically((fs::path(dir) / "stability.csv").string(), csv.str());
   cws::writeFileAtomically((fs::path(dir) / "STABILITY.md").string(), md.str());
   std::cout << csv.str();
