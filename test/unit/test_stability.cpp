@@ -126,6 +126,21 @@ TEST(Stability, Instant20000Rpm) {
   }
 }
 
+// The stiffest and most extreme cases of the matrix, shortened: every
+// rigidity x100 (the explicit step 10x smaller), 300 N (far past axial yield:
+// the deepest penetration of the matrix), a slack wire at 0 N, and 0.2 mm
+// segments.
+TEST(Stability, StiffWireExtremeTensionsAndFineSegments) {
+  expectStable(runToEnd({"wire.stretch.elastic_rigidity=4.89e6",
+                         "wire.stretch.plastic_rigidity=1.10e5", "wire.bend.elastic_rigidity=0.306",
+                         "wire.bend.plastic_rigidity=1.13e-2", "process.turns=0.1"},
+                        "symplectic_euler", "rigidities x100"));
+  expectStable(runToEnd({"process.tension=300", "process.turns=0.5"}, "symplectic_euler", "300 N"));
+  expectStable(runToEnd({"process.tension=0", "process.turns=0.5"}, "symplectic_euler", "0 N"));
+  expectStable(runToEnd({"wire.segment_length=2e-4", "process.turns=0.01"}, "symplectic_euler",
+                        "0.2 mm segments"));
+}
+
 // Rotation reversal: the core winds half a turn, then turns backwards at
 // its acceleration limit, and the supply takes the wire back through the
 // port a point at a time. The fed length stays continuous through each
