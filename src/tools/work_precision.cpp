@@ -110,9 +110,10 @@ int runWorkPrecision(const std::string& scene_path, const std::vector<std::strin
     r.name = "symplectic_euler_carry_h" + std::string(h);
     runs.push_back(r);
   }
-  // The implicit method over tolerances. It gives up (solver.min_step) where
-  // its step falls 20x below the explicit method's: slower than that, it has
-  // lost its purpose.
+  // The implicit method over tolerances. It gives up where its step falls
+  // 20x below the explicit method's (solver.min_step), or stays below l / c
+  // (the simulation's collapse detection): slower than that, it has lost its
+  // purpose.
   for (const char* tol : {"1e-7", "1e-8", "1e-9"}) {
     runs.push_back(
         make("rosenbrock2", std::string("atol") + tol,
