@@ -239,8 +239,9 @@ void WireModel::derivative(double t, ConstRef y, Ref dydt) {
                              forces_.f_q.col(boundary).dot(kin_.qd.col(boundary)) + carried_power;
   // Planar mode: no acceleration along the core axis (removes rounding).
   const Eigen::Vector3d& nrm = planar_normal_world_;
-  dydt[0] = forces_.power_external + clamp_power + constraints_.portPower();
-  dydt[1] = forces_.power_dissipated;
+  dydt[0] =
+      forces_.workRate(kin_.v_world, kin_.qd, f, c_.n) + clamp_power + constraints_.portPower();
+  dydt[1] = forces_.dissipationRate(kin_.v_world, kin_.qd, f, c_.n);
   for (int i = 1; i < c_.n; ++i) {
     const int o = offsetOf(i);
     dydt.segment<7>(o) = y.segment<7>(o + 7);
@@ -252,7 +253,22 @@ void WireModel::derivative(double t, ConstRef y, Ref dydt) {
 }
 
 bool WireModel::semiImplicitUpdate(double h, ConstRef dydt, Ref y) const {
-  y.head<kAux>() += h * dydt.head<kAux>();
+  // Discrete work-energy law of the method: the kinetic energy changes by
+  // exactly h f . (v + v_new) / 2 for the forces f of the step's start. Book
+  // the applied loads and the friction and damping forces at that mean
+  // velocity, i.e. add h f . dv / 2 with dv = h a to the rates at v. Booked
+  // at v the balance drifted by O(h) per unit of friction work (1.7 % over
+  // 100 turns); booked at v_new, by as much the other way.
+  double dw = 0.0, dd = 0.0;
+  for (int i = c_.first; i < c_.n; ++i) {
+    const int o = offsetOf(i);
+    const auto dv = dydt.segment<3>(o + 7);
+    const auto dqd = dydt.segment<4>(o + 10);
+    dw += forces_.f_work_world.col(i).dot(dv) + forces_.fq_work.col(i).dot(dqd);
+    dd -= forces_.f_dissipative_world.col(i).dot(dv) + forces_.fq_dissipative.col(i).dot(dqd);
+  }
+  y[0] += h * (dydt[0] + 0.5 * h * dw);
+  y[1] += h * (dydt[1] + 0.5 * h * dd);
   for (int i = 1; i < c_.n; ++i) {
     const int o = offsetOf(i);
     y.segment<7>(o + 7) += h * dydt.segment<7>(o + 7);  // v, qdot

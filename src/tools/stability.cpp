@@ -137,8 +137,10 @@ std::vector<Case> matrixCases() {
                    {{0.025, -1200.0 * kRpm}}});
   // A long run at production speed (the scene's speed limit for setpoints):
   // 100 turns take 1 s. On the paper's core with 2 mm segments they feed
-  // 2,900 points, and the carried wire, still part of the state vector,
-  // makes that an hour's run; with 5 mm segments on the larger core, 1,500.
+  // 2,900 points; with 5 mm segments on the larger core, 1,500. Little of
+  // that wire is carried (5-11 points: the spans between the cylinders
+  // vibrate faster than contact.stick_speed), so each step grows with the
+  // wire: RKF45 needs about 40 minutes.
   std::vector<std::string> long_run = core_r5mm;
   long_run.push_back("process.turns=100");
   long_run.push_back("process.core_speed_rpm=6000");
@@ -334,9 +336,12 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
   }
   std::mutex log;
   // Last case first: the long run starts at once and the short ones fill in.
+  const auto study_start = std::chrono::steady_clock::now();
   forEachParallel(runs.size(), jobs, [&](std::size_t i) {
     execute(scene_path, base, runs[runs.size() - 1 - i], budget_s, log);
   });
+  const double study_min =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - study_start).count() / 60.0;
 
   std::ostringstream csv, md;
   csv << "case,method,outcome,energy_error_rel,max_residual,max_penetration_rel_radius,steps,"
@@ -378,9 +383,11 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
     }
     md << " | " << fmt("%.1f", r.wall_s) << " | " << cell(r.message) << " |\n";
   }
-  md << "\nRegenerate: `make stability` (this file and docs/stability/stability.csv; "
-        "`make stability ARGS=\"--budget 900\"` took 21 minutes on the machine above). One "
-        "case: `wire_sim stability --only NAME --out DIR`.\n";
+  md << "\nRegenerate: `make stability` (this file and docs/stability/stability.csv; this "
+        "study took "
+     << fmt("%.0f", study_min)
+     << " minutes on the machine above). One case: `wire_sim stability --only NAME --out "
+        "DIR`.\n";
   cws::writeFileAtomically((fs::path(dir) / "stability.csv").string(), csv.str());
   cws::writeFileAtomically((fs::path(dir) / "STABILITY.md").string(), md.str());
   std::cout << csv.str();

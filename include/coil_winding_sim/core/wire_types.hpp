@@ -50,22 +50,57 @@ struct WireKinematics {
 // Generalized forces conjugate to p and q, plus power bookkeeping for the
 // energy balance.
 struct WireForces {
-  Eigen::Matrix3Xd f_world;       // [N]
-  Eigen::Matrix4Xd f_q;           // generalized force on quaternions [N m]
-  double power_external = 0.0;    // work rate of applied loads [W]
-  double power_dissipated = 0.0;  // viscous dissipation rate [W]
+  Eigen::Matrix3Xd f_world;  // [N]
+  Eigen::Matrix4Xd f_q;      // generalized force on quaternions [N m]
+  // Work and dissipation rates. Each is a part that does not depend on the
+  // wire's velocities (e.g. a moving surface's force times its velocity)
+  // plus the velocity-paired forces below: the work rate adds
+  // sum f_work . v + fq_work . qd, the dissipation rate subtracts
+  // sum f_dissipative . v + fq_dissipative . qd. Kept apart so that an
+  // integrator can book the work its own velocities do (symplectic Euler
+  // moves the positions with the velocities at the step's end).
+  double power_external = 0.0;           // [W]
+  double power_dissipated = 0.0;         // [W]
+  Eigen::Matrix3Xd f_work_world;         // applied loads [N]
+  Eigen::Matrix4Xd fq_work;              // applied moments, on q [N m]
+  Eigen::Matrix3Xd f_dissipative_world;  // friction and damping [N]
+  Eigen::Matrix4Xd fq_dissipative;       // damping moments, on q [N m]
 
   void resize(int n) {
     f_world.resize(3, n);
     f_q.resize(4, n);
+    f_work_world.setZero(3, n);
+    fq_work.setZero(4, n);
+    f_dissipative_world.setZero(3, n);
+    fq_dissipative.setZero(4, n);
   }
   // Zeroes the forces on points first..first+count-1 and the powers (the
   // effects add only to points from the boundary of the integrated wire on).
   void setZero(int first, int count) {
     f_world.middleCols(first, count).setZero();
     f_q.middleCols(first, count).setZero();
+    f_work_world.middleCols(first, count).setZero();
+    fq_work.middleCols(first, count).setZero();
+    f_dissipative_world.middleCols(first, count).setZero();
+    fq_dissipative.middleCols(first, count).setZero();
     power_external = 0.0;
     power_dissipated = 0.0;
+  }
+  // The work and dissipation rates [W] at the velocities v_world, qd of
+  // points first..n-1.
+  double workRate(const Eigen::Matrix3Xd& v_world, const Eigen::Matrix4Xd& qd, int first,
+                  int n) const {
+    double p = power_external;
+    for (int i = first; i < n; ++i)
+      p += f_work_world.col(i).dot(v_world.col(i)) + fq_work.col(i).dot(qd.col(i));
+    return p;
+  }
+  double dissipationRate(const Eigen::Matrix3Xd& v_world, const Eigen::Matrix4Xd& qd, int first,
+                         int n) const {
+    double p = power_dissipated;
+    for (int i = first; i < n; ++i)
+      p -= f_dissipative_world.col(i).dot(v_world.col(i)) + fq_dissipative.col(i).dot(qd.col(i));
+    return p;
   }
 };
 

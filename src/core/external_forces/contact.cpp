@@ -113,8 +113,10 @@ void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const 
       bool slipping;
       const Eigen::Vector3d f_t = friction(i, p, vh, n, normal, slipping);
       f_c += f_t;
-      // Friction power, counted as dissipated (also what a stick spring holds).
-      f.power_dissipated -= f_t.dot(vh);
+      // Friction power -f_t . (v - u), counted as dissipated (also what a
+      // stick spring holds; f_t is tangential, so f_t . vh = f_t . (v - u)).
+      f.power_dissipated += f_t.dot(u);
+      f.f_dissipative_world.col(i) += f_t;
     }
     f.f_world.col(i) += f_c;
     // The moving surface does work on the wire.

@@ -10,13 +10,14 @@ void Damping::addForces(double, const WireKinematics& k, WireForces& f) const {
   for (int i = c_.first; i < c_.n; ++i) {
     const Eigen::Vector3d v = k.v_world.col(i);
     f.f_world.col(i) -= c_lin * v;
-    f.power_dissipated += c_lin * v.squaredNorm();
+    f.f_dissipative_world.col(i) -= c_lin * v;
     if (c_rot > 0.0) {
       // Moment -c omega_world, as a generalized force 2 E(q)^T m on q.
       const quat::Mat34 e = quat::E(k.q.col(i));
       const Eigen::Vector3d omega_world = 2.0 * e * k.qd.col(i);
-      f.f_q.col(i) -= 2.0 * c_rot * e.transpose() * omega_world;
-      f.power_dissipated += c_rot * omega_world.squaredNorm();
+      const Eigen::Vector4d fq = -2.0 * c_rot * e.transpose() * omega_world;
+      f.f_q.col(i) += fq;
+      f.fq_dissipative.col(i) += fq;
     }
   }
 }

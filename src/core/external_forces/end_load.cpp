@@ -30,11 +30,11 @@ void EndLoad::addForces(double t, const WireKinematics& k, WireForces& f) const 
   loadAt(t, force_world, moment_world);
   const int tip = c_.n - 1;
   f.f_world.col(tip) += force_world;
+  f.f_work_world.col(tip) += force_world;
   // A world moment m acts on q as 2 E(q)^T m; its power is m . omega_world.
-  const quat::Mat34 e = quat::E(k.q.col(tip));
-  f.f_q.col(tip) += 2.0 * e.transpose() * moment_world;
-  f.power_external +=
-      force_world.dot(k.v_world.col(tip)) + moment_world.dot(2.0 * e * k.qd.col(tip));
+  const Eigen::Vector4d fq = 2.0 * quat::E(k.q.col(tip)).transpose() * moment_world;
+  f.f_q.col(tip) += fq;
+  f.fq_work.col(tip) += fq;
 }
 
 }  // namespace cws

@@ -52,7 +52,7 @@ void Supply::addForces(double, const WireKinematics& k, WireForces& f) const {
   const Eigen::Vector3d zeta = quat::zeta(k.q.col(last));
   const Eigen::Vector3d pull = tension_ * zeta;
   f.f_world.col(last) += pull;
-  f.power_external += pull.dot(k.v_world.col(last));
+  f.f_work_world.col(last) += pull;
 }
 
 }  // namespace cws
