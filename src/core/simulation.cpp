@@ -80,7 +80,11 @@ void Simulation::step(double t_limit) {
     const double t_ramp = core->rampEnd();
     if (t_ramp < t_limit && t_ramp > t_ + 1e-12 * std::max(1.0, std::abs(t_))) t_limit = t_ramp;
   }
-  stepper_->step(*model_, t_, y_, t_limit);
+  try {
+    stepper_->step(*model_, t_, y_, t_limit);
+  } catch (const IntegrationError& e) {
+    throw IntegrationError(withRampCause(e.what()));
+  }
   // One pass: a sum is finite only if every term is (states never come
   // near the overflow that could make finite terms sum to infinity).
   if (!std::isfinite(y_.head(model_->size()).sum())) {
@@ -88,6 +92,27 @@ void Simulation::step(double t_limit) {
   }
   if (collapse_step_s_ > 0.0) checkCollapse();
   afterStep();
+}
+
+// A method that fails inside a core speed ramp shorter than the time a wave
+// crosses a segment (an instant speed change: core.start_at_speed's start,
+// or core.max_angular_acceleration raised far above a machine's) fails on
+// that ramp, whatever its own message says: name it and the remedy.
+std::string Simulation::withRampCause(const std::string& what) const {
+  const RotatingCore* core = model_->core();
+  if (!core) return what;
+  const double t_ramp = core->rampEnd();
+  if (!(t_ramp > t_) || t_ramp - t_ >= explicitStepLimit(scene_)) return what;
+  std::ostringstream msg;
+  msg << what << ". It failed within a core speed ramp of "
+      << std::abs(core->angularAcceleration(t_)) << " rad/s^2 that ends at t = " << t_ramp
+      << " s, a speed change faster than a wave crosses a segment (core.start_at_speed starts "
+         "the core in "
+      << RotatingCore::kInstantRamp_s
+      << " s; core.max_angular_acceleration sets other ramps): " << stepper_->name()
+      << " cannot follow it; use symplectic_euler or rkf45, or lower "
+         "core.max_angular_acceleration and set core.start_at_speed: false";
+  return msg.str();
 }
 
 void Simulation::checkCollapse() {

@@ -126,6 +126,21 @@ TEST(Stability, Instant20000Rpm) {
   }
 }
 
+// core.start_at_speed starts the core in a 1 ns ramp. rosenbrock2 cannot
+// follow it; the step floor it hits says so, naming the ramp and the remedy
+// rather than only "too stiff".
+TEST(Stability, ImplicitFailureAtTheInstantStartNamesTheRamp) {
+  try {
+    runToEnd({"core.start_at_speed=true", "process.duration=1e-3"}, "rosenbrock2", "instant start");
+    ADD_FAILURE() << "rosenbrock2 was expected to stop";
+  } catch (const cws::IntegrationError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("core speed ramp"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("core.start_at_speed"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("use symplectic_euler or rkf45"), std::string::npos) << msg;
+  }
+}
+
 // The stiffest and most extreme cases of the matrix, shortened: every
 // rigidity x100 (the explicit step 10x smaller), 300 N (far past axial yield:
 // the deepest penetration of the matrix), a slack wire at 0 N, and 0.2 mm

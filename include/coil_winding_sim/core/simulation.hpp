@@ -79,6 +79,7 @@ class Simulation {
  private:
   void afterStep();
   void checkCollapse();
+  std::string withRampCause(const std::string& what) const;
 
   Scene scene_;
   std::unique_ptr<WireModel> model_;
