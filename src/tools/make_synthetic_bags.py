@@ -167,6 +167,8 @@ def profile_points(theta, turns, spacing, phase):
     dphi = spacing / (R_CORE + R_WIRE)
     start = max(0.0, theta - turns * 2 * math.pi)
     phi = np.arange(start + phase * dphi, theta, dphi)
+    if theta > 0:
+        phi = np.append(phi, theta)   # both end at the last laid point
     return helix(phi)
 
 
