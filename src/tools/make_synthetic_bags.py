@@ -295,10 +295,19 @@ def read_sim_messages(path):
     """[(topic, msg, bag_time)] of the sim/* topics of an existing bag."""
     if not os.path.isfile(path):
         raise SystemExit("make_synthetic_bags: no such bag: %s" % path)
+    # TensionSetpoint and WireTension have the same definition, hence the same
+    # md5sum: rosbag's reader (which caches classes by md5sum) may hand one out
+    # as the other, and the copy would be written with the wrong type. Rebuild
+    # them as the type their connection names.
+    custom = {PKG + "/" + n: custom_message_class(n) for n in ("TensionSetpoint", "WireTension")}
     out = []
     with rosbag.Bag(path) as bag:
+        types = {t: i.msg_type for t, i in bag.get_type_and_topic_info().topics.items()}
         for topic, msg, t in bag.read_messages():
             if strip(topic).startswith("sim/"):
+                cls = custom.get(types[topic])
+                if cls is not None and msg._type != cls._type:
+                    msg = cls(header=msg.header, tension=msg.tension)
                 out.append((strip(topic), msg, t.to_sec()))
     if not out:
         raise SystemExit("make_synthetic_bags: %s has no sim/* topic" % path)
