@@ -127,14 +127,14 @@ stability: build
 # Machine run vs simulation (issue 7): summary.json, summary.md and plots in
 # COMPARE_OUT. Needs no build: the tool reads the message definitions stored in the bag.
 COMPARE_OUT ?= out/compare
-compare:
+compare: deps
 	$(if $(BAG),,$(if $(and $(MACHINE),$(SIM)),,$(error compare: give BAG=run.bag or MACHINE=a.bag SIM=b.bag)))
 	$(PYTHON) src/tools/compare_bags.py $(if $(BAG),"$(BAG)",--machine "$(MACHINE)" --sim "$(SIM)") \
 	  --out "$(COMPARE_OUT)" $(ARGS)
 
 # The comparison on synthetic bags: tension +2 N with 0.2 N noise, machine 5 ms
 # late, profile 0.1 mm out (README's example).
-compare-demo:
+compare-demo: deps
 	mkdir -p out/compare_demo
 	$(PYTHON) src/tools/make_synthetic_bags.py --combined-bag out/compare_demo/synthetic.bag \
 	  --tension-offset 2 --tension-noise 0.2 --time-shift 0.005 --profile-offset-mm 0.1
