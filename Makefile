@@ -7,6 +7,9 @@
 #   make bench    per-step cost against the number of points (Google Benchmark)
 #   make work-precision   error against run time of every integrator (docs/performance)
 #   make stability        extreme cases x every integrator, checked (docs/STABILITY.md)
+#   make compare  machine run vs simulation:  make compare BAG=run.bag [OUT=out/compare] [ARGS="--align angle"]
+#                 or MACHINE=a.bag SIM=b.bag instead of BAG (src/tools/compare_bags.py)
+#   make compare-demo   the same on synthetic bags with a known perturbation
 #   make test     build and run all tests; non-zero exit if any test fails
 #   make format   clang-format -i all C++ sources
 #   make clean    remove the workspace .ws/
@@ -45,7 +48,9 @@ DEB_PACKAGES := \
   libstd-srvs-dev librosbag-dev librostest-dev python3-rostest python3-roslaunch \
   ros-base-dev libdiagnostic-updater-dev libeigen3-dev libyaml-cpp-dev libgtest-dev \
   libbenchmark-dev python3-matplotlib python3-catkin-pkg \
-  rviz python3-rostopic python3-rosbag xvfb imagemagick clang-format
+  rviz python3-rostopic python3-rosbag xvfb imagemagick clang-format \
+  python3-numpy python3-genpy python3-sensor-msgs python3-geometry-msgs python3-std-msgs \
+  python3-rospkg python3-rosunit rosbash
 
 CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \
@@ -53,7 +58,7 @@ CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCATKIN_ENABLE_TESTING=ON \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON
 
-.PHONY: deps build run study bench work-precision stability test format format-check clean
+.PHONY: deps build run study bench work-precision stability compare compare-demo test format format-check clean
 
 deps:
 ifeq ($(SKIP_DEPS),1)
@@ -118,6 +123,22 @@ stability: build
 	  cp out/stability/stability.csv docs/stability/stability.csv; \
 	fi; \
 	exit $$rc
+
+# Machine run vs simulation (issue 7): summary.json, summary.md and plots in
+# COMPARE_OUT. Needs no build: the tool reads the message definitions stored in the bag.
+COMPARE_OUT ?= out/compare
+compare: deps
+	$(if $(BAG),,$(if $(and $(MACHINE),$(SIM)),,$(error compare: give BAG=run.bag or MACHINE=a.bag SIM=b.bag)))
+	$(PYTHON) src/tools/compare_bags.py $(if $(BAG),"$(BAG)",--machine "$(MACHINE)" --sim "$(SIM)") \
+	  --out "$(COMPARE_OUT)" $(ARGS)
+
+# The comparison on synthetic bags: tension +2 N with 0.2 N noise, machine 5 ms
+# late, profile 0.1 mm out (README's example).
+compare-demo: deps
+	mkdir -p out/compare_demo
+	$(PYTHON) src/tools/make_synthetic_bags.py --combined-bag out/compare_demo/synthetic.bag \
+	  --tension-offset 2 --tension-noise 0.2 --time-shift 0.005 --profile-offset-mm 0.1
+	$(PYTHON) src/tools/compare_bags.py out/compare_demo/synthetic.bag --out out/compare_demo $(ARGS)
 
 # Per-step cost against the number of points (Google Benchmark).
 bench: build
