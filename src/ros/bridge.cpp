@@ -27,7 +27,7 @@
 
 namespace cws_ros {
 
-const char* const kSnapshotFormat = "coil_winding_sim/snapshot/2";
+const char* const kSnapshotFormat = "coil_winding_sim/snapshot/3";
 const char* const kSnapshotTopic = "/coil_winding_sim/snapshot";
 const char* const kReadSnapshotArg = "--read-snapshot";
 
@@ -264,6 +264,7 @@ coil_winding_sim::SimulationSnapshot toSnapshotMsg(const cws::SimulationState& s
   m.port_distance0 = s.model.port_distance0_m;
   m.carried_points = s.model.carried;
   m.carried_poses = s.model.carried_pose;
+  m.port_command = s.model.port_command;
   m.next_step = s.next_step_s;
   m.last_step = s.last_step_s;
   m.steps_accepted = s.counts.accepted;
@@ -304,6 +305,7 @@ cws::SimulationState fromSnapshotMsg(const coil_winding_sim::SimulationSnapshot&
   s.model.port_distance0_m = m.port_distance0;
   s.model.carried = m.carried_points;
   s.model.carried_pose = m.carried_poses;
+  s.model.port_command = m.port_command;
   s.next_step_s = m.next_step;
   s.last_step_s = m.last_step;
   s.counts.accepted = m.steps_accepted;
