@@ -80,6 +80,8 @@ class WindingCell {
     pnh_.param<std::string>("machine_bag", machine_bag_, "");
     pnh_.param("replay_lag", replay_lag_, 0.05);
     pnh_.param("machine_inputs", machine_inputs_, false);
+    pnh_.param("wait_for_subscribers", wait_subscribers_s_, 0.0);
+    node_start_ = Clock::now();
     if (!(spindle_rate_ > 0.0) || !(profile_rate_ > 0.0) || !std::isfinite(spindle_rate_) ||
         !std::isfinite(profile_rate_)) {
       throw std::invalid_argument("~spindle_rate and ~profile_rate must be positive [Hz]");
@@ -308,11 +310,36 @@ class WindingCell {
     return target;
   }
 
+  // Before the replay's first output: every sim/ topic has a subscriber
+  // (rosbag record), or ~wait_for_subscribers of wall time has passed since
+  // the node started. Waiting costs nothing but wall time: the steps do not
+  // depend on the pace.
+  bool recorderReady() {
+    if (replay_started_) return true;
+    const bool all = spindle_command_pub_.getNumSubscribers() > 0 &&
+                     spindle_state_pub_.getNumSubscribers() > 0 &&
+                     tension_command_pub_.getNumSubscribers() > 0 &&
+                     tension_measured_pub_.getNumSubscribers() > 0 &&
+                     port_command_pub_.getNumSubscribers() > 0 &&
+                     port_position_pub_.getNumSubscribers() > 0 &&
+                     profile_pub_.getNumSubscribers() > 0;
+    if (!all && seconds(Clock::now() - node_start_) < wait_subscribers_s_) return false;
+    if (!all) {
+      ROS_WARN(
+          "winding_cell: replay starts with sim/ topics nobody subscribed to after %g s "
+          "(~wait_for_subscribers)",
+          wait_subscribers_s_);
+    }
+    replay_started_ = true;
+    return true;
+  }
+
   // Steps towards replayTarget() for at most ~10 ms of wall time, ending
   // steps at setpoint stamps and at the publishing grid.
   void advanceReplay() {
     const double target = replayTarget();
-    if (!have_origin_) return;
+    if (target < 0.0) return;  // no clock yet, or not yet past the lag
+    if (!recorderReady()) return;
     const auto start = Clock::now();
     try {
       applyDue();
@@ -878,7 +905,9 @@ class WindingCell {
   bool follow_clock_ = false, machine_inputs_ = false;
   std::string machine_bag_;
   double replay_lag_ = 0.05;  // [s] of the bag's clock
-  bool have_origin_ = false, end_seen_ = false, replay_done_ = false;
+  bool have_origin_ = false, end_seen_ = false, replay_done_ = false, replay_started_ = false;
+  double wait_subscribers_s_ = 0.0;  // [s] of wall time
+  Clock::time_point node_start_;
   ros::Time origin_, last_clock_;
   std::optional<double> bag_end_s_;
   Clock::time_point last_clock_wall_, end_seen_wall_;
