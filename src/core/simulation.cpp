@@ -80,6 +80,10 @@ void Simulation::step(double t_limit) {
     const double t_ramp = core->rampEnd();
     if (t_ramp < t_limit && t_ramp > t_ + 1e-12 * std::max(1.0, std::abs(t_))) t_limit = t_ramp;
   }
+  // Nor across a commanded port sample (a velocity kink of the port).
+  if (const Supply* supply = model_->supply()) {
+    t_limit = std::min(t_limit, supply->portCommand().nextKink(t_));
+  }
   try {
     stepper_->step(*model_, t_, y_, t_limit);
   } catch (const IntegrationError& e) {

@@ -472,6 +472,7 @@ ModelState WireModel::saveState(const Eigen::VectorXd& y) const {
   m.committed_time_s = committed_time_;
   m.port_distance0_m = port_distance0_;
   m.carried = c_.first - 1;
+  if (supply_) m.port_command = supply_->portCommand().exportState();
   for (int i = 1; i < c_.first; ++i) {
     m.carried_pose.insert(m.carried_pose.end(), carried_p_core_[i].data(),
                           carried_p_core_[i].data() + 3);
@@ -509,6 +510,16 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
   for (double v : m.carried_pose) {
     if (!std::isfinite(v)) throw std::runtime_error("snapshot carried poses are not finite");
   }
+  if (!supply_ && !m.port_command.empty()) {
+    throw std::runtime_error("snapshot commands a supply port; this scene has no supply");
+  }
+  if (supply_) {
+    try {
+      supply_->portCommand().restoreState(m.port_command);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(e.what());
+    }
+  }
   c_.n = m.points;
   y.head(size()) = Eigen::Map<const Eigen::VectorXd>(m.y.data(), size());
   HistoryReader in(m.history);
@@ -535,6 +546,14 @@ void WireModel::setCoreSpeed(double omega) {
 
 void WireModel::setSupplyTension(double tension) {
   if (supply_) supply_->setTension(tension);
+}
+
+void WireModel::setPortCommand(const Eigen::Vector3d& p_world, double t_s) {
+  if (!supply_) {
+    throw std::invalid_argument(
+        "port command: the scene has no supply port (physics.supply false)");
+  }
+  supply_->commandPort(t_s, p_world, committed_time_);
 }
 
 EnergyReport WireModel::energy(const Eigen::VectorXd& y) const {

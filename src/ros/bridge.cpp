@@ -4,6 +4,7 @@
 #include <poll.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
 #include <spawn.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -27,9 +28,10 @@
 
 namespace cws_ros {
 
-const char* const kSnapshotFormat = "coil_winding_sim/snapshot/2";
+const char* const kSnapshotFormat = "coil_winding_sim/snapshot/3";
 const char* const kSnapshotTopic = "/coil_winding_sim/snapshot";
 const char* const kReadSnapshotArg = "--read-snapshot";
+const char* const kSpindleJoint = "spindle";
 
 namespace {
 geometry_msgs::Point point(const Eigen::Vector3d& p) {
@@ -247,6 +249,135 @@ bool portTransform(const cws::Simulation& sim, const ros::Time& stamp, const Fra
   return true;
 }
 
+sensor_msgs::JointState toSpindleCommand(const cws::Simulation& sim, const ros::Time& stamp) {
+  sensor_msgs::JointState msg;
+  msg.header.stamp = stamp;
+  msg.name = {kSpindleJoint};
+  const cws::RotatingCore* core = sim.model().core();
+  msg.velocity = {core ? core->command() : 0.0};
+  return msg;
+}
+
+sensor_msgs::JointState toSpindleState(const cws::Simulation& sim, const ros::Time& stamp) {
+  sensor_msgs::JointState msg;
+  msg.header.stamp = stamp;
+  msg.name = {kSpindleJoint};
+  const cws::RotatingCore* core = sim.model().core();
+  msg.position = {core ? core->angle(sim.time()) : 0.0};
+  msg.velocity = {core ? core->omega(sim.time()) : 0.0};
+  return msg;
+}
+
+coil_winding_sim::TensionSetpoint toTensionCommand(const cws::Simulation& sim,
+                                                   const ros::Time& stamp) {
+  coil_winding_sim::TensionSetpoint msg;
+  msg.header.stamp = stamp;
+  msg.tension = sim.model().supply() ? sim.model().supply()->tension() : 0.0;
+  return msg;
+}
+
+coil_winding_sim::WireTension toTensionMeasured(const cws::Simulation& sim,
+                                                const ros::Time& stamp) {
+  coil_winding_sim::WireTension msg;
+  msg.header.stamp = stamp;
+  const cws::WireModel& m = sim.model();
+  msg.tension = m.supply() ? m.axialForce(m.constants().n - 2) : 0.0;
+  return msg;
+}
+
+bool toPortPosition(const cws::Simulation& sim, const ros::Time& stamp, const Frames& frames,
+                    geometry_msgs::PointStamped& out) {
+  const cws::Supply* supply = sim.model().supply();
+  if (!supply) return false;
+  out = geometry_msgs::PointStamped();
+  out.header.stamp = stamp;
+  out.header.frame_id = frames.world;
+  out.point = point(supply->port(sim.time()).p_world);
+  return true;
+}
+
+sensor_msgs::PointCloud2 toProfile(const cws::Simulation& sim, const ros::Time& stamp,
+                                   const Frames& frames) {
+  sensor_msgs::PointCloud2 cloud;
+  cloud.header.stamp = stamp;
+  cloud.header.frame_id = frames.core;
+  const cws::WireModel& m = sim.model();
+  const cws::RotatingCore* core = m.core();
+  // The wound part: up to the last point touching the core.
+  const int last = m.contact() ? lastInContact(m) : m.constants().n - 1;
+  const int count = core ? last + 1 : 0;
+  sensor_msgs::PointCloud2Modifier mod(cloud);
+  mod.setPointCloud2Fields(
+      4, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32, "z", 1,
+      sensor_msgs::PointField::FLOAT32, "stand_off", 1, sensor_msgs::PointField::FLOAT32);
+  mod.resize(count);
+  cloud.height = 1;
+  cloud.width = count;
+  cloud.is_dense = false;
+  if (count == 0) return cloud;
+  const bool section = !sim.scene().core.cylinders.empty();
+  sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z"),
+      h(cloud, "stand_off");
+  for (int i = 0; i < count; ++i, ++x, ++y, ++z, ++h) {
+    const Eigen::Vector3d p_core = core->pointCore(sim.time(), m.committed().p_world.col(i));
+    *x = static_cast<float>(p_core.x());
+    *y = static_cast<float>(p_core.y());
+    *z = static_cast<float>(p_core.z());
+    *h = section ? static_cast<float>(m.standOff(i)) : std::numeric_limits<float>::quiet_NaN();
+  }
+  return cloud;
+}
+
+bool spindleVelocity(const sensor_msgs::JointState& msg, double& omega, std::string& why) {
+  const auto it = std::find(msg.name.begin(), msg.name.end(), kSpindleJoint);
+  if (it == msg.name.end()) {
+    why = "no joint named 'spindle'";
+    return false;
+  }
+  const std::size_t i = static_cast<std::size_t>(it - msg.name.begin());
+  if (i >= msg.velocity.size()) {
+    why = "no velocity for joint 'spindle' (" + std::to_string(msg.velocity.size()) +
+          " velocities for " + std::to_string(msg.name.size()) + " joints)";
+    return false;
+  }
+  if (!std::isfinite(msg.velocity[i])) {
+    why = "the velocity of joint 'spindle' is not finite";
+    return false;
+  }
+  omega = msg.velocity[i];
+  return true;
+}
+
+bool portPoint(const geometry_msgs::PointStamped& msg, const Frames& frames,
+               Eigen::Vector3d& p_world, std::string& why) {
+  if (!msg.header.frame_id.empty() && msg.header.frame_id != frames.world) {
+    why = "frame '" + msg.header.frame_id + "' is not '" + frames.world + "'";
+    return false;
+  }
+  const Eigen::Vector3d p(msg.point.x, msg.point.y, msg.point.z);
+  if (!p.allFinite()) {
+    why = "the point is not finite";
+    return false;
+  }
+  p_world = p;
+  return true;
+}
+
+void bagTimeRange(const std::string& path, ros::Time& start, ros::Time& end) {
+  std::lock_guard<std::mutex> lock(bag_mutex);
+  try {
+    rosbag::Bag bag(path, rosbag::bagmode::Read);
+    rosbag::View view(bag);
+    if (view.size() == 0) throw std::runtime_error("it holds no messages");
+    start = view.getBeginTime();
+    end = view.getEndTime();
+  } catch (const rosbag::BagException& e) {
+    throw std::runtime_error("cannot read bag '" + path + "': " + e.what());
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error("bag '" + path + "': " + e.what());
+  }
+}
+
 coil_winding_sim::SimulationSnapshot toSnapshotMsg(const cws::SimulationState& s,
                                                    const ros::Time& stamp) {
   coil_winding_sim::SimulationSnapshot m;
@@ -264,6 +395,7 @@ coil_winding_sim::SimulationSnapshot toSnapshotMsg(const cws::SimulationState& s
   m.port_distance0 = s.model.port_distance0_m;
   m.carried_points = s.model.carried;
   m.carried_poses = s.model.carried_pose;
+  m.port_command = s.model.port_command;
   m.next_step = s.next_step_s;
   m.last_step = s.last_step_s;
   m.steps_accepted = s.counts.accepted;
@@ -304,6 +436,7 @@ cws::SimulationState fromSnapshotMsg(const coil_winding_sim::SimulationSnapshot&
   s.model.port_distance0_m = m.port_distance0;
   s.model.carried = m.carried_points;
   s.model.carried_pose = m.carried_poses;
+  s.model.port_command = m.port_command;
   s.next_step_s = m.next_step;
   s.last_step_s = m.last_step;
   s.counts.accepted = m.steps_accepted;

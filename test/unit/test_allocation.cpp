@@ -30,13 +30,23 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 namespace {
 // Steps of the paper's case with `integrator`: contact, friction, plasticity
 // and a growing wire (the supply appends points during the counted steps).
-void expectStepsAllocateNothing(const std::string& integrator, int steps) {
+// With `command_port` the port follows commanded samples queued ahead of
+// the counted steps (a velocity kink every 20 us).
+void expectStepsAllocateNothing(const std::string& integrator, int steps,
+                                bool command_port = false) {
   const std::string path = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
   cws::Simulation sim(cws::loadScene(
       path, {"process.turns=0.2", "solver.integrator=" + integrator, "solver.atol=1e-8"}));
   // Under way: let the first steps settle the step size.
   for (int i = 0; i < 100; ++i) sim.step(sim.endTime());
   const int n0 = sim.model().constants().n;
+  if (command_port) {
+    const Eigen::Vector3d p0_world = sim.model().supply()->port(sim.time()).p_world;
+    for (int k = 1; k <= 200; ++k) {
+      // Away from the core (in the plane): more wire is drawn in.
+      sim.setPortCommand(p0_world + Eigen::Vector3d(0.0, -1e-5 * k, 0.0), sim.time() + 2e-5 * k);
+    }
+  }
   // The counter counts: one allocation seen.
   allocations = 0;
   counting = true;
@@ -55,6 +65,11 @@ void expectStepsAllocateNothing(const std::string& integrator, int steps) {
 }  // namespace
 
 TEST(Allocation, StepsAllocateNothing) { expectStepsAllocateNothing("symplectic_euler", 20000); }
+
+// Steps that end at commanded port samples and drop the passed ones.
+TEST(Allocation, CommandedPortStepsAllocateNothing) {
+  expectStepsAllocateNothing("symplectic_euler", 20000, true);
+}
 
 // Jacobian builds, refactorizations and rejected steps included.
 TEST(Allocation, ImplicitStepsAllocateNothing) { expectStepsAllocateNothing("rosenbrock2", 3000); }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -41,6 +42,31 @@ class Simulation {
   // [N]. Ignored when the scene has no core / no supply.
   void setCoreSpeed(double omega) { model_->setCoreSpeed(omega); }
   void setSupplyTension(double tension) { model_->setSupplyTension(tension); }
+  // Commanded supply-port position p_world [m, world frame] at simulated
+  // time t_s [s]: the port moves on straight lines between the commanded
+  // samples (constant velocity between them) and holds the last one; the
+  // first command starts from where the port is and replaces the traverse
+  // law (process.traverse_pitch). Steps end at sample times. Samples may lie
+  // ahead of the present time (PortTrajectory::kCapacity of them).
+  // Throws std::invalid_argument naming what is wrong (a non-finite value, a
+  // stamp before the simulated time or the last sample, a jump, a port
+  // inside the turning core, no supply); the run is unchanged then.
+  void setPortCommand(const Eigen::Vector3d& p_world, double t_s) {
+    model_->setPortCommand(p_world, t_s);
+  }
+  // True once the port follows commands.
+  bool portCommanded() const {
+    return model_->supply() && model_->supply()->portCommand().active();
+  }
+  // Samples that can still be queued, and the time of the last queued one
+  // (-infinity without commands).
+  int portCommandRoom() const {
+    return model_->supply() ? model_->supply()->portCommand().room() : 0;
+  }
+  double portCommandEnd() const {
+    return model_->supply() ? model_->supply()->portCommand().lastTime()
+                            : -std::numeric_limits<double>::infinity();
+  }
 
   // Step-size collapse: an error-controlled method whose accepted step stays
   // below its collapseRatio() x the explicit stability limit l / c for

@@ -76,6 +76,9 @@ struct ModelState {
   double port_distance0_m = 0.0;
   int carried = 0;                   // points the core carries (solver.carry_stuck_wire)
   std::vector<double> carried_pose;  // per carried point: p_core [m] (3), q_core (4)
+  // Commanded port path ahead (PortTrajectory::exportState: t_s, x, y, z
+  // per sample); empty: the port follows process.traverse_pitch.
+  std::vector<double> port_command;
 };
 
 class WireModel : public OdeSystem {
@@ -131,6 +134,9 @@ class WireModel : public OdeSystem {
   // Setpoints (between steps): core speed [rad/s], supply tension [N].
   void setCoreSpeed(double omega);
   void setSupplyTension(double tension);
+  // Commanded port position p_world [m] at t_s [s] (Supply::commandPort);
+  // throws std::invalid_argument (also without a supply).
+  void setPortCommand(const Eigen::Vector3d& p_world, double t_s);
 
   // Natural length of wire drawn in through the port since the start [m].
   double fedLength() const;

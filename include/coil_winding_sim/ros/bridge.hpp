@@ -2,15 +2,20 @@
 // TF and bag files. The only place where core types meet ROS types.
 #pragma once
 
+#include <geometry_msgs/PointStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <ros/time.h>
+#include <sensor_msgs/JointState.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <string>
 
 #include "coil_winding_sim/SimulationSnapshot.h"
+#include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/WindingMetrics.h"
 #include "coil_winding_sim/WireState.h"
+#include "coil_winding_sim/WireTension.h"
 #include "coil_winding_sim/core/simulation.hpp"
 
 namespace cws_ros {
@@ -48,6 +53,42 @@ bool coreTransform(const cws::Simulation& sim, const ros::Time& stamp, const Fra
                    geometry_msgs::TransformStamped& out);
 bool portTransform(const cws::Simulation& sim, const ros::Time& stamp, const Frames& frames,
                    geometry_msgs::TransformStamped& out);
+
+// ---- The machine recording interface (docs/MACHINE_INTERFACE.md) --------
+// The simulation's side of the `sim/` topics, each stamped `stamp`.
+// Spindle (joint `spindle`): command = the core's commanded angular velocity
+// [rad/s]; state = its angle since the start [rad] and angular velocity.
+extern const char* const kSpindleJoint;
+sensor_msgs::JointState toSpindleCommand(const cws::Simulation& sim, const ros::Time& stamp);
+sensor_msgs::JointState toSpindleState(const cws::Simulation& sim, const ros::Time& stamp);
+// Tension: command = the supply tension [N]; measured = the wire's axial
+// force at the port (its last segment) [N]. Zero without a supply.
+coil_winding_sim::TensionSetpoint toTensionCommand(const cws::Simulation& sim,
+                                                   const ros::Time& stamp);
+coil_winding_sim::WireTension toTensionMeasured(const cws::Simulation& sim, const ros::Time& stamp);
+// The supply port's position [m] in the world frame. The simulated port is
+// where it is commanded to be, so command and position carry the same
+// point (the traverse law's without commands). False without a supply.
+bool toPortPosition(const cws::Simulation& sim, const ros::Time& stamp, const Frames& frames,
+                    geometry_msgs::PointStamped& out);
+// The wound wire's mass points (the fixed end to the last point touching
+// the core; all points without contact) in the core frame: float32 fields
+// x, y, z [m] and stand_off [m] from the winding surface (NaN without
+// cylinders). Empty without a core.
+sensor_msgs::PointCloud2 toProfile(const cws::Simulation& sim, const ros::Time& stamp,
+                                   const Frames& frames);
+
+// Machine commands to simulation inputs. Each returns false and says why in
+// `why` for a message that cannot be used.
+// The `spindle` joint's commanded velocity [rad/s] (finite).
+bool spindleVelocity(const sensor_msgs::JointState& msg, double& omega, std::string& why);
+// A point [m] in the world frame (finite; frame_id empty or `frames.world`).
+bool portPoint(const geometry_msgs::PointStamped& msg, const Frames& frames,
+               Eigen::Vector3d& p_world, std::string& why);
+
+// Start and end time of a bag (its first and last message). Throws
+// std::runtime_error naming the file and the problem.
+void bagTimeRange(const std::string& path, ros::Time& start, ros::Time& end);
 
 // Snapshots as messages and bag files. The readers throw std::runtime_error
 // with a message that says what is wrong with the file.

@@ -1,6 +1,9 @@
 #include "coil_winding_sim/core/external_forces/supply.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <stdexcept>
 
 #include "coil_winding_sim/core/quaternion.hpp"
 
@@ -23,7 +26,11 @@ Supply::Supply(const WireConstants& c, const Scene& s, const RotatingCore* core)
       port0_world_(s.supply.port_position_world),
       axis_world_(s.core.axis_world.normalized()),
       pitch_(s.process.traverse_pitch),
+      core_origin_world_(s.core.position_world),
       tension_(s.process.tension) {
+  for (const CylinderParams& cyl : s.core.cylinders) {
+    swept_radius_ = std::max(swept_radius_, cyl.center_core.norm() + cyl.radius + c.radius);
+  }
   stretch_ = s.wire.stretch;
   if (!s.physics.plasticity) stretch_.plastic_rigidity = stretch_.elastic_rigidity;
   strain_ = virginStrain(stretch_, tension_);
@@ -34,7 +41,27 @@ void Supply::setTension(double tension) {
   strain_ = virginStrain(stretch_, tension_);
 }
 
+void Supply::commit(double t, const WireKinematics&) { command_.commit(t); }
+
+void Supply::commandPort(double t_s, const Eigen::Vector3d& p_world, double t_now) {
+  if (swept_radius_ > 0.0 && p_world.allFinite()) {
+    // Distance from the core axis: inside the swept core the wire could not
+    // leave the port.
+    const Eigen::Vector3d r = p_world - core_origin_world_;
+    const double radial = (r - r.dot(axis_world_) * axis_world_).norm();
+    if (radial < swept_radius_) {
+      std::ostringstream msg;
+      msg << "port command (" << p_world.x() << ", " << p_world.y() << ", " << p_world.z()
+          << ") m at t = " << t_s << " s lies inside the turning core: " << radial
+          << " m from its axis, the core with the wire reaches " << swept_radius_ << " m";
+      throw std::invalid_argument(msg.str());
+    }
+  }
+  command_.append(t_s, p_world, t_now, port(t_now).p_world);
+}
+
 PortMotion Supply::port(double t) const {
+  if (command_.active()) return command_.at(t);
   PortMotion m;
   m.p_world = port0_world_;
   if (core_ && pitch_ != 0.0) {

@@ -8,10 +8,12 @@
 // segment's tension). When the outer point would pass the port, the model
 // appends it as a new mass point (WireModel::acceptStep), so the wire grows.
 // The port travels along the core axis by process.traverse_pitch per core
-// revolution, so the wire winds as a spiral.
+// revolution, so the wire winds as a spiral, unless a caller commands its
+// path (commandPort): then it follows the commanded samples instead.
 #pragma once
 
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
+#include "coil_winding_sim/core/external_forces/port_trajectory.hpp"
 #include "coil_winding_sim/core/hysteresis.hpp"
 #include "coil_winding_sim/core/rotating_core.hpp"
 #include "coil_winding_sim/core/scene.hpp"
@@ -26,8 +28,19 @@ class Supply : public ForceEffect {
   const char* name() const override { return "supply"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
 
-  // Port motion at time t.
+  void commit(double t, const WireKinematics& k) override;
+
+  // Port motion at time t (within the step from the committed time).
   PortMotion port(double t) const;
+  // Commands the port to be at p_world [m] at time t_s [s] (PortTrajectory:
+  // straight lines between samples, the last held); replaces the traverse
+  // law from the first command on. t_now is the committed time. Throws
+  // std::invalid_argument naming the problem (not finite, stamps going
+  // backwards or into the past, a jump, a port inside the turning core);
+  // nothing changes then.
+  void commandPort(double t_s, const Eigen::Vector3d& p_world, double t_now);
+  const PortTrajectory& portCommand() const { return command_; }
+  PortTrajectory& portCommand() { return command_; }
   double tension() const { return tension_; }  // [N]
   // New supply tension [N] (>= 0): pulls from the next evaluation on; points
   // drawn in from then on arrive stretched to it.
@@ -42,7 +55,12 @@ class Supply : public ForceEffect {
   HysteresisParams stretch_;  // the law new wire is stretched along
   const RotatingCore* core_;  // null: the port does not traverse
   Eigen::Vector3d port0_world_, axis_world_;
-  double pitch_;    // [m per revolution]
+  double pitch_;  // [m per revolution]
+  // The core's swept radius widened by the wire radius [m] (0: no cylinders):
+  // a commanded port closer to the axis is inside the turning core.
+  double swept_radius_ = 0.0;
+  Eigen::Vector3d core_origin_world_;
+  PortTrajectory command_;
   double tension_;  // [N]
   double strain_;   // [-]
 };

@@ -1,0 +1,383 @@
+// Replay of a machine recording (replay_machine.launch), end to end: the
+// test writes a short machine bag from a known command profile (spindle
+// ramp to 1200 rpm, 30 N, a port moving along the core axis), runs
+// `roslaunch coil_winding_sim replay_machine.launch` on a ROS master port of
+// its own until it ends by itself (the node stops at the bag's end), and
+// checks the output bag against closed forms: the spindle angle is the
+// integral of the commanded speed reached at core.max_angular_acceleration,
+// the port follows the straight lines between the commanded samples, the
+// port force is near the commanded tension. Two runs at play rates 0.02
+// (the simulation, at a real-time factor of about 0.04, follows the clock) and 1 (far faster than
+// it can follow) must give the same numbers: setpoints apply at their stamps.
+//
+// A plain gtest (catkin_add_gtest): it runs under the devel space, so that
+// roslaunch finds the package; it starts no ROS node itself.
+#include <arpa/inet.h>
+#include <geometry_msgs/PointStamped.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <ros/time.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/JointState.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "coil_winding_sim/TensionSetpoint.h"
+#include "coil_winding_sim/WireTension.h"
+
+#ifndef CWS_SOURCE_DIR
+#error "CWS_SOURCE_DIR must be defined"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The command profile (times from the bag's start [s]).
+constexpr double kStart = 1000.0;       // the bag's start on the machine's clock [s]
+constexpr double kEnd = 0.1;            // bag length [s]
+constexpr double kPeriod = 0.01;        // command period [s] (100 Hz)
+constexpr double kOmega = 40.0 * M_PI;  // 1200 rpm [rad/s]
+constexpr double kAlphaMax = 2.0e4;     // core.max_angular_acceleration of the scene [rad/s^2]
+constexpr double kTension = 30.0;       // [N]
+constexpr double kPortSpeed = 5.0e-3;   // along the core axis from t = 0.02 s [m/s]
+const double kPort0[3] = {5.5e-3, -0.03, 0.0};  // the scene's port position [m]
+
+// Commanded speed: 0 until 10 ms, a straight ramp to 1200 rpm at 40 ms, held.
+double speedCommand(double t) { return kOmega * std::clamp((t - 0.01) / 0.03, 0.0, 1.0); }
+double portZ(double t) { return kPortSpeed * std::max(0.0, t - 0.02); }
+
+// Closed form of the core angle: the commands (t_k, w_k) apply at their
+// stamps; between them the speed moves towards the last command at alpha
+// and holds it.
+double angleAt(const std::vector<std::pair<double, double>>& cmds, double t) {
+  double theta = 0.0, w = 0.0, target = 0.0, tc = 0.0;
+  auto advance = [&](double dt) {
+    const double s = target > w ? 1.0 : -1.0;
+    const double tr = std::abs(target - w) / kAlphaMax;
+    if (dt <= tr) {
+      theta += w * dt + 0.5 * s * kAlphaMax * dt * dt;
+      w += s * kAlphaMax * dt;
+    } else {
+      theta += w * tr + 0.5 * s * kAlphaMax * tr * tr + target * (dt - tr);
+      w = target;
+    }
+  };
+  for (const auto& [tk, wk] : cmds) {
+    if (tk > t) break;
+    advance(tk - tc);
+    tc = tk;
+    target = wk;
+  }
+  advance(t - tc);
+  return theta;
+}
+
+int freePort() {
+  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t len = sizeof a;
+  if (s < 0 || ::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+      ::getsockname(s, reinterpret_cast<sockaddr*>(&a), &len) != 0) {
+    if (s >= 0) ::close(s);
+    return -1;
+  }
+  ::close(s);
+  return ntohs(a.sin_port);
+}
+
+std::string readFile(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// The machine bag: commands at 100 Hz, measured topics as copies.
+void writeMachineBag(const fs::path& path) {
+  rosbag::Bag bag(path.string(), rosbag::bagmode::Write);
+  for (int k = 0; k <= static_cast<int>(std::lround(kEnd / kPeriod)); ++k) {
+    const double t = k * kPeriod;
+    const ros::Time stamp = ros::Time(kStart) + ros::Duration(t);
+    sensor_msgs::JointState spindle;
+    spindle.header.stamp = stamp;
+    spindle.name = {"spindle"};
+    spindle.velocity = {speedCommand(t)};
+    bag.write("machine/spindle/command", stamp, spindle);
+    bag.write("machine/spindle/state", stamp, spindle);
+    coil_winding_sim::TensionSetpoint tension;
+    tension.header.stamp = stamp;
+    tension.tension = kTension;
+    bag.write("machine/tension/command", stamp, tension);
+    coil_winding_sim::WireTension measured;
+    measured.header.stamp = stamp;
+    measured.tension = kTension;
+    bag.write("machine/tension/measured", stamp, measured);
+    geometry_msgs::PointStamped port;
+    port.header.stamp = stamp;
+    port.header.frame_id = "world";
+    port.point.x = kPort0[0];
+    port.point.y = kPort0[1];
+    port.point.z = kPort0[2] + portZ(t);
+    bag.write("machine/port/command", stamp, port);
+    bag.write("machine/port/position", stamp, port);
+  }
+  bag.close();
+}
+
+// Runs the replay launch to its end (at most 120 s); returns roslaunch's
+// exit status (-1: killed on the time limit) and its output.
+int runReplay(const fs::path& dir, const fs::path& machine, const fs::path& out, double rate,
+              std::string& output, double& wall_s) {
+  const int port = freePort();
+  if (port <= 0) return -2;
+  const std::string uri = "http://127.0.0.1:" + std::to_string(port);
+  const std::string log = (dir / ("roslaunch_" + out.stem().string() + ".log")).string();
+  char rate_text[32];
+  std::snprintf(rate_text, sizeof rate_text, "%g", rate);
+  std::vector<std::string> args = {
+      "roslaunch",
+      "-p",
+      std::to_string(port),
+      "coil_winding_sim",
+      "replay_machine.launch",
+      "bag:=" + machine.string(),
+      "out:=" + out.string(),
+      std::string("scene:=") + CWS_SOURCE_DIR + "/test/scenes/replay_drum.yaml",
+      std::string("rate:=") + rate_text,
+      "delay:=2",
+      "profile_rate:=50"};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const auto t0 = Clock::now();
+  const pid_t pid = ::fork();
+  if (pid < 0) return -2;
+  if (pid == 0) {
+    ::setpgid(0, 0);
+    ::setenv("ROS_MASTER_URI", uri.c_str(), 1);
+    ::setenv("ROS_LOG_DIR", (dir / "ros_log").c_str(), 1);
+    if (!std::freopen(log.c_str(), "w", stdout) || !std::freopen(log.c_str(), "a", stderr)) {
+      ::_exit(126);
+    }
+    ::execvp("roslaunch", argv.data());
+    ::_exit(127);
+  }
+  ::setpgid(pid, pid);
+  int status = 0;
+  bool exited = false;
+  while (std::chrono::duration<double>(Clock::now() - t0).count() < 120.0) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) {
+      exited = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  if (!exited) {
+    ::kill(-pid, SIGINT);
+    std::this_thread::sleep_for(std::chrono::seconds(5));
+    ::kill(-pid, SIGKILL);
+    ::waitpid(pid, &status, 0);
+  }
+  output = readFile(log);
+  if (!exited) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -3;
+}
+
+// One topic of the output bag: stamps (from the bag's start) and values.
+struct Series {
+  std::vector<double> t;
+  std::vector<std::vector<double>> v;
+};
+
+std::map<std::string, Series> readOutput(const fs::path& path) {
+  std::map<std::string, Series> out;
+  rosbag::Bag bag(path.string(), rosbag::bagmode::Read);
+  rosbag::View view(bag);
+  const ros::Time start(kStart);
+  for (const rosbag::MessageInstance& m : view) {
+    std::string topic = m.getTopic();
+    if (!topic.empty() && topic[0] == '/') topic.erase(0, 1);
+    Series& s = out[topic];
+    if (auto j = m.instantiate<sensor_msgs::JointState>()) {
+      s.t.push_back((j->header.stamp - start).toSec());
+      std::vector<double> v = j->position;
+      v.insert(v.end(), j->velocity.begin(), j->velocity.end());
+      s.v.push_back(v);
+    } else if (auto p = m.instantiate<geometry_msgs::PointStamped>()) {
+      s.t.push_back((p->header.stamp - start).toSec());
+      s.v.push_back({p->point.x, p->point.y, p->point.z});
+    } else if (auto w = m.instantiate<coil_winding_sim::WireTension>()) {
+      s.t.push_back((w->header.stamp - start).toSec());
+      s.v.push_back({w->tension});
+    } else if (auto c = m.instantiate<coil_winding_sim::TensionSetpoint>()) {
+      s.t.push_back((c->header.stamp - start).toSec());
+      s.v.push_back({c->tension});
+    } else if (auto pc = m.instantiate<sensor_msgs::PointCloud2>()) {
+      s.t.push_back((pc->header.stamp - start).toSec());
+      // Fields x, y, z, stand_off as float32: the raw values.
+      std::vector<double> v;
+      for (std::size_t i = 0; i + 4 <= pc->data.size(); i += 4) {
+        float f;
+        std::memcpy(&f, &pc->data[i], 4);
+        v.push_back(f);
+      }
+      v.push_back(pc->width);
+      v.push_back(pc->fields.size() == 4 && pc->fields[3].name == "stand_off" ? 1.0 : 0.0);
+      s.v.push_back(v);
+    } else {
+      s.t.push_back(m.getTime().toSec() - kStart);
+    }
+  }
+  return out;
+}
+
+class ReplayMachine : public testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    char tmpl[] = "/tmp/cws_replay_XXXXXX";
+    ASSERT_NE(::mkdtemp(tmpl), nullptr);
+    dir_ = tmpl;
+    writeMachineBag(dir_ / "machine.bag");
+  }
+  static void TearDownTestSuite() {
+    if (!::testing::Test::HasFailure()) fs::remove_all(dir_);
+  }
+  static fs::path dir_;
+};
+fs::path ReplayMachine::dir_;
+
+// The runs, shared by the tests (slow: roslaunch and the simulation).
+std::map<double, std::map<std::string, Series>> runs;
+
+const std::map<std::string, Series>& replay(const fs::path& dir, double rate) {
+  auto it = runs.find(rate);
+  if (it != runs.end()) return it->second;
+  const fs::path out = dir / ("replay_" + std::to_string(static_cast<int>(rate * 1000)) + ".bag");
+  std::string output;
+  double wall_s = 0.0;
+  const int rc = runReplay(dir, dir / "machine.bag", out, rate, output, wall_s);
+  std::printf("replay at rate %g: roslaunch exit %d after %.1f s of wall time\n", rate, rc, wall_s);
+  EXPECT_EQ(rc, 0) << "roslaunch did not end by itself (exit " << rc << "):\n" << output;
+  EXPECT_TRUE(fs::exists(out)) << "no closed output bag " << out << ":\n" << output;
+  EXPECT_FALSE(fs::exists(out.string() + ".active")) << "the output bag was not closed";
+  if (!fs::exists(out)) return runs[rate];
+  return runs[rate] = readOutput(out);
+}
+
+}  // namespace
+
+TEST_F(ReplayMachine, OutputFollowsTheCommandsInClosedForm) {
+  const auto& bag = replay(dir_, 0.02);
+  for (const char* topic :
+       {"machine/spindle/command", "machine/spindle/state", "machine/tension/command",
+        "machine/tension/measured", "machine/port/command", "machine/port/position",
+        "sim/spindle/command", "sim/spindle/state", "sim/tension/command", "sim/tension/measured",
+        "sim/port/command", "sim/port/position", "sim/profile", "wire_state", "winding_metrics",
+        "tf"}) {
+    EXPECT_TRUE(bag.count(topic) && !bag.at(topic).t.empty()) << "missing topic " << topic;
+  }
+  if (!bag.count("sim/spindle/state")) return;
+
+  // Spindle: 100 Hz of simulated time from 0 to the bag's end.
+  std::vector<std::pair<double, double>> cmds;
+  for (int k = 0; k <= 10; ++k) cmds.emplace_back(k * kPeriod, speedCommand(k * kPeriod));
+  const Series& state = bag.at("sim/spindle/state");
+  EXPECT_EQ(state.t.size(), 11u) << "0, 10, .., 100 ms";
+  EXPECT_NEAR(state.t.back(), kEnd, 1e-9) << "the replay must reach the bag's end";
+  double worst_angle = 0.0, worst_speed = 0.0;
+  for (std::size_t i = 0; i < state.t.size(); ++i) {
+    const double t = state.t[i];
+    ASSERT_EQ(state.v[i].size(), 2u);
+    worst_angle = std::max(worst_angle, std::abs(state.v[i][0] - angleAt(cmds, t)));
+    const double dt = 1e-9;
+    const double w = (angleAt(cmds, t + dt) - angleAt(cmds, t - dt)) / (2 * dt);
+    worst_speed = std::max(worst_speed, std::abs(state.v[i][1] - w));
+  }
+  std::printf(
+      "replay: %zu spindle states, angle error %.3e rad (final angle %.4f rad), speed "
+      "error %.3e rad/s\n",
+      state.t.size(), worst_angle, state.v.back()[0], worst_speed);
+  // Stamps carry nanoseconds: 0.5 ns x 126 rad/s = 6e-8 rad.
+  EXPECT_LT(worst_angle, 1e-6);
+  EXPECT_LT(worst_speed, 1e-3);
+
+  // Port: on the commanded straight lines (here along the axis).
+  const Series& port = bag.at("sim/port/position");
+  double worst_port = 0.0;
+  for (std::size_t i = 0; i < port.t.size(); ++i) {
+    const double t = port.t[i];
+    const double e = std::hypot(port.v[i][0] - kPort0[0], port.v[i][1] - kPort0[1],
+                                port.v[i][2] - kPort0[2] - portZ(t));
+    worst_port = std::max(worst_port, e);
+  }
+  std::printf("replay: %zu port positions, error %.3e m (final z %.4f mm)\n", port.t.size(),
+              worst_port, 1e3 * port.v.back()[2]);
+  EXPECT_EQ(port.t.size(), 11u);
+  EXPECT_LT(worst_port, 1e-9);
+
+  // Tension: the commanded value, and the wire's force at the port near it
+  // once the spindle turns at speed (mean over 50 .. 100 ms).
+  for (const auto& v : bag.at("sim/tension/command").v) EXPECT_EQ(v[0], kTension);
+  const Series& force = bag.at("sim/tension/measured");
+  double sum = 0.0, worst_rel = 0.0;
+  int n = 0;
+  for (std::size_t i = 0; i < force.t.size(); ++i) {
+    if (force.t[i] < 0.05) continue;
+    sum += force.v[i][0];
+    ++n;
+    worst_rel = std::max(worst_rel, std::abs(force.v[i][0] / kTension - 1.0));
+  }
+  ASSERT_GT(n, 3);
+  std::printf("replay: port force mean %.3f N over %d samples (commanded %.1f N), worst %.1f %%\n",
+              sum / n, n, kTension, 100.0 * worst_rel);
+  EXPECT_NEAR(sum / n / kTension, 1.0, 0.05);
+  EXPECT_LT(worst_rel, 0.2);
+
+  // Profile: x, y, z, stand_off of the wound points.
+  const Series& profile = bag.at("sim/profile");
+  EXPECT_EQ(profile.t.size(), 6u) << "50 Hz: 0, 20, .., 100 ms";
+  if (!profile.v.empty()) {
+    EXPECT_EQ(profile.v.back().back(), 1.0) << "fields x, y, z, stand_off";
+    EXPECT_GT(profile.v.back()[profile.v.back().size() - 2], 1.0) << "no wound points";
+  }
+}
+
+TEST_F(ReplayMachine, SameResultWhenPlayedFasterThanTheSimulation) {
+  const auto& slow = replay(dir_, 0.02);
+  const auto& fast = replay(dir_, 1.0);
+  for (const char* topic : {"sim/spindle/state", "sim/spindle/command", "sim/port/position",
+                            "sim/tension/measured", "sim/profile"}) {
+    ASSERT_TRUE(slow.count(topic) && fast.count(topic)) << topic;
+    const Series& a = slow.at(topic);
+    const Series& b = fast.at(topic);
+    EXPECT_EQ(a.t, b.t) << topic << ": stamps differ";
+    EXPECT_EQ(a.v, b.v) << topic << ": values differ";
+  }
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
