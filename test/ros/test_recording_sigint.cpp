@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "coil_winding_sim/WindingMetrics.h"
+#include "ros_test_support.hpp"
 
 #ifndef CWS_SOURCE_DIR
 #error "CWS_SOURCE_DIR must be defined"
@@ -49,27 +50,8 @@ double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// A TCP port that is free now (the kernel's choice), for the ROS master.
-int freePort() {
-  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  a.sin_port = 0;
-  socklen_t len = sizeof a;
-  if (s < 0 || ::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
-      ::getsockname(s, reinterpret_cast<sockaddr*>(&a), &len) != 0) {
-    if (s >= 0) ::close(s);
-    return -1;
-  }
-  ::close(s);
-  return ntohs(a.sin_port);
-}
-
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using cws_ros_test::freePort;
+using cws_ros_test::readFile;
 
 // Parent pid and command line of a process (empty if it is gone).
 bool processInfo(pid_t pid, pid_t& ppid, std::string& cmdline) {

@@ -43,6 +43,7 @@
 
 #include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/WireTension.h"
+#include "ros_test_support.hpp"
 
 #ifndef CWS_SOURCE_DIR
 #error "CWS_SOURCE_DIR must be defined"
@@ -94,25 +95,8 @@ double angleAt(const std::vector<std::pair<double, double>>& cmds, double t) {
   return theta;
 }
 
-int freePort() {
-  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t len = sizeof a;
-  if (s < 0 || ::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
-      ::getsockname(s, reinterpret_cast<sockaddr*>(&a), &len) != 0) {
-    if (s >= 0) ::close(s);
-    return -1;
-  }
-  ::close(s);
-  return ntohs(a.sin_port);
-}
-
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using cws_ros_test::freePort;
+using cws_ros_test::readFile;
 
 // The machine bag: commands at 100 Hz, measured topics as copies.
 void writeMachineBag(const fs::path& path) {
