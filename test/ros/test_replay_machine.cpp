@@ -45,8 +45,8 @@
 #include "coil_winding_sim/WireTension.h"
 #include "ros_test_support.hpp"
 
-#ifndef CWS_SOURCE_DIR
-#error "CWS_SOURCE_DIR must be defined"
+#if !defined(CWS_SOURCE_DIR) || !defined(CWS_PYTHON)
+#error "CWS_SOURCE_DIR and CWS_PYTHON must be defined"
 #endif
 
 namespace fs = std::filesystem;
@@ -380,13 +380,14 @@ TEST_F(ReplayMachine, ComparisonRecoversAPerturbationOfTheReplay) {
   const std::string tools = std::string(CWS_SOURCE_DIR) + "/src/tools/";
   const fs::path machine_bag = dir_ / "perturbed_machine.bag";
   const fs::path out = dir_ / "comparison";
-  const std::string perturb = "python3 " + tools + "make_synthetic_bags.py --from-sim-bag " +
+  const std::string python = CWS_PYTHON;  // catkin's (Debian's) interpreter
+  const std::string perturb = python + " " + tools + "make_synthetic_bags.py --from-sim-bag " +
                               sim_bag.string() + " --machine-bag " + machine_bag.string() +
                               " --tension-offset 2 --tension-noise 0.2 --seed 7"
                               " --time-shift 0.002 --profile-offset-mm 0.1 > " +
                               (dir_ / "perturb.log").string() + " 2>&1";
   ASSERT_EQ(std::system(perturb.c_str()), 0) << readFile(dir_ / "perturb.log");
-  const std::string compare = "python3 " + tools + "compare_bags.py --machine " +
+  const std::string compare = python + " " + tools + "compare_bags.py --machine " +
                               machine_bag.string() + " --sim " + sim_bag.string() + " --out " +
                               out.string() + " --align angle --no-plots > " +
                               (dir_ / "compare.log").string() + " 2>&1";
