@@ -21,8 +21,10 @@ void SymplecticEuler::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
   if (!std::isfinite(y.head(n).sum())) {  // one pass; see Simulation::step
     std::ostringstream msg;
     msg << "the state became non-finite at t = " << t << " s with symplectic_euler at "
-        << "solver.fixed_step = " << h_ << " s: the step is above the stability limit of this "
-        << "scene; lower solver.fixed_step or use rkf45";
+        << "solver.fixed_step = " << h_
+        << " s: either the step is above the stability limit of this scene (validation checks "
+        << "only l / c; lower solver.fixed_step) or the motion itself diverges (rkf45 on the "
+        << "same scene tells them apart)";
     throw IntegrationError(msg.str());
   }
   t = clipped ? t_limit : t + h;
