@@ -212,6 +212,14 @@ def estimate_lag(tm, ym, ts, ys, max_lag):
             d = a + g * (b - a)
             fd = cost(d)
     tau = 0.5 * (a + b)
+    # Identifiable only where the shifted sim trace explains the machine's
+    # variation: a flat trace under noise has a least-squares minimum at a
+    # lag that means nothing.
+    explained = 1.0 - cost(tau) / float(np.var(ysel))
+    if explained < 0.5:
+        return None, ("not identifiable: the shifted simulation explains %.0f %% of the "
+                      "machine trace's variance (less than 50 %%; a flat trace under noise)"
+                      % (100.0 * max(explained, 0.0)))
     return tau, math.sqrt(cost(tau))
 
 

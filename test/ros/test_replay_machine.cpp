@@ -247,7 +247,12 @@ class ReplayMachine : public testing::Test {
     dir_ = tmpl;
     writeMachineBag(dir_ / "machine.bag");
   }
+  // CWS_KEEP_TEST_OUTPUT=1 keeps the bags and the comparison for a look.
   static void TearDownTestSuite() {
+    if (std::getenv("CWS_KEEP_TEST_OUTPUT")) {
+      std::printf("test output kept in %s\n", dir_.c_str());
+      return;
+    }
     if (!::testing::Test::HasFailure()) fs::remove_all(dir_);
   }
   static fs::path dir_;

@@ -147,6 +147,17 @@ class TimeShift(Base):
         self.assertAlmostEqual(s["lag"]["lag_s"], -0.003, delta=5e-4)
         self.assertAlmostEqual(s["lag"]["spindle_speed_lag_s"], -0.003, delta=5e-4)
 
+    def test_lag_not_identifiable_under_noise(self):
+        # Noise of 5 N swamps the sim's 1 N ripple: the least-squares minimum
+        # would be a lag that means nothing. It is reported as not estimated,
+        # with the reason; the spindle speed still gives the shift.
+        bags = self.make("noisy", "--time-shift", str(self.SHIFT), "--tension-noise", "5",
+                         combined=False)
+        s, _ = self.compare(bags)
+        self.assertIsNone(s["lag"]["lag_s"])
+        self.assertTrue(any("not identifiable" in n for n in s["notes"]), s["notes"])
+        self.assertAlmostEqual(s["lag"]["spindle_speed_lag_s"], self.SHIFT, delta=5e-4)
+
     def test_angle_alignment_removes_the_shift(self):
         s, _ = self.compare(self.bags, "--align", "angle")
         # Machine tension and spindle are shifted together: at equal angles the
