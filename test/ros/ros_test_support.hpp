@@ -5,12 +5,16 @@
 #include <netinet/in.h>
 #include <ros/ros.h>
 #include <sys/socket.h>
+#include <sys/types.h>
 #include <unistd.h>
 
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 namespace cws_ros_test {
 
@@ -48,6 +52,34 @@ inline int freePort() {
 inline std::string readFile(const std::filesystem::path& p) {
   std::ifstream in(p);
   return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Starts `roslaunch args...` (args without the program name) against a
+// master of its own on master_port: the child in a process group of its own
+// (as a shell's foreground job, so that a signal to -pid reaches the whole
+// launch), ROS logs in dir/ros_log, its output to log. Returns the child's
+// pid, or -1.
+inline pid_t startRoslaunch(std::vector<std::string> args, int master_port,
+                            const std::filesystem::path& dir, const std::string& log) {
+  args.insert(args.begin(), {"roslaunch", "-p", std::to_string(master_port)});
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const std::string uri = "http://127.0.0.1:" + std::to_string(master_port);
+  const pid_t pid = ::fork();
+  if (pid < 0) return -1;
+  if (pid == 0) {
+    ::setpgid(0, 0);
+    ::setenv("ROS_MASTER_URI", uri.c_str(), 1);
+    ::setenv("ROS_LOG_DIR", (dir / "ros_log").c_str(), 1);
+    if (!std::freopen(log.c_str(), "w", stdout) || !std::freopen(log.c_str(), "a", stderr)) {
+      ::_exit(126);
+    }
+    ::execvp("roslaunch", argv.data());
+    ::_exit(127);
+  }
+  ::setpgid(pid, pid);  // also here: no race with a signal sent at once
+  return pid;
 }
 
 }  // namespace cws_ros_test

@@ -102,12 +102,8 @@ struct RunResult {
 void runAndStop(const fs::path& dir, Stop stop, bool use_sim_time, RunResult& r) {
   const int port = freePort();
   ASSERT_GT(port, 0);
-  const std::string uri = "http://127.0.0.1:" + std::to_string(port);
   const std::string log = (dir / "roslaunch.log").string();
   std::vector<std::string> args = {
-      "roslaunch",
-      "-p",
-      std::to_string(port),
       "coil_winding_sim",
       "winding_cell.launch",
       "rviz:=false",
@@ -117,25 +113,8 @@ void runAndStop(const fs::path& dir, Stop stop, bool use_sim_time, RunResult& r)
       std::string("scene:=") + CWS_SOURCE_DIR + "/test/scenes/spinning_wire.yaml",
       "real_time_factor:=0.01",
       std::string("use_sim_time:=") + (use_sim_time ? "true" : "false")};
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-
-  const pid_t pid = ::fork();
+  const pid_t pid = cws_ros_test::startRoslaunch(args, port, dir, log);
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    // The child: a process group of its own (as a shell's foreground job),
-    // this master, logs in `dir`, output to roslaunch.log.
-    ::setpgid(0, 0);
-    ::setenv("ROS_MASTER_URI", uri.c_str(), 1);
-    ::setenv("ROS_LOG_DIR", (dir / "ros_log").c_str(), 1);
-    if (!std::freopen(log.c_str(), "w", stdout) || !std::freopen(log.c_str(), "a", stderr)) {
-      ::_exit(126);
-    }
-    ::execvp("roslaunch", argv.data());
-    ::_exit(127);
-  }
-  ::setpgid(pid, pid);  // also here: no race with the signal below
 
   // Recording: the bag's .active file exists and grows.
   const auto t0 = Clock::now();

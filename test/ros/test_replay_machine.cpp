@@ -136,14 +136,10 @@ int runReplay(const fs::path& dir, const fs::path& machine, const fs::path& out,
               std::string& output, double& wall_s, const std::vector<std::string>& extra = {}) {
   const int port = freePort();
   if (port <= 0) return -2;
-  const std::string uri = "http://127.0.0.1:" + std::to_string(port);
   const std::string log = (dir / ("roslaunch_" + out.stem().string() + ".log")).string();
   char rate_text[32];
   std::snprintf(rate_text, sizeof rate_text, "%g", rate);
   std::vector<std::string> args = {
-      "roslaunch",
-      "-p",
-      std::to_string(port),
       "coil_winding_sim",
       "replay_machine.launch",
       "bag:=" + machine.string(),
@@ -153,23 +149,9 @@ int runReplay(const fs::path& dir, const fs::path& machine, const fs::path& out,
       "delay:=2",
       "profile_rate:=50"};
   args.insert(args.end(), extra.begin(), extra.end());
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
   const auto t0 = Clock::now();
-  const pid_t pid = ::fork();
+  const pid_t pid = cws_ros_test::startRoslaunch(args, port, dir, log);
   if (pid < 0) return -2;
-  if (pid == 0) {
-    ::setpgid(0, 0);
-    ::setenv("ROS_MASTER_URI", uri.c_str(), 1);
-    ::setenv("ROS_LOG_DIR", (dir / "ros_log").c_str(), 1);
-    if (!std::freopen(log.c_str(), "w", stdout) || !std::freopen(log.c_str(), "a", stderr)) {
-      ::_exit(126);
-    }
-    ::execvp("roslaunch", argv.data());
-    ::_exit(127);
-  }
-  ::setpgid(pid, pid);
   int status = 0;
   bool exited = false;
   while (std::chrono::duration<double>(Clock::now() - t0).count() < 120.0) {
