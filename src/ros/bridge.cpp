@@ -34,6 +34,12 @@ const char* const kReadSnapshotArg = "--read-snapshot";
 const char* const kSpindleJoint = "spindle";
 
 namespace {
+// The wire's axial force at the supply port [N] (the last integrated
+// segment's), what a load cell at the nozzle measures; 0 without a supply.
+double portAxialForce(const cws::WireModel& m) {
+  return m.supply() ? m.axialForce(m.constants().n - 2) : 0.0;
+}
+
 geometry_msgs::Point point(const Eigen::Vector3d& p) {
   geometry_msgs::Point m;
   m.x = p.x();
@@ -127,7 +133,7 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
   msg.core_angular_velocity = m.core() ? m.core()->omega(sim.time()) : 0.0;
   msg.core_angular_velocity_setpoint = m.core() ? m.core()->command() : 0.0;
   msg.supply_tension = m.supply() ? m.supply()->tension() : 0.0;
-  msg.port_axial_force = m.supply() ? m.axialForce(m.constants().n - 2) : 0.0;
+  msg.port_axial_force = portAxialForce(m);
   msg.real_time_factor = pace.real_time_factor;
   msg.target_real_time_factor = pace.target_real_time_factor;
   msg.keeping_pace = pace.keeping_pace;
@@ -280,8 +286,7 @@ coil_winding_sim::WireTension toTensionMeasured(const cws::Simulation& sim,
                                                 const ros::Time& stamp) {
   coil_winding_sim::WireTension msg;
   msg.header.stamp = stamp;
-  const cws::WireModel& m = sim.model();
-  msg.tension = m.supply() ? m.axialForce(m.constants().n - 2) : 0.0;
+  msg.tension = portAxialForce(sim.model());
   return msg;
 }
 
