@@ -76,9 +76,12 @@ std::unique_ptr<Simulation> Simulation::fromState(const SimulationState& st) {
 void Simulation::step(double t_limit) {
   // No step across the end of a core speed ramp (RotatingCore::rampEnd);
   // a ramp end within rounding of t is passed.
+  // The ramp under way at the step's start, for a failure's message.
+  Ramp ramp;
   if (const RotatingCore* core = model_->core()) {
     const double t_ramp = core->rampEnd();
     if (t_ramp < t_limit && t_ramp > t_ + 1e-12 * std::max(1.0, std::abs(t_))) t_limit = t_ramp;
+    ramp = {t_ramp, std::abs(core->angularAcceleration(t_))};
   }
   // Nor across a commanded port sample (a velocity kink of the port).
   if (const Supply* supply = model_->supply()) {
@@ -87,14 +90,14 @@ void Simulation::step(double t_limit) {
   try {
     stepper_->step(*model_, t_, y_, t_limit);
   } catch (const IntegrationError& e) {
-    throw IntegrationError(withRampCause(e.what()));
+    throw IntegrationError(withRampCause(e.what(), t_, ramp));
   }
   // One pass: a sum is finite only if every term is (states never come
   // near the overflow that could make finite terms sum to infinity).
   if (!std::isfinite(y_.head(model_->size()).sum())) {
     throw IntegrationError("the state became non-finite at t = " + std::to_string(t_) + " s");
   }
-  if (collapse_step_s_ > 0.0) checkCollapse();
+  if (collapse_step_s_ > 0.0) checkCollapse(ramp);
   afterStep();
 }
 
@@ -102,14 +105,14 @@ void Simulation::step(double t_limit) {
 // crosses a segment (an instant speed change: core.start_at_speed's start,
 // or core.max_angular_acceleration raised far above a machine's) fails on
 // that ramp, whatever its own message says: name it and the remedy.
-std::string Simulation::withRampCause(const std::string& what) const {
-  const RotatingCore* core = model_->core();
-  if (!core) return what;
-  const double t_ramp = core->rampEnd();
-  if (!(t_ramp > t_) || t_ramp - t_ >= explicitStepLimit(scene_)) return what;
+// t_fail_s: when the failure began (a collapse: its first small step);
+// ramp: the ramp under way then.
+std::string Simulation::withRampCause(const std::string& what, double t_fail_s,
+                                      const Ramp& ramp) const {
+  if (!(ramp.end_s > t_fail_s) || ramp.end_s - t_fail_s >= explicitStepLimit(scene_)) return what;
   std::ostringstream msg;
-  msg << what << ". It failed within a core speed ramp of "
-      << std::abs(core->angularAcceleration(t_)) << " rad/s^2 that ends at t = " << t_ramp
+  msg << what << ". It began to fail within a core speed ramp of " << ramp.acceleration_rad_s2
+      << " rad/s^2 that ends at t = " << ramp.end_s
       << " s, a speed change faster than a wave crosses a segment (core.start_at_speed starts "
          "the core in "
       << RotatingCore::kInstantRamp_s
@@ -119,7 +122,7 @@ std::string Simulation::withRampCause(const std::string& what) const {
   return msg.str();
 }
 
-void Simulation::checkCollapse() {
+void Simulation::checkCollapse(const Ramp& ramp) {
   const double h = stepper_->lastStep();
   // (A single step clipped short to an end time counts once; the next
   // normal step clears the count.)
@@ -127,7 +130,10 @@ void Simulation::checkCollapse() {
     small_steps_ = 0;
     return;
   }
-  if (small_steps_++ == 0) small_since_s_ = t_ - h;
+  if (small_steps_++ == 0) {
+    small_since_s_ = t_ - h;
+    small_ramp_ = ramp;
+  }
   if (small_steps_ < kCollapseSteps) return;
   std::ostringstream msg;
   const double ratio = stepper_->collapseRatio();
@@ -142,7 +148,7 @@ void Simulation::checkCollapse() {
       << " s: the scene is too stiff for " << stepper_->name()
       << " at solver.rtol = " << scene_.solver.rtol
       << " (contact or stick/slip switching holds its step); use symplectic_euler";
-  throw IntegrationError(msg.str());
+  throw IntegrationError(withRampCause(msg.str(), small_since_s_, small_ramp_));
 }
 
 void Simulation::run(const std::function<void(const Simulation&)>& progress,

@@ -59,7 +59,9 @@ WireConstants constantsOf(const Scene& s) {
 WireModel::WireModel(const Scene& s)
     : c_(constantsOf(s)),
       clamp_in_core_(s.start.frame == "core"),
-      constraints_(c_, s.solver.baumgarte_nu),
+      constraints_(c_, s.solver.baumgarte_nu,
+                   s.physics.planar ? Eigen::Vector3d(s.core.axis_world.normalized())
+                                    : Eigen::Vector3d::Zero()),
       // Wire can be carried only where friction holds it on a core that also
       // holds the fixed end; elsewhere the option has no effect.
       carry_(s.solver.carry_stuck_wire && s.physics.contact && s.physics.friction &&
@@ -237,7 +239,8 @@ void WireModel::derivative(double t, ConstRef y, Ref dydt) {
   const double clamp_power = -(forces_.f_world.col(boundary) + constraints_.forceOnBoundary())
                                   .dot(kin_.v_world.col(boundary)) -
                              forces_.f_q.col(boundary).dot(kin_.qd.col(boundary)) + carried_power;
-  // Planar mode: no acceleration along the core axis (removes rounding).
+  // Planar mode: the constraint solve moves points in the plane only; remove
+  // what rounding leaves along the normal.
   const Eigen::Vector3d& nrm = planar_normal_world_;
   dydt[0] =
       forces_.workRate(kin_.v_world, kin_.qd, f, c_.n) + clamp_power + constraints_.portPower();

@@ -135,6 +135,16 @@ std::vector<Case> matrixCases() {
                    "as reversal, a 50 mm wire clamped on the core without supply",
                    {"core.start_at_speed=true", "process.duration=0.075", "physics.supply=false"},
                    {{0.025, -1200.0 * kRpm}}});
+  // Planar winding on a round drum: one 5 mm cylinder, 10 turns. Before
+  // the planar constraint was solved with the frame constraints, the frames
+  // tilted out of the plane and the run diverged after about 3 turns.
+  cases.push_back(
+      {"planar_drum",
+       "10 turns on a single 5 mm-radius drum, planar",
+       {"core.cylinders=[{center: [0, 0], radius: 5e-3}]", "start.position=[5.5e-3, 0, 0]",
+        "start.direction=[0, 1, 0]", "supply.port_position=[5.5e-3, -0.03, 0]", "process.turns=10",
+        "physics.planar=true"},
+       {}});
   // A long run at production speed (the scene's speed limit for setpoints):
   // 100 turns take 1 s. On the paper's core with 2 mm segments they feed
   // 2,900 points; with 5 mm segments on the larger core, 1,500. Little of

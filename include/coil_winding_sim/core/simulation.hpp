@@ -104,8 +104,13 @@ class Simulation {
 
  private:
   void afterStep();
-  void checkCollapse();
-  std::string withRampCause(const std::string& what) const;
+  // A core speed ramp: its end [s] and |acceleration| [rad/s^2].
+  struct Ramp {
+    double end_s = -std::numeric_limits<double>::infinity();
+    double acceleration_rad_s2 = 0.0;
+  };
+  void checkCollapse(const Ramp& ramp);
+  std::string withRampCause(const std::string& what, double t_fail_s, const Ramp& ramp) const;
 
   Scene scene_;
   std::unique_ptr<WireModel> model_;
@@ -120,6 +125,7 @@ class Simulation {
   double collapse_step_s_ = 0.0;  // the stepper's collapseRatio() l / c [s]
   long small_steps_ = 0;          // accepted steps in a row below it
   double small_since_s_ = 0.0;    // time the present run of them began [s]
+  Ramp small_ramp_;               // the core speed ramp under way then
 };
 
 }  // namespace cws

@@ -5,10 +5,13 @@
 
 namespace cws {
 
-FrameConstraints::FrameConstraints(const WireConstants& c, double nu)
+FrameConstraints::FrameConstraints(const WireConstants& c, double nu,
+                                   const Eigen::Vector3d& plane_normal_world)
     : c_(c),
       nu_(nu),
+      plane_normal_world_(plane_normal_world),
       a_blk_(c.capacity),
+      ap_blk_(c.capacity),
       d_blk_(c.capacity),
       off_blk_(c.capacity),
       d_inv_(c.capacity),
@@ -41,11 +44,14 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
   const double inv_m = 1.0 / c_.point_mass;
   const double inv_mq = 1.0 / (4.0 * c_.point_inertia);
 
-  // Unconstrained accelerations M^-1 f; the clamp's are prescribed.
+  // Unconstrained accelerations M^-1 f (in the plane for planar scenes); the
+  // clamp's are prescribed.
+  const Eigen::Vector3d& nrm = plane_normal_world_;
   a_world.col(first - 1) = a0_world;
   qdd.col(first - 1) = qdd0;
   for (int i = first; i < n; ++i) {
-    a_world.col(i) = inv_m * f.f_world.col(i);
+    const Eigen::Vector3d fp = f.f_world.col(i);
+    a_world.col(i) = inv_m * (fp - fp.dot(nrm) * nrm);
     qdd.col(i) = inv_mq * f.f_q.col(i);
   }
 
@@ -72,6 +78,8 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     a.row(0).setZero();
     a.row(1) = xi.transpose();
     a.row(2) = eta.transpose();
+    Eigen::Matrix3d& ap = ap_blk_[i];
+    ap = inPlane<3>(a);
     quat::Mat34& b = b_blk_[i];
     b.row(0) = 2.0 * q.transpose();
     b.row(1) = d.transpose() * jx;
@@ -82,11 +90,11 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
 
     // Diagonal block: point i, point i-1 unless it is prescribed, frame i.
     const double w = (i > first) ? 2.0 * inv_m : inv_m;
-    d_blk_[i] = w * a * a.transpose() + inv_mq * b * b.transpose();
+    d_blk_[i] = w * ap * ap.transpose() + inv_mq * b * b.transpose();
   }
   // Off-diagonal blocks couple frames i and i+1 through point i.
   for (int i = first; i + 1 < n; ++i) {
-    off_blk_[i] = -inv_m * a_blk_[i] * a_blk_[i + 1].transpose();
+    off_blk_[i] = -inv_m * ap_blk_[i] * ap_blk_[i + 1].transpose();
   }
 
   // Block LDL^T (block Thomas) factorization of the SPD system.
@@ -119,6 +127,7 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     pp.row(1) = eta.transpose();
     pq.row(0) = e.transpose() * jx;
     pq.row(1) = e.transpose() * je;
+    const Eigen::Matrix<double, 2, 3> ppp = inPlane<2>(pp);
     const Eigen::Vector2d c(e.dot(xi), e.dot(eta));
     const Eigen::Vector2d cd(ed.dot(xi) + e.dot(xid), ed.dot(eta) + e.dot(etad));
     const Eigen::Vector2d jdot_v(
@@ -129,8 +138,8 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     // Border: coupling of frame block L with the port rows, and the port's
     // own block.
     const Eigen::Matrix<double, 3, 2> border =
-        inv_m * a_blk_[l] * pp.transpose() + inv_mq * b_blk_[l] * pq.transpose();
-    const Eigen::Matrix2d corner = inv_m * pp * pp.transpose() + inv_mq * pq * pq.transpose();
+        inv_m * ap_blk_[l] * ppp.transpose() + inv_mq * b_blk_[l] * pq.transpose();
+    const Eigen::Matrix2d corner = inv_m * ppp * ppp.transpose() + inv_mq * pq * pq.transpose();
     // The border touches the last block only, so one block solve does: a
     // right-hand side nonzero only in the last block passes the forward
     // elimination unchanged, and back substitution starts with the last
@@ -140,15 +149,27 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     forward(gamma_);
     const Eigen::Matrix<double, 3, 2> x_border = d_inv_[l] * border;
     const Eigen::Matrix2d schur = corner - border.transpose() * x_border;
-    mu = schur.inverse() * (g - border.transpose() * (d_inv_[l] * gamma_[l]));
+    const Eigen::Vector2d rhs = g - border.transpose() * (d_inv_[l] * gamma_[l]);
+    if (plane_normal_world_.isZero()) {
+      mu = schur.inverse() * rhs;
+    } else {
+      // Planar: the out-of-plane combination of the two port rows, with
+      // weights (xi . n, eta . n), repeats frame L's own constraint (the
+      // port, p_L and segment L-1 all lie in the plane) and makes the 2x2
+      // Schur complement singular. Keep the in-plane combination only.
+      Eigen::RowVector2d t(-eta.dot(plane_normal_world_), xi.dot(plane_normal_world_));
+      t.normalize();
+      mu = t.transpose() * (t * rhs) / (t * schur * t.transpose());
+    }
     gamma_[l] -= border * mu;
     backward(gamma_, lambda_);
   }
 
-  // Constraint forces J^T lambda added to the accelerations.
+  // Constraint forces J^T lambda added to the accelerations (M^-1 J^T lambda,
+  // with the points' inverse mass P / M).
   for (int i = first; i < n; ++i) {
-    Eigen::Vector3d fp = a_blk_[i].transpose() * lambda_[i];
-    if (i + 1 < n) fp -= a_blk_[i + 1].transpose() * lambda_[i + 1];
+    Eigen::Vector3d fp = ap_blk_[i].transpose() * lambda_[i];
+    if (i + 1 < n) fp -= ap_blk_[i + 1].transpose() * lambda_[i + 1];
     a_world.col(i) += inv_m * fp;
     qdd.col(i) += inv_mq * (b_blk_[i].transpose() * lambda_[i]);
   }
@@ -156,7 +177,7 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
   if (port) {
     // The port rows depend on time through p_s: dc/dt = -P v_s.
     port_power_ = mu.dot(pp * port->v_world);
-    a_world.col(n - 1) += inv_m * (pp.transpose() * mu);
+    a_world.col(n - 1) += inv_m * (inPlane<2>(pp).transpose() * mu);
     qdd.col(n - 1) += inv_mq * (pq.transpose() * mu);
   }
 }

@@ -17,6 +17,14 @@
 // point L (the paper's boundary segment lies on that line, eq. 21). Its two
 // rows touch only block L; they border the block system and are solved by a
 // 2x2 Schur complement within one O(n) block solve.
+//
+// Planar scenes hold every point in the plane normal to the core axis n.
+// That linear constraint enters as the points' inverse mass (1/M) P with
+// P = I - n n^T: forces and constraint reactions move a point only in the
+// plane, and the frame constraints are solved for that motion, so the
+// reaction that keeps zeta along an in-plane segment acts on the frame too.
+// (Removing the out-of-plane point acceleration after the solve instead
+// left the frames' share of it unbalanced, and out-of-plane tilt grew.)
 #pragma once
 
 #include <vector>
@@ -35,7 +43,10 @@ struct PortMotion {
 
 class FrameConstraints {
  public:
-  FrameConstraints(const WireConstants& c, double nu);
+  // plane_normal_world: unit normal of the plane the points keep, or zero
+  // for 3-D motion.
+  FrameConstraints(const WireConstants& c, double nu,
+                   const Eigen::Vector3d& plane_normal_world = Eigen::Vector3d::Zero());
 
   // Accelerations of points first..n-1 [m/s^2] and their quaternion second
   // derivatives [1/s^2] from the generalized forces; point first-1 and its
@@ -67,11 +78,19 @@ class FrameConstraints {
   void forward(std::vector<Eigen::Vector3d>& rhs) const;
   void backward(const std::vector<Eigen::Vector3d>& rhs, std::vector<Eigen::Vector3d>& x) const;
 
+  // Row block r times P: r with its component along the plane normal removed.
+  template <int Rows>
+  Eigen::Matrix<double, Rows, 3> inPlane(const Eigen::Matrix<double, Rows, 3>& r) const {
+    return r - (r * plane_normal_world_) * plane_normal_world_.transpose();
+  }
+
   const WireConstants& c_;  // the model's: n grows with a supply
   double nu_;
+  Eigen::Vector3d plane_normal_world_;  // zero: 3-D
   // Per frame i (index 0 unused), capacity long: Jacobian blocks, Schur
   // blocks and their factorization, right-hand sides and multipliers.
-  std::vector<Eigen::Matrix3d> a_blk_, d_blk_, off_blk_, d_inv_, elim_;
+  // a_blk_ holds the point rows of the Jacobian, ap_blk_ the same times P.
+  std::vector<Eigen::Matrix3d> a_blk_, ap_blk_, d_blk_, off_blk_, d_inv_, elim_;
   std::vector<quat::Mat34> b_blk_;
   std::vector<Eigen::Vector3d> gamma_, lambda_;
   double port_power_ = 0.0;
