@@ -150,7 +150,7 @@ std::vector<Case> matrixCases() {
   // 2,900 points; with 5 mm segments on the larger core, 1,500. Little of
   // that wire is carried (5-11 points: the spans between the cylinders
   // vibrate faster than contact.stick_speed), so each step grows with the
-  // wire: RKF45 needs about 2.5 hours on a 2-core machine.
+  // wire: RKF45 needs about 2 1/4 hours on a 2-core machine.
   std::vector<std::string> long_run = core_r5mm;
   long_run.push_back("process.turns=100");
   long_run.push_back("process.core_speed_rpm=6000");

@@ -45,7 +45,7 @@ const char* kUsage =
     "stability runs the extreme cases of docs/STABILITY.md (those whose name contains\n"
     "NAME) with every integrator, checks each run against the stability criteria and\n"
     "writes DIR/STABILITY.md and DIR/stability.csv (default out/stability); a run\n"
-    "longer than SECONDS of wall time (default 7200) is stopped and reported.\n"
+    "longer than SECONDS of wall time (default 9600) is stopped and reported.\n"
     "Exit status: 0 done; 1 the run failed; 2 bad command line, scene or --out (nothing\n"
     "is run); 130 / 143 a run stopped by SIGINT (Ctrl-C) / SIGTERM, which ends it after\n"
     "the current step and writes no results (a second signal ends it at once). Before\n"
@@ -59,7 +59,7 @@ struct Args {
   std::string out;
   int jobs = 2;
   std::string only;          // stability: cases whose name contains this
-  double budget_s = 7200.0;  // stability: wall time per run [s]
+  double budget_s = 9600.0;  // stability: wall time per run [s]
 };
 
 // Exit codes: 0 success, 1 the run failed, 2 bad command line or scene,
