@@ -28,7 +28,7 @@
 
 namespace cws_ros {
 
-const char* const kSnapshotFormat = "coil_winding_sim/snapshot/3";
+const char* const kSnapshotFormat = "coil_winding_sim/snapshot/4";
 const char* const kSnapshotTopic = "/coil_winding_sim/snapshot";
 const char* const kReadSnapshotArg = "--read-snapshot";
 const char* const kSpindleJoint = "spindle";
@@ -410,12 +410,36 @@ coil_winding_sim::SimulationSnapshot toSnapshotMsg(const cws::SimulationState& s
   m.max_axial_force = s.max_axial_force_N;
   m.max_penetration = s.max_penetration_m;
   m.wall_time = s.wall_time_s;
+  m.checksum = snapshotChecksum(m);
   return m;
+}
+
+uint64_t snapshotChecksum(const coil_winding_sim::SimulationSnapshot& msg) {
+  coil_winding_sim::SimulationSnapshot m = msg;
+  m.checksum = 0;
+  std::vector<uint8_t> bytes(ros::serialization::serializationLength(m));
+  ros::serialization::OStream stream(bytes.data(), static_cast<uint32_t>(bytes.size()));
+  ros::serialization::serialize(stream, m);
+  uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a offset basis and prime
+  for (const uint8_t b : bytes) h = (h ^ b) * 0x100000001b3ull;
+  return h;
 }
 
 cws::SimulationState fromSnapshotMsg(const coil_winding_sim::SimulationSnapshot& m) {
   if (m.format != kSnapshotFormat) {
-    throw std::runtime_error("not a coil_winding_sim snapshot (format '" + m.format + "')");
+    throw std::runtime_error("not a coil_winding_sim snapshot of this version (format '" +
+                             m.format + "', this version reads '" + kSnapshotFormat + "')");
+  }
+  // Any changed byte: a flipped bit in a number would otherwise restore.
+  const uint64_t sum = snapshotChecksum(m);
+  if (sum != m.checksum) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "snapshot checksum %016llx does not match its contents (%016llx): the file is "
+                  "corrupt",
+                  static_cast<unsigned long long>(m.checksum),
+                  static_cast<unsigned long long>(sum));
+    throw std::runtime_error(text);
   }
   // The core's motion reference and the tension are not checked by the core
   // library's restore: a non-finite value would only show as a failed step.
@@ -495,6 +519,14 @@ coil_winding_sim::SimulationSnapshot readSnapshotBag(const std::string& path) {
     for (const rosbag::MessageInstance& mi : view) {
       auto msg = mi.instantiate<coil_winding_sim::SimulationSnapshot>();
       if (msg) return *msg;
+      using Traits = ros::message_traits::DataType<coil_winding_sim::SimulationSnapshot>;
+      if (mi.getDataType() == Traits::value()) {
+        throw std::runtime_error(
+            "a snapshot of another version of coil_winding_sim (message definition " +
+            mi.getMD5Sum() + "; this version reads " + std::string(kSnapshotFormat) + ", " +
+            ros::message_traits::MD5Sum<coil_winding_sim::SimulationSnapshot>::value() +
+            "): it cannot be restored");
+      }
       throw std::runtime_error("topic " + std::string(kSnapshotTopic) + " holds " +
                                mi.getDataType() + ", not a snapshot");
     }
@@ -507,6 +539,10 @@ coil_winding_sim::SimulationSnapshot readSnapshotBag(const std::string& path) {
                              (short_read ? ", it ends early (truncated?): " : ": ") + e.what());
   } catch (const rosbag::BagException& e) {
     throw std::runtime_error("'" + path + "' is not a readable bag: " + e.what());
+  } catch (const ros::serialization::StreamOverrunException& e) {
+    // A record's length field says more than its data holds.
+    throw std::runtime_error(
+        "'" + path + "' is corrupt: a record is shorter than its length says (" + e.what() + ")");
   } catch (const std::runtime_error& e) {
     throw std::runtime_error("'" + path + "': " + e.what());
   }

@@ -11,6 +11,7 @@
 #include <std_msgs/String.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
+#include <topic_tools/shape_shifter.h>
 #include <unistd.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -35,6 +36,7 @@
 #include "coil_winding_sim/SimulationSnapshot.h"
 #include "coil_winding_sim/Snapshot.h"
 #include "coil_winding_sim/WindingMetrics.h"
+#include "coil_winding_sim/ros/bridge.hpp"
 #include "ros_test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -478,6 +480,7 @@ TEST(BadInput, RestoreOfBadFiles) {
     const auto write = [&](const std::string& name, auto change, const std::string& says) {
       coil_winding_sim::SimulationSnapshot m = *msg;
       change(m);
+      m.checksum = cws_ros::snapshotChecksum(m);  // the values, not the checksum, are wrong
       rosbag::Bag out(tmpPath(name), rosbag::bagmode::Write);
       out.write(kSnapshotTopic, ros::Time(1.0), m);
       out.close();
@@ -491,6 +494,51 @@ TEST(BadInput, RestoreOfBadFiles) {
         "fast.bag", [](auto& m) { m.core[3] = 1e6; }, "max_core_speed_rpm");
     write(
         "negative_tension.bag", [](auto& m) { m.tension = -1.0; }, "tension");
+  }
+  // One bit of one number changed in the file (a plausible position): only
+  // the checksum tells. The same number changed in a message written anew
+  // with its old checksum.
+  {
+    rosbag::Bag in(good, rosbag::bagmode::Read);
+    rosbag::View view(in);
+    const auto msg = view.begin()->instantiate<coil_winding_sim::SimulationSnapshot>();
+    ASSERT_TRUE(msg);
+    ASSERT_GT(msg->state.size(), 10u);
+    const double x = msg->state[10];
+    const std::string x_bytes(reinterpret_cast<const char*>(&x), sizeof x);
+    const std::size_t at = bytes.find(x_bytes);
+    ASSERT_NE(at, std::string::npos);
+    std::string flipped = bytes;
+    flipped[at] = static_cast<char>(flipped[at] ^ 0x01);  // last mantissa bit
+    writeFile(tmpPath("flipped_bit.bag"), flipped);
+    bad.push_back({tmpPath("flipped_bit.bag"), "checksum"});
+    coil_winding_sim::SimulationSnapshot m = *msg;
+    m.state[10] += 1e-4;
+    rosbag::Bag out(tmpPath("changed_number.bag"), rosbag::bagmode::Write);
+    out.write(kSnapshotTopic, ros::Time(1.0), m);
+    out.close();
+    bad.push_back({tmpPath("changed_number.bag"), "checksum"});
+  }
+  // A snapshot of another version of the package: the same type name with
+  // another message definition (as the snapshot/3 bags, before the
+  // checksum field).
+  {
+    rosbag::Bag in(good, rosbag::bagmode::Read);
+    rosbag::View view(in);
+    const auto msg = view.begin()->instantiate<coil_winding_sim::SimulationSnapshot>();
+    ASSERT_TRUE(msg);
+    std::vector<uint8_t> data(ros::serialization::serializationLength(*msg));
+    ros::serialization::OStream os(data.data(), static_cast<uint32_t>(data.size()));
+    ros::serialization::serialize(os, *msg);
+    topic_tools::ShapeShifter older;
+    older.morph("0123456789abcdef0123456789abcdef", "coil_winding_sim/SimulationSnapshot",
+                "string format\n", "");
+    ros::serialization::IStream is(data.data(), static_cast<uint32_t>(data.size()));
+    older.read(is);
+    rosbag::Bag out(tmpPath("older_version.bag"), rosbag::bagmode::Write);
+    out.write(kSnapshotTopic, ros::Time(1.0), older);
+    out.close();
+    bad.push_back({tmpPath("older_version.bag"), "another version of coil_winding_sim"});
   }
 
   for (const auto& [path, says] : bad) {

@@ -91,10 +91,14 @@ bool portPoint(const geometry_msgs::PointStamped& msg, const Frames& frames,
 void bagTimeRange(const std::string& path, ros::Time& start, ros::Time& end);
 
 // Snapshots as messages and bag files. The readers throw std::runtime_error
-// with a message that says what is wrong with the file.
+// with a message that says what is wrong with the file. toSnapshotMsg sets
+// the checksum; fromSnapshotMsg refuses a message whose checksum does not
+// match (a bag has no checksum of its own: a changed number would restore).
 coil_winding_sim::SimulationSnapshot toSnapshotMsg(const cws::SimulationState& state,
                                                    const ros::Time& stamp);
 cws::SimulationState fromSnapshotMsg(const coil_winding_sim::SimulationSnapshot& msg);
+// FNV-1a (64 bit) of the message serialized with its checksum field 0.
+uint64_t snapshotChecksum(const coil_winding_sim::SimulationSnapshot& msg);
 void writeSnapshotBag(const std::string& path, const coil_winding_sim::SimulationSnapshot& msg);
 // In this process: a corrupt bag can crash rosbag's reader or make the
 // deserializer allocate gigabytes. Use it for trusted files only.
