@@ -45,7 +45,7 @@ ARGS ?=
 
 DEB_PACKAGES := \
   catkin libroscpp-dev libtf2-ros-dev libtf2-eigen-dev libvisualization-msgs-dev \
-  libstd-srvs-dev libsensor-msgs-dev librosbag-dev librostest-dev python3-rostest python3-roslaunch \
+  libstd-srvs-dev libsensor-msgs-dev librosbag-dev libtopic-tools-dev librostest-dev python3-rostest python3-roslaunch \
   ros-base-dev libdiagnostic-updater-dev libeigen3-dev libyaml-cpp-dev libgtest-dev \
   libbenchmark-dev python3-matplotlib python3-catkin-pkg \
   rviz python3-rostopic python3-rosbag xvfb imagemagick clang-format \
