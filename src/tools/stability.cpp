@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iomanip>
 #include <iostream>
 #include <mutex>
 #include <sstream>
@@ -15,6 +17,7 @@
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 #include "parallel.hpp"
+#include "run_store.hpp"
 
 namespace cws_tools {
 
@@ -63,6 +66,19 @@ struct Run {
   cws::RunMeasures m;
   bool measured = false;
   double wall_s = 0.0, sim_s = 0.0, end_s = 0.0, step_s = 0.0;
+  bool kept = false;         // taken from an earlier study's result file
+  bool interrupted = false;  // stopped by a signal: checkpointed, no result
+};
+
+// What every run of one study shares.
+struct Study {
+  std::string scene_path;
+  std::vector<std::string> base;
+  double budget_s = 0.0;
+  double checkpoint_s = 0.0;
+  fs::path runs_dir;
+  std::function<bool()> stop;
+  std::mutex log;
 };
 
 // The cases of the issue, as overrides of the base scene (the paper's
@@ -165,19 +181,98 @@ std::string fmt(const char* f, double v) {
   return b;
 }
 
-void execute(const std::string& scene_path, const std::vector<std::string>& base, Run& r,
-             double budget_s, std::mutex& log) {
+// Bumped when the way a run is set up or measured changes, so that results
+// and checkpoints of the earlier way are not reused.
+constexpr int kRunProtocol = 1;
+
+// The run's identity: the core build, the scene file, every override, the
+// method and the speed events.
+uint64_t identity(const Study& st, const Run& r) {
+  std::ostringstream id;
+  id << "protocol " << kRunProtocol << "\ncore " << coreBuildHash() << "\nmethod " << r.method
+     << "\n";
+  std::ifstream f(st.scene_path, std::ios::binary);
+  id << "scene " << f.rdbuf() << "\n";
+  for (const std::string& o : st.base) id << "set " << o << "\n";
+  for (const std::string& o : r.c->overrides) id << "set " << o << "\n";
+  id << std::setprecision(17);
+  for (const SpeedEvent& e : r.c->events)
+    id << "event " << e.time_s << " " << e.speed_rad_s << "\n";
+  return fnv1a(id.str());
+}
+
+// A finished run's result: one `key value` line per field, the message last.
+void writeResult(const std::string& path, uint64_t id, const Run& r) {
+  std::ostringstream f;
+  f << std::setprecision(17) << "cws-stability-result/1\nidentity " << id << "\noutcome "
+    << static_cast<int>(r.outcome) << "\nmeasured " << r.measured << "\nfinite " << r.m.finite
+    << "\nenergy_rel " << r.m.energy_rel << "\nenergy_scale_J " << r.m.energy_scale_J
+    << "\nresidual " << r.m.residual << "\npenetration_ratio " << r.m.penetration_ratio
+    << "\nsteps " << r.m.steps << "\nrejected " << r.m.rejected << "\nmean_step_s "
+    << r.m.mean_step_s << "\nwall_s " << r.wall_s << "\nsim_s " << r.sim_s << "\nend_s " << r.end_s
+    << "\nstep_s " << r.step_s << "\nmessage ";
+  for (const char ch : r.message) f << (ch == '\n' ? ' ' : ch);
+  f << "\n";
+  cws::writeFileAtomically(path, f.str());
+}
+
+// False unless the file holds a complete result of this very run.
+bool readResult(const std::string& path, uint64_t id, Run& r) {
+  std::ifstream f(path);
+  std::string magic, key;
+  if (!std::getline(f, magic) || magic != "cws-stability-result/1") return false;
+  uint64_t file_id = 0;
+  int outcome = 0;
+  Run x = r;
+  if (!(f >> key >> file_id) || key != "identity" || file_id != id) return false;
+  const auto field = [&](const char* name, auto& v) {
+    return static_cast<bool>(f >> key >> v) && key == name;
+  };
+  if (!(field("outcome", outcome) && field("measured", x.measured) && field("finite", x.m.finite) &&
+        field("energy_rel", x.m.energy_rel) && field("energy_scale_J", x.m.energy_scale_J) &&
+        field("residual", x.m.residual) && field("penetration_ratio", x.m.penetration_ratio) &&
+        field("steps", x.m.steps) && field("rejected", x.m.rejected) &&
+        field("mean_step_s", x.m.mean_step_s) && field("wall_s", x.wall_s) &&
+        field("sim_s", x.sim_s) && field("end_s", x.end_s) && field("step_s", x.step_s))) {
+    return false;
+  }
+  if (!(f >> key) || key != "message") return false;
+  std::getline(f >> std::ws, x.message);
+  if (outcome < 0 || outcome > static_cast<int>(Outcome::kBudget)) return false;
+  x.outcome = static_cast<Outcome>(outcome);
+  r = x;
+  return true;
+}
+
+void execute(Study& st, Run& r) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  auto wall = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  double wall_before = 0.0;  // of earlier studies, for a resumed run [s]
+  auto wall = [&] {
+    return wall_before + std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  const std::string key = r.c->name + "." + r.method;
+  const std::string result_path = (st.runs_dir / (key + ".result")).string();
+  const std::string checkpoint_path = (st.runs_dir / (key + ".checkpoint")).string();
+  const uint64_t id = identity(st, r);
+  // A result of this run from an earlier study with the same core build is
+  // kept; one that ran out of its budget continues from its checkpoint.
+  if (readResult(result_path, id, r) && r.outcome != Outcome::kBudget) {
+    r.kept = true;
+    std::lock_guard<std::mutex> lock(st.log);
+    std::cerr << "stability: " << key << ": " << outcomeName(r.outcome)
+              << " (kept from an earlier study of this build)\n";
+    return;
+  }
+  r.message.clear();
   std::unique_ptr<cws::Simulation> sim;
   try {
-    std::vector<std::string> o = base;
+    std::vector<std::string> o = st.base;
     o.insert(o.end(), r.c->overrides.begin(), r.c->overrides.end());
     o.push_back("solver.integrator=" + r.method);
     // (Loaded with a step any wire accepts; the case's step is set below.)
     if (r.method == "symplectic_euler") o.push_back("solver.fixed_step=1e-10");
-    cws::Scene scene = cws::loadScene(scene_path, o);
+    cws::Scene scene = cws::loadScene(st.scene_path, o);
     // The fixed-step method at a quarter of its stability limit, as the
     // default scene is (1e-7 s at 1 mm).
     if (r.method == "symplectic_euler")
@@ -188,16 +283,44 @@ void execute(const std::string& scene_path, const std::vector<std::string>& base
     r.outcome = Outcome::kRefused;
     r.message = e.what();
     r.wall_s = wall();
-    std::lock_guard<std::mutex> lock(log);
-    std::cerr << "stability: " << r.c->name << " / " << r.method << ": refused: " << e.what()
-              << "\n";
+    writeResult(result_path, id, r);
+    std::lock_guard<std::mutex> lock(st.log);
+    std::cerr << "stability: " << key << ": refused: " << e.what() << "\n";
     return;
   }
-  r.end_s = sim->endTime();
   std::size_t next_event = 0;
+  // An unfinished run of this build continues where its checkpoint is.
+  {
+    Checkpoint c;
+    if (readCheckpoint(checkpoint_path, c) && c.identity == id) {
+      try {
+        sim = cws::Simulation::fromState(c.state);
+        wall_before = c.wall_s;
+        next_event = c.next_event;
+        std::lock_guard<std::mutex> lock(st.log);
+        std::cerr << "stability: " << key << ": resumed at t = " << sim->time() << " s after "
+                  << c.wall_s << " s of wall time\n";
+      } catch (const std::exception& e) {
+        std::lock_guard<std::mutex> lock(st.log);
+        std::cerr << "stability: " << key << ": checkpoint not usable (" << e.what()
+                  << "), starting afresh\n";
+      }
+    }
+  }
+  auto checkpoint = [&] {
+    Checkpoint c;
+    c.identity = id;
+    c.wall_s = wall();
+    c.next_event = next_event;
+    c.state = sim->saveState();
+    writeCheckpoint(checkpoint_path, c);
+  };
+  r.end_s = sim->endTime();
   try {
     long k = 0;
-    double next_report_s = 60.0;
+    const double resumed_at_s = wall_before;
+    double next_report_s = resumed_at_s + 60.0;
+    double next_checkpoint_s = resumed_at_s + st.checkpoint_s;
     while (sim->time() < sim->endTime()) {
       const auto& ev = r.c->events;
       double t_limit = sim->endTime();
@@ -211,20 +334,33 @@ void execute(const std::string& scene_path, const std::vector<std::string>& base
       }
       sim->step(t_limit);
       if (++k % 1000 != 0) continue;
-      if (wall() > next_report_s) {
-        std::lock_guard<std::mutex> lock(log);
-        std::cerr << "  " << r.c->name << " / " << r.method << ": t = " << sim->time() << " s of "
-                  << sim->endTime() << " s, step " << sim->stepper().lastStep() << " s\n";
+      // Ctrl-C: keep the run's state for the next study and stop.
+      if (st.stop()) {
+        checkpoint();
+        r.interrupted = true;
+        return;
+      }
+      const double w = wall();
+      if (w > next_report_s) {
+        std::lock_guard<std::mutex> lock(st.log);
+        std::cerr << "  " << key << ": t = " << sim->time() << " s of " << sim->endTime()
+                  << " s, step " << sim->stepper().lastStep() << " s\n";
         next_report_s += 60.0;
       }
-      if (wall() > budget_s) {
+      if (w > next_checkpoint_s) {
+        checkpoint();
+        next_checkpoint_s = w + st.checkpoint_s;
+      }
+      if (w > st.budget_s) {
         std::ostringstream msg;
-        msg << "not finished within the budget of " << budget_s
+        msg << "not finished within the budget of " << st.budget_s
             << " s of wall time (t = " << sim->time() << " s of " << sim->endTime() << " s, about "
-            << fmt("%.0f", wall() * sim->endTime() / sim->time())
-            << " s in all at this pace); the criteria are checked on the part run";
+            << fmt("%.0f", w * sim->endTime() / sim->time())
+            << " s in all at this pace; a study with a larger --budget continues it); the "
+               "criteria are checked on the part run";
         r.outcome = Outcome::kBudget;
         r.message = msg.str();
+        checkpoint();
         break;
       }
     }
@@ -247,9 +383,11 @@ void execute(const std::string& scene_path, const std::vector<std::string>& base
       for (const std::string& s : v) r.message += (r.message.empty() ? "" : "; ") + s;
     }
   }
-  std::lock_guard<std::mutex> lock(log);
-  std::cerr << "stability: " << r.c->name << " / " << r.method << ": " << outcomeName(r.outcome)
-            << " in " << r.wall_s << " s" << (r.message.empty() ? "" : ": ") << r.message << "\n";
+  writeResult(result_path, id, r);
+  if (r.outcome != Outcome::kBudget) fs::remove(checkpoint_path);
+  std::lock_guard<std::mutex> lock(st.log);
+  std::cerr << "stability: " << key << ": " << outcomeName(r.outcome) << " in " << r.wall_s << " s"
+            << (r.message.empty() ? "" : ": ") << r.message << "\n";
 }
 
 // One line of the machine's CPU, for the record.
@@ -322,17 +460,25 @@ time it would need).
 }  // namespace
 
 int runStability(const std::string& scene_path, const std::vector<std::string>& overrides,
-                 const std::string& dir, int jobs, const std::string& only, double budget_s) {
+                 const std::string& dir, const StabilityOptions& opt) {
+  Study st;
+  st.scene_path = scene_path;
   // The base: the given scene with the study's segment length and speed.
-  std::vector<std::string> base = {"wire.segment_length=2e-3", "process.core_speed_rpm=1200"};
-  base.insert(base.end(), overrides.begin(), overrides.end());
-  cws::loadScene(scene_path, base);  // refuse a bad base scene first
+  st.base = {"wire.segment_length=2e-3", "process.core_speed_rpm=1200"};
+  st.base.insert(st.base.end(), overrides.begin(), overrides.end());
+  cws::loadScene(scene_path, st.base);  // refuse a bad base scene first
   cws::checkOutputDir(dir);
+  st.budget_s = opt.budget_s;
+  st.checkpoint_s = opt.checkpoint_s;
+  st.stop = opt.stop ? opt.stop : [] { return false; };
+  st.runs_dir = fs::path(dir) / "runs";
+  if (opt.fresh) fs::remove_all(st.runs_dir);
+  fs::create_directories(st.runs_dir);
 
   static const std::vector<Case> cases = matrixCases();
   std::vector<Run> runs;
   for (const Case& c : cases) {
-    if (!only.empty() && c.name.find(only) == std::string::npos) continue;
+    if (!opt.only.empty() && c.name.find(opt.only) == std::string::npos) continue;
     for (const char* m : {"symplectic_euler", "rkf45", "rosenbrock2"}) {
       Run r;
       r.c = &c;
@@ -341,17 +487,29 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
     }
   }
   if (runs.empty()) {
-    std::cerr << "stability: no case name contains '" << only << "'\n";
+    std::cerr << "stability: no case name contains '" << opt.only << "'\n";
     return 2;
   }
-  std::mutex log;
   // Last case first: the long run starts at once and the short ones fill in.
   const auto study_start = std::chrono::steady_clock::now();
-  forEachParallel(runs.size(), jobs, [&](std::size_t i) {
-    execute(scene_path, base, runs[runs.size() - 1 - i], budget_s, log);
+  forEachParallel(runs.size(), opt.jobs, [&](std::size_t i) {
+    if (!st.stop()) execute(st, runs[runs.size() - 1 - i]);
   });
   const double study_min =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - study_start).count() / 60.0;
+  // Stopped by a signal: no tables; what is done stays for the next study.
+  if (st.stop()) {
+    std::cerr << "stability: stopped; finished runs and checkpoints of unfinished ones are kept "
+                 "in "
+              << st.runs_dir.string() << " (the same command continues the study)\n";
+    return -1;
+  }
+  int kept = 0;
+  double run_wall_s = 0.0;
+  for (const Run& r : runs) {
+    kept += r.kept;
+    run_wall_s += r.wall_s;
+  }
 
   std::ostringstream csv, md;
   csv << "case,method,outcome,energy_error_rel,max_residual,max_penetration_rel_radius,steps,"
@@ -362,7 +520,7 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
         "process.core_speed_rpm=1200`), carried wire on. Each case changes what its column "
         "says. symplectic_euler steps at a quarter of the case's l / c; rkf45 and rosenbrock2 "
         "use the scene's tolerances (rtol 1e-6, atol 1e-11). Wall-time budget per run: "
-     << budget_s << " s. Machine: " << machine() << "; " << jobs
+     << opt.budget_s << " s. Machine: " << machine() << "; " << opt.jobs
      << " runs in parallel.\n\n"
         "| case | method | outcome | energy error | max residual | max penetration / r | "
         "steps | mean step [s] | wall [s] | message |\n"
@@ -393,11 +551,14 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
     }
     md << " | " << fmt("%.1f", r.wall_s) << " | " << cell(r.message) << " |\n";
   }
-  md << "\nRegenerate: `make stability` (this file and docs/stability/stability.csv; this "
-        "study took "
-     << fmt("%.0f", study_min)
-     << " minutes on the machine above). One case: `wire_sim stability --only NAME --out "
-        "DIR`.\n";
+  md << "\nRegenerate: `make stability` (this file and docs/stability/stability.csv). The runs "
+        "took "
+     << fmt("%.0f", run_wall_s / 60.0) << " minutes of wall time in all; this study took "
+     << fmt("%.0f", study_min) << " minutes on the machine above";
+  if (kept > 0) md << ", and kept " << kept << " results of an earlier study of the same build";
+  md << ". A study stopped with Ctrl-C keeps its finished runs and a checkpoint of each "
+        "unfinished one, and the same command continues it. One case: `wire_sim stability "
+        "--only NAME --out DIR`.\n";
   cws::writeFileAtomically((fs::path(dir) / "stability.csv").string(), csv.str());
   cws::writeFileAtomically((fs::path(dir) / "STABILITY.md").string(), md.str());
   std::cout << csv.str();

@@ -5,7 +5,7 @@
 //   wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
 //   wire_sim work-precision [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
 //   wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]
-//                      [--budget SECONDS]
+//                      [--budget SECONDS] [--checkpoint SECONDS] [--fresh]
 #include <signal.h>
 
 #include <cmath>
@@ -36,7 +36,7 @@ const char* kUsage =
     "       wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]\n"
     "       wire_sim work-precision [--scene FILE] [--set ...] [--out DIR] [--jobs N]\n"
     "       wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]\n"
-    "                          [--budget SECONDS]\n"
+    "                          [--budget SECONDS] [--checkpoint SECONDS] [--fresh]\n"
     "Without --scene the package's default scene is used; --out defaults to out/run\n"
     "(out/study for study). study runs the paper's 2 x 2 case study (600/1200 rpm x\n"
     "30/70 N, 1 3/4 turns) on N threads (default 2) and writes tables of the results.\n"
@@ -45,7 +45,11 @@ const char* kUsage =
     "stability runs the extreme cases of docs/STABILITY.md (those whose name contains\n"
     "NAME) with every integrator, checks each run against the stability criteria and\n"
     "writes DIR/STABILITY.md and DIR/stability.csv (default out/stability); a run\n"
-    "longer than SECONDS of wall time (default 9600) is stopped and reported.\n"
+    "longer than SECONDS of wall time (default 9600) is stopped and reported. It keeps\n"
+    "each finished run's result and a checkpoint of each unfinished one (every\n"
+    "--checkpoint seconds, default 300) in DIR/runs, tied to the core build and the\n"
+    "run's inputs: the same command after Ctrl-C, or with a larger --budget, continues\n"
+    "where it was; --fresh starts over.\n"
     "Exit status: 0 done; 1 the run failed; 2 bad command line, scene or --out (nothing\n"
     "is run); 130 / 143 a run stopped by SIGINT (Ctrl-C) / SIGTERM, which ends it after\n"
     "the current step and writes no results (a second signal ends it at once). Before\n"
@@ -58,8 +62,7 @@ struct Args {
   std::vector<std::string> overrides;
   std::string out;
   int jobs = 2;
-  std::string only;          // stability: cases whose name contains this
-  double budget_s = 9600.0;  // stability: wall time per run [s]
+  cws_tools::StabilityOptions stability;  // --only, --budget, --checkpoint, --fresh
 };
 
 // Exit codes: 0 success, 1 the run failed, 2 bad command line or scene,
@@ -124,7 +127,11 @@ int run(const Args& a) {
   if (a.command == "stability") {
     const std::string out = a.out.empty() ? "out/stability" : a.out;
     checkOut(out);
-    return cws_tools::runStability(scene_path, a.overrides, out, a.jobs, a.only, a.budget_s);
+    cws_tools::StabilityOptions o = a.stability;
+    o.jobs = a.jobs;
+    o.stop = [] { return g_stop_signal != 0; };
+    const int rc = cws_tools::runStability(scene_path, a.overrides, out, o);
+    return rc < 0 ? 128 + g_stop_signal : rc;
   }
   if (a.command == "study") {
     const std::string out = a.out.empty() ? "out/study" : a.out;
@@ -206,7 +213,7 @@ int main(int argc, char** argv) {
       a.command == "study" || a.command == "work-precision" || a.command == "stability";
   const bool stability = a.command == "stability";
   bool seen_scene = false, seen_out = false, seen_jobs = false, seen_only = false,
-       seen_budget = false;
+       seen_budget = false, seen_checkpoint = false, seen_fresh = false;
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& opt = args[i];
     // The option's value: present and not empty (an empty --scene or --out,
@@ -253,31 +260,36 @@ int main(int argc, char** argv) {
     } else if (opt == "--only" && stability) {
       problem = once(seen_only);
       if (problem.empty()) problem = take("a case name");
-      a.only = value;
-    } else if (opt == "--budget" && stability) {
-      problem = once(seen_budget);
+      a.stability.only = value;
+    } else if ((opt == "--budget" || opt == "--checkpoint") && stability) {
+      const bool budget = opt == "--budget";
+      problem = once(budget ? seen_budget : seen_checkpoint);
       if (problem.empty()) problem = take("seconds");
       if (problem.empty()) {
+        double& seconds = budget ? a.stability.budget_s : a.stability.checkpoint_s;
         try {
           std::size_t used = 0;
-          a.budget_s = std::stod(value, &used);
-          if (used != value.size() || !(a.budget_s > 0.0) || !std::isfinite(a.budget_s)) {
+          seconds = std::stod(value, &used);
+          if (used != value.size() || !(seconds > 0.0) || !std::isfinite(seconds)) {
             throw std::invalid_argument(value);
           }
         } catch (const std::exception&) {
-          problem = "--budget needs a positive number of seconds, got '" + value + "'";
+          problem = opt + " needs a positive number of seconds, got '" + value + "'";
         }
       }
+    } else if (opt == "--fresh" && stability) {
+      problem = once(seen_fresh);
+      a.stability.fresh = true;
     } else if (!opt.empty() && opt[0] == '-') {
       problem = "unknown option '" + opt + "' for " + a.command + " (it takes --scene, --set" +
                 (takes_out ? ", --out" : "") + (takes_jobs ? ", --jobs" : "") +
-                (stability ? ", --only, --budget" : "") + ")";
+                (stability ? ", --only, --budget, --checkpoint, --fresh" : "") + ")";
     } else {
       problem = "unexpected argument '" + opt + "' (options come as --scene FILE, --set ...)";
     }
     if (!problem.empty()) return usageError(problem);
   }
-  if (a.command == "run") installStopHandlers();
+  if (a.command == "run" || stability) installStopHandlers();
   try {
     return run(a);
   } catch (const cws::SceneError& e) {

@@ -567,6 +567,95 @@ TEST_F(WireSimCli, StudyRemovesEarlierResultsFirst) {
   EXPECT_TRUE(contains(readAll(out / "study.md"), "failed")) << readAll(out / "study.md");
 }
 
+// The stability study stopped with Ctrl-C in the middle of a run keeps its
+// finished runs and a checkpoint of the unfinished one; the same command
+// continues it, and every figure equals those of a study never stopped. A
+// third call keeps all three results; other inputs reuse none. One case of
+// 5 mm segments (about 9 s a study; rosenbrock2 runs first, then rkf45).
+TEST_F(WireSimCli, StabilityStudyResumesWhereItWasStopped) {
+  const std::vector<std::string> study{
+      "stability", "--only", "segment_5mm_core_r5mm", "--jobs", "1", "--checkpoint", "0.05"};
+  auto with_out = [&](const fs::path& out, std::vector<std::string> extra = {}) {
+    std::vector<std::string> a = study;
+    a.insert(a.end(), extra.begin(), extra.end());
+    a.push_back("--out");
+    a.push_back(out.string());
+    return a;
+  };
+  // Every cell but the wall time.
+  auto figures = [](const fs::path& csv) {
+    std::vector<std::string> rows;
+    for (const std::string& line : splitLines(readAll(csv))) {
+      std::vector<std::string> cells = splitCsv(line);
+      if (cells.size() > 11) cells[11].clear();
+      std::string row;
+      for (const std::string& c : cells) row += c + ",";
+      rows.push_back(row);
+    }
+    return rows;
+  };
+  const fs::path straight = dir_ / "straight", resumed = dir_ / "resumed";
+  const RunResult a = run(with_out(straight));
+  ASSERT_EQ(a.status, 0) << a.err;
+  const std::vector<std::string> expected = figures(straight / "stability.csv");
+  ASSERT_EQ(expected.size(), 4u) << readAll(straight / "stability.csv");
+
+  // Stopped once the unfinished run has a checkpoint.
+  std::vector<std::string> args = with_out(resumed);
+  args.insert(args.begin(), CWS_WIRE_SIM_EXE);
+  std::vector<char*> argv;
+  for (std::string& x : args) argv.push_back(x.data());
+  argv.push_back(nullptr);
+  const fs::path err = dir_ / "stopped_stderr.txt";
+  posix_spawn_file_actions_t io;
+  posix_spawn_file_actions_init(&io);
+  posix_spawn_file_actions_addopen(&io, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&io, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&io, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawn(&pid, CWS_WIRE_SIM_EXE, &io, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&io);
+  const fs::path checkpoint = resumed / "runs" / "segment_5mm_core_r5mm.rkf45.checkpoint";
+  // (A guard, not a timing assertion: it gives up after 10 minutes.)
+  for (int i = 0; i < 60000 && !fs::exists(checkpoint); ++i) usleep(10000);
+  ASSERT_TRUE(fs::exists(checkpoint)) << readAll(err);
+  ASSERT_EQ(kill(pid, SIGINT), 0);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << readAll(err);
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGINT) << readAll(err);
+  EXPECT_TRUE(contains(readAll(err), "the same command continues the study")) << readAll(err);
+  EXPECT_FALSE(fs::exists(resumed / "stability.csv"));
+  EXPECT_TRUE(fs::exists(checkpoint));
+  EXPECT_TRUE(fs::exists(resumed / "runs" / "segment_5mm_core_r5mm.rosenbrock2.result"));
+
+  // Continued: the same figures as the study never stopped.
+  const RunResult b = run(with_out(resumed));
+  ASSERT_EQ(b.status, 0) << b.err;
+  EXPECT_TRUE(contains(b.err, "segment_5mm_core_r5mm.rosenbrock2: stopped (kept")) << b.err;
+  EXPECT_TRUE(contains(b.err, "segment_5mm_core_r5mm.rkf45: resumed at t = ")) << b.err;
+  EXPECT_EQ(figures(resumed / "stability.csv"), expected);
+  EXPECT_FALSE(fs::exists(checkpoint)) << "a finished run keeps no checkpoint";
+
+  // Again: all three kept, the same table.
+  const RunResult c = run(with_out(resumed));
+  ASSERT_EQ(c.status, 0) << c.err;
+  EXPECT_EQ(splitLines(c.err).size(), 3u) << c.err;
+  EXPECT_EQ(figures(resumed / "stability.csv"), expected);
+  EXPECT_TRUE(contains(readAll(resumed / "STABILITY.md"), "kept 3 results")) << c.err;
+
+  // Another input (the tension), or --fresh: nothing kept. (A short budget
+  // keeps this quick: the runs end as BUDGET, exit 1.)
+  for (const std::vector<std::string>& extra :
+       {std::vector<std::string>{"--set", "process.tension=31", "--budget", "0.2"},
+        std::vector<std::string>{"--fresh", "--budget", "0.2"}}) {
+    const RunResult d = run(with_out(resumed, extra));
+    EXPECT_EQ(d.status, 1) << d.err;
+    EXPECT_FALSE(contains(d.err, "kept")) << d.err;
+    EXPECT_TRUE(contains(d.err, "BUDGET")) << d.err;
+  }
+}
+
 }  // namespace
 
 #endif  // CWS_WIRE_SIM_EXE
