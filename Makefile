@@ -115,6 +115,8 @@ work-precision: build
 # The stability matrix: every extreme case with every integrator, checked
 # against the stated criteria: docs/STABILITY.md and docs/stability/*.csv.
 # Fails (after writing them) when a run broke a criterion or its budget.
+# A study stopped midway continues where it was (out/stability/runs);
+# ARGS=--fresh starts over.
 stability: build
 	mkdir -p docs/stability
 	@rc=0; $(WIRE_SIM) stability --out out/stability --jobs $(JOBS) $(ARGS) || rc=$$?; \
