@@ -40,7 +40,7 @@ struct Case {
 };
 
 // How a run ended.
-enum class Outcome { kStable, kViolated, kStopped, kRefused, kBudget };
+enum class Outcome { kStable, kViolated, kStopped, kRefused, kBudget, kPending };
 
 const char* outcomeName(Outcome o) {
   switch (o) {
@@ -54,6 +54,8 @@ const char* outcomeName(Outcome o) {
       return "refused";
     case Outcome::kBudget:
       return "BUDGET";
+    case Outcome::kPending:
+      return "PENDING";
   }
   return "?";
 }
@@ -78,6 +80,7 @@ struct Study {
   double checkpoint_s = 0.0;
   fs::path runs_dir;
   std::function<bool()> stop;
+  bool report_only = false;
   std::mutex log;
 };
 
@@ -262,6 +265,24 @@ void execute(Study& st, Run& r) {
     std::lock_guard<std::mutex> lock(st.log);
     std::cerr << "stability: " << key << ": " << outcomeName(r.outcome)
               << " (kept from an earlier study of this build)\n";
+    return;
+  }
+  // Report only: what the kept files say, nothing run.
+  if (st.report_only) {
+    r.kept = true;
+    if (r.outcome == Outcome::kBudget) return;  // its result was read above
+    r.outcome = Outcome::kPending;
+    Checkpoint c;
+    std::ostringstream msg;
+    if (readCheckpoint(checkpoint_path, c) && c.identity == id) {
+      r.wall_s = c.wall_s;
+      r.sim_s = c.state.time_s;
+      msg << "not finished: checkpoint at t = " << c.state.time_s << " s after " << c.wall_s
+          << " s of wall time; `make stability` continues it";
+    } else {
+      msg << "not run yet";
+    }
+    r.message = msg.str();
     return;
   }
   r.message.clear();
@@ -451,7 +472,8 @@ cause** (outcome *stopped*), or be **refused** at validation with a message
 naming the key (outcome *refused*). *CRITERIA BROKEN* would be a defect;
 *BUDGET* means the run did not finish within the study's wall-time budget
 (its criteria are then checked on the part run, and the message gives the
-time it would need).
+time it would need). *PENDING* (`wire_sim stability --report`) marks a run
+not finished yet: the table shows a study in progress.
 
 ## Set-up
 
@@ -471,6 +493,7 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
   st.budget_s = opt.budget_s;
   st.checkpoint_s = opt.checkpoint_s;
   st.stop = opt.stop ? opt.stop : [] { return false; };
+  st.report_only = opt.report_only;
   st.runs_dir = fs::path(dir) / "runs";
   if (opt.fresh) fs::remove_all(st.runs_dir);
   fs::create_directories(st.runs_dir);
@@ -527,7 +550,10 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
         "|---|---|---|---|---|---|---|---|---|---|\n";
   int bad = 0;
   for (const Run& r : runs) {
-    if (r.outcome == Outcome::kViolated || r.outcome == Outcome::kBudget) ++bad;
+    if (r.outcome == Outcome::kViolated || r.outcome == Outcome::kBudget ||
+        r.outcome == Outcome::kPending) {
+      ++bad;
+    }
     std::string msg = r.message;
     for (char& ch : msg) {
       if (ch == '"') ch = '\'';
@@ -553,9 +579,14 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
   }
   md << "\nRegenerate: `make stability` (this file and docs/stability/stability.csv). The runs "
         "took "
-     << fmt("%.0f", run_wall_s / 60.0) << " minutes of wall time in all; this study took "
-     << fmt("%.0f", study_min) << " minutes on the machine above";
-  if (kept > 0) md << ", and kept " << kept << " results of an earlier study of the same build";
+     << fmt("%.0f", run_wall_s / 60.0) << " minutes of wall time in all";
+  if (opt.report_only) {
+    md << "; this table was written by `wire_sim stability --report` from the results kept so "
+          "far, while the study was in progress";
+  } else {
+    md << "; this study took " << fmt("%.0f", study_min) << " minutes on the machine above";
+    if (kept > 0) md << ", and kept " << kept << " results of an earlier study of the same build";
+  }
   md << ". A study stopped with Ctrl-C keeps its finished runs and a checkpoint of each "
         "unfinished one, and the same command continues it. One case: `wire_sim stability "
         "--only NAME --out DIR`.\n";
@@ -563,7 +594,8 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
   cws::writeFileAtomically((fs::path(dir) / "STABILITY.md").string(), md.str());
   std::cout << csv.str();
   if (bad > 0) {
-    std::cerr << "stability: " << bad << " run(s) broke the criteria or the budget\n";
+    std::cerr << "stability: " << bad
+              << " run(s) broke the criteria or the budget, or are pending\n";
     return 1;
   }
   return 0;

@@ -15,6 +15,7 @@ struct StabilityOptions {
   // Wall time between checkpoints of a run [s].
   double checkpoint_s = 300.0;
   bool fresh = false;          // discard the results and checkpoints of earlier studies
+  bool report_only = false;    // write the tables from the kept results, run nothing
   std::function<bool()> stop;  // true: stop (a signal), keeping what is done
 };
 
@@ -25,7 +26,8 @@ struct StabilityOptions {
 // a checkpoint of each unfinished one (every `checkpoint_s`, at its budget
 // and when `stop` turns true) are kept in DIR/runs/, tied to the core
 // build and the run's inputs: a later study reuses the results and continues
-// the unfinished runs. Returns the exit code: 0 when every run met the
+// the unfinished runs (`report_only`: the tables from what is kept, with
+// unfinished runs as PENDING, and nothing run). Returns the exit code: 0 when every run met the
 // criteria or stopped with a message naming its cause, 1 otherwise, -1
 // when stopped (no tables written).
 int runStability(const std::string& scene_path, const std::vector<std::string>& overrides,

@@ -5,7 +5,7 @@
 //   wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
 //   wire_sim work-precision [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
 //   wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]
-//                      [--budget SECONDS] [--checkpoint SECONDS] [--fresh]
+//                      [--budget SECONDS] [--checkpoint SECONDS] [--fresh | --report]
 #include <signal.h>
 
 #include <cmath>
@@ -36,7 +36,7 @@ const char* kUsage =
     "       wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]\n"
     "       wire_sim work-precision [--scene FILE] [--set ...] [--out DIR] [--jobs N]\n"
     "       wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]\n"
-    "                          [--budget SECONDS] [--checkpoint SECONDS] [--fresh]\n"
+    "                          [--budget SECONDS] [--checkpoint SECONDS] [--fresh | --report]\n"
     "Without --scene the package's default scene is used; --out defaults to out/run\n"
     "(out/study for study). study runs the paper's 2 x 2 case study (600/1200 rpm x\n"
     "30/70 N, 1 3/4 turns) on N threads (default 2) and writes tables of the results.\n"
@@ -49,7 +49,8 @@ const char* kUsage =
     "each finished run's result and a checkpoint of each unfinished one (every\n"
     "--checkpoint seconds, default 300) in DIR/runs, tied to the core build and the\n"
     "run's inputs: the same command after Ctrl-C, or with a larger --budget, continues\n"
-    "where it was; --fresh starts over.\n"
+    "where it was; --fresh starts over; --report writes the tables from what is kept\n"
+    "(unfinished runs as PENDING) and runs nothing.\n"
     "Exit status: 0 done; 1 the run failed; 2 bad command line, scene or --out (nothing\n"
     "is run); 130 / 143 a run stopped by SIGINT (Ctrl-C) / SIGTERM, which ends it after\n"
     "the current step and writes no results (a second signal ends it at once). Before\n"
@@ -277,13 +278,16 @@ int main(int argc, char** argv) {
           problem = opt + " needs a positive number of seconds, got '" + value + "'";
         }
       }
-    } else if (opt == "--fresh" && stability) {
-      problem = once(seen_fresh);
-      a.stability.fresh = true;
+    } else if ((opt == "--fresh" || opt == "--report") && stability) {
+      if (seen_fresh) {
+        problem = "--fresh and --report exclude each other, and each comes once";
+      }
+      seen_fresh = true;
+      (opt == "--fresh" ? a.stability.fresh : a.stability.report_only) = true;
     } else if (!opt.empty() && opt[0] == '-') {
       problem = "unknown option '" + opt + "' for " + a.command + " (it takes --scene, --set" +
                 (takes_out ? ", --out" : "") + (takes_jobs ? ", --jobs" : "") +
-                (stability ? ", --only, --budget, --checkpoint, --fresh" : "") + ")";
+                (stability ? ", --only, --budget, --checkpoint, --fresh, --report" : "") + ")";
     } else {
       problem = "unexpected argument '" + opt + "' (options come as --scene FILE, --set ...)";
     }

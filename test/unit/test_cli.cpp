@@ -570,7 +570,8 @@ TEST_F(WireSimCli, StudyRemovesEarlierResultsFirst) {
 // The stability study stopped with Ctrl-C in the middle of a run keeps its
 // finished runs and a checkpoint of the unfinished one; the same command
 // continues it, and every figure equals those of a study never stopped. A
-// third call keeps all three results; other inputs reuse none. One case of
+// third call keeps all three results; other inputs reuse none. --report
+// shows the study in progress. One case of
 // 5 mm segments (about 9 s a study; rosenbrock2 runs first, then rkf45).
 TEST_F(WireSimCli, StabilityStudyResumesWhereItWasStopped) {
   const std::vector<std::string> study{
@@ -628,6 +629,18 @@ TEST_F(WireSimCli, StabilityStudyResumesWhereItWasStopped) {
   EXPECT_FALSE(fs::exists(resumed / "stability.csv"));
   EXPECT_TRUE(fs::exists(checkpoint));
   EXPECT_TRUE(fs::exists(resumed / "runs" / "segment_5mm_core_r5mm.rosenbrock2.result"));
+
+  // --report: the tables of the study so far, nothing run (exit 1: a run is
+  // pending).
+  const RunResult report = run(with_out(resumed, {"--report"}));
+  EXPECT_EQ(report.status, 1) << report.err;
+  const std::string table = readAll(resumed / "stability.csv");
+  EXPECT_TRUE(contains(table, "rkf45,PENDING")) << table;
+  EXPECT_TRUE(contains(table, "not finished: checkpoint at t = ")) << table;
+  EXPECT_TRUE(contains(table, "symplectic_euler,PENDING")) << table;
+  EXPECT_TRUE(contains(table, "not run yet")) << table;
+  EXPECT_TRUE(contains(table, "rosenbrock2,stopped")) << table;
+  EXPECT_TRUE(fs::exists(checkpoint));
 
   // Continued: the same figures as the study never stopped.
   const RunResult b = run(with_out(resumed));
