@@ -8,6 +8,7 @@
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <iterator>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -194,8 +195,11 @@ uint64_t identity(const Study& st, const Run& r) {
   std::ostringstream id;
   id << "protocol " << kRunProtocol << "\ncore " << coreBuildHash() << "\nmethod " << r.method
      << "\n";
+  // (Read to a string first: streaming an empty or unreadable file's
+  // buffer would fail `id` and drop the rest.)
   std::ifstream f(st.scene_path, std::ios::binary);
-  id << "scene " << f.rdbuf() << "\n";
+  const std::string scene((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  id << "scene " << scene << "\n";
   for (const std::string& o : st.base) id << "set " << o << "\n";
   for (const std::string& o : r.c->overrides) id << "set " << o << "\n";
   id << std::setprecision(17);
