@@ -24,6 +24,7 @@
 #include <mutex>
 #include <new>
 
+#include "coil_winding_sim/core/checksum.hpp"
 #include "coil_winding_sim/core/core_geometry.hpp"
 
 namespace cws_ros {
@@ -420,9 +421,7 @@ uint64_t snapshotChecksum(const coil_winding_sim::SimulationSnapshot& msg) {
   std::vector<uint8_t> bytes(ros::serialization::serializationLength(m));
   ros::serialization::OStream stream(bytes.data(), static_cast<uint32_t>(bytes.size()));
   ros::serialization::serialize(stream, m);
-  uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a offset basis and prime
-  for (const uint8_t b : bytes) h = (h ^ b) * 0x100000001b3ull;
-  return h;
+  return cws::fnv1a(bytes.data(), bytes.size());
 }
 
 cws::SimulationState fromSnapshotMsg(const coil_winding_sim::SimulationSnapshot& m) {

@@ -8,14 +8,12 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "coil_winding_sim/core/checksum.hpp"
 #include "coil_winding_sim/core/output.hpp"
 
 namespace cws_tools {
 
-uint64_t fnv1a(const std::string& bytes, uint64_t h) {
-  for (const char ch : bytes) h = (h ^ static_cast<unsigned char>(ch)) * 0x100000001b3ull;
-  return h;
-}
+uint64_t fnv1a(const std::string& bytes) { return cws::fnv1a(bytes.data(), bytes.size()); }
 
 uint64_t coreBuildHash() {
   static const uint64_t hash = [] {

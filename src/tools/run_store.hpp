@@ -12,8 +12,8 @@
 
 namespace cws_tools {
 
-// FNV-1a (64 bit) of `bytes`, continued from `h`.
-uint64_t fnv1a(const std::string& bytes, uint64_t h = 0xcbf29ce484222325ull);
+// FNV-1a (64 bit) of `bytes`.
+uint64_t fnv1a(const std::string& bytes);
 
 // Hash of the core library this process runs (the shared object holding
 // cws::Simulation, or the executable when it is linked in).

@@ -90,6 +90,24 @@ class WireSimCli : public cws_test::TempDirTest {
     return r;
   }
 
+  // Starts wire_sim with `args` in the background, stderr to `err`; returns
+  // its pid (-1 if it could not start).
+  pid_t spawn(std::vector<std::string> args, const fs::path& err) {
+    args.insert(args.begin(), CWS_WIRE_SIM_EXE);
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t io;
+    posix_spawn_file_actions_init(&io);
+    posix_spawn_file_actions_addopen(&io, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&io, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&io, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    pid_t pid = -1;
+    if (posix_spawn(&pid, CWS_WIRE_SIM_EXE, &io, nullptr, argv.data(), environ) != 0) pid = -1;
+    posix_spawn_file_actions_destroy(&io);
+    return pid;
+  }
+
   // run --scene <quiet scene> <small run> <extra> --out <out>
   RunResult runSmall(const std::string& out, const std::vector<std::string>& extra = {}) {
     std::vector<std::string> args{"run", "--scene", write("quiet.yaml", kQuietScene)};
@@ -503,23 +521,14 @@ TEST_F(WireSimCli, StoppedRunWritesNoResults) {
     ASSERT_TRUE(fs::exists(out / "summary.json"));
     // A run of 1000 s of simulated time: far longer than this test.
     const fs::path err = dir_ / "stopped_stderr.txt";
-    std::vector<std::string> args{CWS_WIRE_SIM_EXE, "run", "--scene", scene};
+    std::vector<std::string> args{"run", "--scene", scene};
     args.insert(args.end(), kSmallRun.begin(), kSmallRun.end());
     for (const std::string& a : {std::string("--set"), std::string("process.duration=1000"),
                                  std::string("--out"), out.string()}) {
       args.push_back(a);
     }
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t io;
-    posix_spawn_file_actions_init(&io);
-    posix_spawn_file_actions_addopen(&io, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&io, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&io, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    pid_t pid = 0;
-    ASSERT_EQ(posix_spawn(&pid, CWS_WIRE_SIM_EXE, &io, nullptr, argv.data(), environ), 0);
-    posix_spawn_file_actions_destroy(&io);
+    const pid_t pid = spawn(args, err);
+    ASSERT_GT(pid, 0);
     // Wait until it is running (it prints its size first); a guard, not a
     // timing assertion: it gives up after 10 minutes.
     bool started = false;
@@ -602,20 +611,9 @@ TEST_F(WireSimCli, StabilityStudyResumesWhereItWasStopped) {
   ASSERT_EQ(expected.size(), 4u) << readAll(straight / "stability.csv");
 
   // Stopped once the unfinished run has a checkpoint.
-  std::vector<std::string> args = with_out(resumed);
-  args.insert(args.begin(), CWS_WIRE_SIM_EXE);
-  std::vector<char*> argv;
-  for (std::string& x : args) argv.push_back(x.data());
-  argv.push_back(nullptr);
   const fs::path err = dir_ / "stopped_stderr.txt";
-  posix_spawn_file_actions_t io;
-  posix_spawn_file_actions_init(&io);
-  posix_spawn_file_actions_addopen(&io, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&io, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&io, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = 0;
-  ASSERT_EQ(posix_spawn(&pid, CWS_WIRE_SIM_EXE, &io, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&io);
+  const pid_t pid = spawn(with_out(resumed), err);
+  ASSERT_GT(pid, 0);
   const fs::path checkpoint = resumed / "runs" / "segment_5mm_core_r5mm.rkf45.checkpoint";
   // (A guard, not a timing assertion: it gives up after 10 minutes.)
   for (int i = 0; i < 60000 && !fs::exists(checkpoint); ++i) usleep(10000);
