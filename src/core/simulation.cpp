@@ -99,6 +99,21 @@ void Simulation::step(double t_limit) {
   }
   if (collapse_step_s_ > 0.0) checkCollapse(ramp);
   afterStep();
+  if (max_residual_ > kDivergedResidual) {
+    std::ostringstream msg;
+    msg << "at t = " << t_ << " s the wire diverged: a segment is " << max_residual_
+        << " rad off its frame's tangent (a sound run stays below 1e-3): " << stepper_->name()
+        << " is unstable on this scene at its step of " << stepper_->lastStep() << " s (";
+    if (scene_.solver.integrator == "symplectic_euler") {
+      msg << "validation checks only l / c; a stiffer contact or load needs a smaller step): "
+             "lower solver.fixed_step, or use rkf45, which tells an unstable step from a "
+             "motion that itself diverges";
+    } else {
+      msg << "solver.rtol = " << scene_.solver.rtol << "): lower solver.rtol, or use another "
+                                                       "integrator";
+    }
+    throw IntegrationError(withRampCause(msg.str(), t_, ramp));
+  }
 }
 
 // A method that fails inside a core speed ramp shorter than the time a wave

@@ -74,6 +74,13 @@ class Simulation {
   // cause and the remedy): such runs would otherwise crawl for hours before
   // reaching solver.min_step.
   static constexpr long kCollapseSteps = 10000;
+  // Divergence: a step that leaves a segment more than this far off its
+  // frame's tangent (the constraint residual [rad], 10x the stability
+  // criterion's bound; Baumgarte stabilization holds a sound run near 1e-6)
+  // stops the run with an IntegrationError naming the method and its step,
+  // before the state runs off to overflow or the supply to its storage
+  // limit.
+  static constexpr double kDivergedResidual = 1.0e-2;
 
   // One accepted step, not past t_limit [s]. Throws IntegrationError.
   void step(double t_limit);

@@ -34,6 +34,14 @@ void FrameConstraints::backward(const std::vector<Eigen::Vector3d>& rhs,
   }
 }
 
+Eigen::Matrix4d FrameConstraints::rotationAboutNormal(const quat::Vec4& q) const {
+  // Rates of q that scale it or turn its frame about n (in world axes): q
+  // itself and E(q)^T n, orthogonal since E(q) q = 0.
+  const quat::Vec4 qn = q.normalized();
+  const quat::Vec4 un = (quat::E(q).transpose() * plane_normal_world_).normalized();
+  return qn * qn.transpose() + un * un.transpose();
+}
+
 void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& f,
                                      const Eigen::Vector3d& a0_world, const Eigen::Vector4d& qdd0,
                                      const PortMotion* port, Eigen::Matrix3Xd& a_world,
@@ -47,6 +55,7 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
   // Unconstrained accelerations M^-1 f (in the plane for planar scenes); the
   // clamp's are prescribed.
   const Eigen::Vector3d& nrm = plane_normal_world_;
+  const bool planar = !nrm.isZero();
   a_world.col(first - 1) = a0_world;
   qdd.col(first - 1) = qdd0;
   for (int i = first; i < n; ++i) {
@@ -68,22 +77,42 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     const Eigen::Vector3d xid = jx * qd;
     const Eigen::Vector3d etad = je * qd;
 
-    const Eigen::Vector3d c(q.squaredNorm() - 1.0, d.dot(xi), d.dot(eta));
-    const Eigen::Vector3d cd(2.0 * q.dot(qd), dd.dot(xi) + d.dot(xid), dd.dot(eta) + d.dot(etad));
-    const Eigen::Vector3d jdot_v(2.0 * qd.squaredNorm(),
-                                 2.0 * dd.dot(xid) + 2.0 * d.dot(quat::xiBilinear(qd, qd)),
-                                 2.0 * dd.dot(etad) + 2.0 * d.dot(quat::etaBilinear(qd, qd)));
+    Eigen::Vector3d c(q.squaredNorm() - 1.0, d.dot(xi), d.dot(eta));
+    Eigen::Vector3d cd(2.0 * q.dot(qd), dd.dot(xi) + d.dot(xid), dd.dot(eta) + d.dot(etad));
+    Eigen::Vector3d jdot_v(2.0 * qd.squaredNorm(),
+                           2.0 * dd.dot(xid) + 2.0 * d.dot(quat::xiBilinear(qd, qd)),
+                           2.0 * dd.dot(etad) + 2.0 * d.dot(quat::etaBilinear(qd, qd)));
 
     Eigen::Matrix3d& a = a_blk_[i];
     a.row(0).setZero();
     a.row(1) = xi.transpose();
     a.row(2) = eta.transpose();
-    Eigen::Matrix3d& ap = ap_blk_[i];
-    ap = inPlane<3>(a);
     quat::Mat34& b = b_blk_[i];
     b.row(0) = 2.0 * q.transpose();
     b.row(1) = d.transpose() * jx;
     b.row(2) = d.transpose() * je;
+    if (planar) {
+      // Frame i turns about n only: its inverse mass is (1/4I) Q, and its
+      // unconstrained acceleration lies in that motion.
+      const Eigen::Matrix4d pq = rotationAboutNormal(q);
+      b = b * pq;
+      qdd.col(i) = pq * qdd.col(i);
+      // Rows 1, 2 become the in-plane combination (d along n x zeta) and
+      // the out-of-plane one (d along n), which neither a point nor the
+      // frame can change any more: a zero row, kept with multiplier 0.
+      Eigen::Vector2d t(-eta.dot(nrm), xi.dot(nrm));
+      t.normalize();
+      a.row(1) = t[0] * a.row(1) + t[1] * a.row(2);
+      b.row(1) = t[0] * b.row(1) + t[1] * b.row(2);
+      c[1] = t[0] * c[1] + t[1] * c[2];
+      cd[1] = t[0] * cd[1] + t[1] * cd[2];
+      jdot_v[1] = t[0] * jdot_v[1] + t[1] * jdot_v[2];
+      a.row(2).setZero();
+      b.row(2).setZero();
+      c[2] = cd[2] = jdot_v[2] = 0.0;
+    }
+    Eigen::Matrix3d& ap = ap_blk_[i];
+    ap = inPlane<3>(a);
 
     const Eigen::Vector3d j_au = a * (a_world.col(i) - a_world.col(i - 1)) + b * qdd.col(i);
     gamma_[i] = -jdot_v - 2.0 * nu_ * cd - nu_ * nu_ * c - j_au;
@@ -91,6 +120,8 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     // Diagonal block: point i, point i-1 unless it is prescribed, frame i.
     const double w = (i > first) ? 2.0 * inv_m : inv_m;
     d_blk_[i] = w * ap * ap.transpose() + inv_mq * b * b.transpose();
+    // Planar: the zero row's pivot (its multiplier comes out 0).
+    if (planar) d_blk_[i](2, 2) = 1.0;
   }
   // Off-diagonal blocks couple frames i and i+1 through point i.
   for (int i = first; i + 1 < n; ++i) {
@@ -127,6 +158,7 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     pp.row(1) = eta.transpose();
     pq.row(0) = e.transpose() * jx;
     pq.row(1) = e.transpose() * je;
+    if (planar) pq = pq * rotationAboutNormal(q);
     const Eigen::Matrix<double, 2, 3> ppp = inPlane<2>(pp);
     const Eigen::Vector2d c(e.dot(xi), e.dot(eta));
     const Eigen::Vector2d cd(ed.dot(xi) + e.dot(xid), ed.dot(eta) + e.dot(etad));
@@ -150,13 +182,13 @@ void FrameConstraints::accelerations(const WireKinematics& k, const WireForces& 
     const Eigen::Matrix<double, 3, 2> x_border = d_inv_[l] * border;
     const Eigen::Matrix2d schur = corner - border.transpose() * x_border;
     const Eigen::Vector2d rhs = g - border.transpose() * (d_inv_[l] * gamma_[l]);
-    if (plane_normal_world_.isZero()) {
+    if (!planar) {
       mu = schur.inverse() * rhs;
     } else {
       // Planar: the out-of-plane combination of the two port rows, with
-      // weights (xi . n, eta . n), repeats frame L's own constraint (the
-      // port, p_L and segment L-1 all lie in the plane) and makes the 2x2
-      // Schur complement singular. Keep the in-plane combination only.
+      // weights (xi . n, eta . n), holds p_L - p_s along n, which neither
+      // p_L nor frame L can change (the port lies in the plane), and makes
+      // the 2x2 Schur complement singular. Keep the in-plane combination only.
       Eigen::RowVector2d t(-eta.dot(plane_normal_world_), xi.dot(plane_normal_world_));
       t.normalize();
       mu = t.transpose() * (t * rhs) / (t * schur * t.transpose());
