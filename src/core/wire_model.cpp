@@ -298,6 +298,13 @@ void WireModel::appendPoint(double t, Eigen::VectorXd& y) {
     std::ostringstream msg;
     msg << "at t = " << t << " s the wire drawn in needs more than " << c_.capacity
         << " points: raise supply.max_points";
+    // A wire that has run away is drawn in too: say so rather than blame
+    // the storage (the residual bound of docs/STABILITY.md).
+    const double residual = constraints_.maxResidual(committed_);
+    if (!(residual <= 1.0e-3)) {
+      msg << ", unless the run diverged: a segment is " << residual
+          << " rad off its frame's tangent (a sound run stays below 1e-3)";
+    }
     throw IntegrationError(msg.str());
   }
   // The outer end of the boundary segment passes the port (eq. 21): it

@@ -467,7 +467,7 @@ A run counts as **stable** when it reaches its end time and
   quaternion off unit length) at most 1e-3 rad at every accepted step:
   below the joint angle at first bending yield, kappa_y l = 1.6e-3 rad per
   mm of segment, so the constraint error cannot pass for plastic bending.
-  A step that takes it past 1e-2 stops the run as diverged ("at t = ... the
+  A step that takes it past 0.1 stops the run as diverged ("at t = ... the
   wire diverged: a segment is ... rad off its frame's tangent ...", naming
   the method, its step and the remedy) while its numbers are still finite;
 - **penetration** into the core at most half the wire radius at every

@@ -199,7 +199,6 @@ TEST(Stability, DivergenceIsStoppedWithItsCause) {
     // Stopped at the first step past the bound: the state is still finite.
     EXPECT_TRUE(std::isfinite(sim.state().head(sim.model().size()).sum()));
     EXPECT_GT(sim.maxConstraintResidual(), cws::Simulation::kDivergedResidual);
-    EXPECT_LT(sim.maxConstraintResidual(), 1.0);
   }
 }
 
