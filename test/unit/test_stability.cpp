@@ -202,6 +202,26 @@ TEST(Stability, DivergenceIsStoppedWithItsCause) {
   }
 }
 
+// A sound run that draws in more wire than its storage holds names the key
+// to raise, and does not call itself diverged (that hint is for a wire whose
+// frames had already run off, which the supply draws in as well).
+TEST(Stability, StorageLimitNamesItsKey) {
+  cws::Simulation sim(scene({"supply.max_points=40", "process.turns=1"}, "symplectic_euler"));
+  const int start_points = sim.model().constants().n;
+  ASSERT_LT(start_points, 40);
+  try {
+    while (sim.time() < sim.endTime()) sim.step(sim.endTime());
+    ADD_FAILURE() << "one turn was expected to need more than 40 points";
+  } catch (const cws::IntegrationError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("needs more than 40 points: raise supply.max_points"), std::string::npos)
+        << msg;
+    EXPECT_EQ(msg.find("diverged"), std::string::npos) << msg;
+    EXPECT_EQ(sim.model().constants().n, 40);
+    EXPECT_LT(sim.maxConstraintResidual(), 1e-3);
+  }
+}
+
 // core.start_at_speed starts the core in a 1 ns ramp. rosenbrock2 cannot
 // follow it; the step floor or the collapse that begins there says so, naming the ramp and the
 // remedy rather than only "too stiff".
