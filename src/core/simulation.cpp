@@ -109,8 +109,9 @@ void Simulation::step(double t_limit) {
              "lower solver.fixed_step, or use rkf45, which tells an unstable step from a "
              "motion that itself diverges";
     } else {
-      msg << "solver.rtol = " << scene_.solver.rtol << "): lower solver.rtol, or use another "
-                                                       "integrator";
+      msg << "solver.rtol = " << scene_.solver.rtol
+          << "): lower solver.rtol, or use another "
+             "integrator";
     }
     throw IntegrationError(withRampCause(msg.str(), t_, ramp));
   }
