@@ -45,7 +45,7 @@ const char* kUsage =
     "stability runs the extreme cases of docs/STABILITY.md (those whose name contains\n"
     "NAME) with every integrator, checks each run against the stability criteria and\n"
     "writes DIR/STABILITY.md and DIR/stability.csv (default out/stability); a run\n"
-    "longer than SECONDS of wall time (default 14400) is stopped and reported. It keeps\n"
+    "longer than SECONDS of wall time (default 18000) is stopped and reported. It keeps\n"
     "each finished run's result and a checkpoint of each unfinished one (every\n"
     "--checkpoint seconds, default 300) in DIR/runs, tied to the core build and the\n"
     "run's inputs: the same command after Ctrl-C, or with a larger --budget, continues\n"
