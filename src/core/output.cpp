@@ -1,5 +1,6 @@
 #include "coil_winding_sim/core/output.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -70,7 +71,15 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out) {
       << "  \"steps_accepted\": " << n.accepted << ",\n"
       << "  \"steps_rejected\": " << n.rejected << ",\n"
       << "  \"derivative_evaluations\": " << n.derivative_evaluations << ",\n"
-      << "  \"last_step_s\": " << num(sim.stepper().lastStep()) << ",\n"
+      << "  \"last_step_s\": " << num(sim.stepper().lastStep()) << ",\n";
+  if (const NewtonCounts* nc = sim.stepper().newtonCounts()) {
+    const double steps = std::max<long>(1, n.accepted);
+    out << "  \"newton_iterations_per_step\": " << num(nc->iterations / steps) << ",\n"
+        << "  \"newton_flag_rounds\": " << nc->flag_rounds << ",\n"
+        << "  \"newton_line_searches\": " << nc->line_searches << ",\n"
+        << "  \"newton_retried_steps\": " << nc->retried_steps << ",\n";
+  }
+  out
       << "  \"nodes\": " << sim.model().constants().n << ",\n"
       << "  \"segment_length_m\": " << num(sim.model().constants().segment_length) << ",\n"
       << "  \"max_constraint_residual\": " << num(sim.maxConstraintResidual()) << ",\n"

@@ -119,6 +119,10 @@ YAML::Node toYaml(const Scene& s) {
   root["solver"]["initial_step"] = num(s.solver.initial_step);
   root["solver"]["fixed_step"] = num(s.solver.fixed_step);
   root["solver"]["baumgarte_nu"] = num(s.solver.baumgarte_nu);
+  root["solver"]["implicit_step"] = num(s.solver.implicit_step);
+  root["solver"]["newton_tol"] = num(s.solver.newton_tol);
+  root["solver"]["newton_max_iterations"] = s.solver.newton_max_iterations;
+  root["solver"]["flag_rounds"] = s.solver.flag_rounds;
   root["solver"]["carry_stuck_wire"] = s.solver.carry_stuck_wire;
 
   root["physics"]["torsion"] = s.physics.torsion;
@@ -249,6 +253,16 @@ double readDouble(const YAML::Node& n, const std::string& key) {
     throw SceneError(key, "must be a finite number, got " + printable(n.Scalar()));
   }
   return v;
+}
+
+// A whole number from 0 to `most`.
+int readCount(const YAML::Node& n, const std::string& key, int most) {
+  const double v = readDouble(n, key);
+  if (v != std::floor(v) || v < 0.0 || v > most) {
+    throw SceneError(key, "must be a whole number from 0 to " + std::to_string(most) + ", got " +
+                              printable(n.Scalar()));
+  }
+  return static_cast<int>(v);
 }
 
 bool readBool(const YAML::Node& n, const std::string& key) {
@@ -403,6 +417,11 @@ Scene fromYaml(const YAML::Node& r) {
   s.solver.initial_step = readDouble(so["initial_step"], "solver.initial_step");
   s.solver.fixed_step = readDouble(so["fixed_step"], "solver.fixed_step");
   s.solver.baumgarte_nu = readDouble(so["baumgarte_nu"], "solver.baumgarte_nu");
+  s.solver.implicit_step = readDouble(so["implicit_step"], "solver.implicit_step");
+  s.solver.newton_tol = readDouble(so["newton_tol"], "solver.newton_tol");
+  s.solver.newton_max_iterations =
+      readCount(so["newton_max_iterations"], "solver.newton_max_iterations", 1000);
+  s.solver.flag_rounds = readCount(so["flag_rounds"], "solver.flag_rounds", 100);
   s.solver.carry_stuck_wire = readBool(so["carry_stuck_wire"], "solver.carry_stuck_wire");
 
   const YAML::Node ph = r["physics"];
@@ -611,6 +630,8 @@ void forEachNumber(const Scene& s, Fn fn) {
   fn("solver.initial_step", s.solver.initial_step);
   fn("solver.fixed_step", s.solver.fixed_step);
   fn("solver.baumgarte_nu", s.solver.baumgarte_nu);
+  fn("solver.implicit_step", s.solver.implicit_step);
+  fn("solver.newton_tol", s.solver.newton_tol);
   vec(s.gravity.acceleration_world, "gravity.acceleration");
   fn("damping.translational", s.damping.translational);
   fn("damping.rotational", s.damping.rotational);
@@ -865,10 +886,25 @@ void validateScene(const Scene& s) {
   }
 
   if (s.solver.integrator != "rkf45" && s.solver.integrator != "symplectic_euler" &&
-      s.solver.integrator != "rosenbrock2") {
+      s.solver.integrator != "rosenbrock2" && s.solver.integrator != "implicit_euler" &&
+      s.solver.integrator != "bdf2") {
     throw SceneError("solver.integrator",
                      "unknown integrator '" + printable(s.solver.integrator) +
-                         "' (available: rkf45, symplectic_euler, rosenbrock2)");
+                         "' (available: rkf45, symplectic_euler, rosenbrock2, implicit_euler, "
+                         "bdf2)");
+  }
+  if ((s.solver.integrator == "implicit_euler" || s.solver.integrator == "bdf2") &&
+      !s.physics.planar) {
+    throw SceneError("solver.integrator",
+                     s.solver.integrator +
+                         " integrates planar scenes (physics.planar: true) only; use "
+                         "symplectic_euler or rkf45 for a 3-D scene");
+  }
+  requirePositive(s.solver.implicit_step, "solver.implicit_step");
+  requirePositive(s.solver.newton_tol, "solver.newton_tol");
+  if (s.solver.newton_max_iterations < 1) {
+    throw SceneError("solver.newton_max_iterations",
+                     "must be at least 1, got " + std::to_string(s.solver.newton_max_iterations));
   }
   requirePositive(s.solver.fixed_step, "solver.fixed_step");
   if (s.solver.integrator == "symplectic_euler" && s.solver.fixed_step > s.solver.max_step) {

@@ -153,6 +153,7 @@ WireModel::WireModel(const Scene& s)
   acc_.resize(3, c_.capacity);
   qdd_.resize(4, c_.capacity);
   unpack(0.0, y0_, committed_);
+  if (s.physics.planar) planar_ = std::make_unique<PlanarFormulation>(*this, s);
   if (supply_) {
     // The stretched start is work done on the wire before t = 0.
     for (int j = 0; j + 1 < c_.n; ++j) {
@@ -184,6 +185,25 @@ void WireModel::clamp(double t, Eigen::Vector3d& p0_world, Eigen::Vector3d& v0_w
   const Eigen::Vector3d w = 0.5 * core_->omega(t) * core_->axisWorld();
   const Eigen::Quaterniond qdw = Eigen::Quaterniond(0.0, w.x(), w.y(), w.z()) * qw;
   qd0 = {qdw.w(), qdw.x(), qdw.y(), qdw.z()};
+}
+
+void WireModel::prescribedPose(double t, Eigen::Vector3d& p_world, Eigen::Vector3d& v_world,
+                               Eigen::Vector4d& q, Eigen::Vector4d& qd) const {
+  const int i = c_.first - 1;
+  if (i == 0) {
+    Eigen::Vector3d a_world;
+    clamp(t, p_world, v_world, a_world, q, qd);
+    return;
+  }
+  // A carried point: its pose in the core frame, turned with the core.
+  const Eigen::Vector3d w = core_->omega(t) * core_->axisWorld();
+  p_world = core_->pointWorld(t, carried_p_core_[i]);
+  v_world = w.cross(p_world - core_->originWorld());
+  const Eigen::Quaterniond qc(carried_q_core_[i][0], carried_q_core_[i][1], carried_q_core_[i][2],
+                              carried_q_core_[i][3]);
+  const Eigen::Quaterniond qw = core_->quaternionWorldCore(t) * qc;
+  q = {qw.w(), qw.x(), qw.y(), qw.z()};
+  qd = 0.5 * quat::E(q).transpose() * w;
 }
 
 Eigen::Vector3d WireModel::unpack(double t, ConstRef y, WireKinematics& k) const {

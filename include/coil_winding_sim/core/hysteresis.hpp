@@ -40,6 +40,47 @@ class TwoLineLaw {
     return k_e_ * (x - x_u) + k_p_ * x_u + c_;
   }
 
+  // The line x lies on given x_u: +1 upper plastic, -1 lower plastic, 0
+  // elastic.
+  static constexpr int kUpper = 1, kElastic = 0, kLower = -1;
+  int branch(double x, double x_u) const {
+    if (x > x_u) return kUpper;
+    if (x < x_u - 2.0 * a_) return kLower;
+    return kElastic;
+  }
+  // Whether a frozen line still holds at x: the line x lies on, or a
+  // neighbouring one that x has crossed into by less than 1e-4 of the first
+  // yield (the two lines then differ by less than 1e-4 C in stress), so that
+  // a law resting at its yield point does not flip between lines.
+  bool lineHolds(double x, double x_u, int line) const {
+    const double tol = 1.0e-4 * a_;
+    if (line == kUpper) return x >= x_u - tol;
+    if (line == kLower) return x <= x_u - 2.0 * a_ + tol;
+    return x <= x_u + tol && x >= x_u - 2.0 * a_ - tol;
+  }
+  // Stress on a given line, extended beyond its end (implicit steps freeze
+  // each law's line within a Newton solve and recheck it after), and its
+  // slope.
+  double stressOnBranch(double x, double x_u, int line, double& tangent) const {
+    if (line == kUpper) {
+      tangent = k_p_;
+      return k_p_ * x + c_;
+    }
+    if (line == kLower) {
+      tangent = k_p_;
+      return k_p_ * x - c_;
+    }
+    tangent = k_e_;
+    return k_e_ * (x - x_u) + k_p_ * x_u + c_;
+  }
+
+  // Consistent tangent ds/dx at strain x from the committed x_u: the
+  // slope of the line stress() is on (the return map of a step that starts
+  // at x_u) [N] or [N m^2].
+  double tangent(double x, double x_u) const {
+    return (x > x_u || x < x_u - 2.0 * a_) ? k_p_ : k_e_;
+  }
+
   // Upper yield point after the material has reached x (commit on an
   // accepted step).
   double movedUpper(double x, double x_u) const {

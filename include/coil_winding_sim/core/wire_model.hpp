@@ -19,6 +19,7 @@
 #include "coil_winding_sim/core/core_geometry.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/external_forces/supply.hpp"
+#include "coil_winding_sim/core/implicit/planar_formulation.hpp"
 #include "coil_winding_sim/core/inner_forces/bending.hpp"
 #include "coil_winding_sim/core/inner_forces/stretching.hpp"
 #include "coil_winding_sim/core/inner_forces/twisting.hpp"
@@ -98,6 +99,15 @@ class WireModel : public OdeSystem {
   // constraints pass on to the segments, on the next ones: radius 2 (further
   // coupling through the constraint solve falls ~100x per point).
   ChainStructure chainStructure() const override { return {2, 14, 2}; }
+  PlanarFormulation* planarFormulation() override { return planar_.get(); }
+  // Offset of point i's block (p, q, v, qdot) in the state vector (i >= 1).
+  static int stateOffset(int i) { return 2 + 14 * (i - 1); }
+  // Pose and motion at time t [s] of the prescribed point first-1 (the
+  // clamp, or the last point the core carries) and of its frame.
+  void prescribedPose(double t, Eigen::Vector3d& p_world, Eigen::Vector3d& v_world,
+                      Eigen::Vector4d& q, Eigen::Vector4d& qd) const;
+  // All effects, in evaluation order (implicit steppers set their flags).
+  const std::vector<ForceEffect*>& effectList() { return all_; }
 
   const Eigen::VectorXd& initialState() const { return y0_; }
   const WireConstants& constants() const { return c_; }
@@ -192,6 +202,7 @@ class WireModel : public OdeSystem {
   Eigen::Quaterniond carry_q_;
   Eigen::Vector3d carry_w_;
 
+  std::unique_ptr<PlanarFormulation> planar_;  // planar scenes only
   Eigen::VectorXd y0_, atol_, rweight_;
   WireKinematics kin_, committed_;
   WireForces forces_;

@@ -14,6 +14,9 @@
 
 namespace cws {
 
+struct PlanarState;
+class PlanarAssembly;
+
 // Constants of one wire, derived from the scene once; only n changes, when a
 // supply draws wire in.
 struct WireConstants {
@@ -128,6 +131,21 @@ class ForceEffect {
   // Adds this effect's generalized forces at time t [s]. Must not allocate
   // and must not change history state (it runs for trial stages too).
   virtual void addForces(double t, const WireKinematics& k, WireForces& f) const = 0;
+  // Planar implicit formulation (docs/MODEL.md, "Implicit integration"):
+  // adds this effect's in-plane forces on the points and their derivatives
+  // d f / d x and d f / d v at the trial state, evaluated from the
+  // committed history (return mapping from the step's start). Must not
+  // allocate and must not change history state. An effect with nothing in
+  // the plane (torsion) adds nothing.
+  virtual void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const = 0;
+  // Flags an implicit step keeps frozen within one Newton solve (contact,
+  // stick and slip): set them from the committed state at the step's start
+  // s0; after a converged solve, recheck them at its end state s (true: a
+  // flag changed and the step is to be solved again with the new flags);
+  // and before the step is committed, adopt them as the committed state.
+  virtual void beginImplicitStep(const PlanarState& /*s0*/) {}
+  virtual bool recheckFlags(const PlanarState& /*s*/) { return false; }
+  virtual void adoptFlags() {}
   // Commits history state (yield points, stick) after an accepted step at t [s].
   virtual void commit(double /*t*/, const WireKinematics& /*k*/) {}
   // Point n-1 was just appended (a wire supply drew it in): initialize the

@@ -30,6 +30,10 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
     stuck_.assign(c_.capacity, 0);
     anchor_core_.assign(c_.capacity, Eigen::Vector3d::Zero());
   }
+  trial_surface_.assign(c_.capacity, -1);
+  trial_stuck_.assign(c_.capacity, 0);
+  trial_anchor_core_.assign(c_.capacity, Eigen::Vector3d::Zero());
+  trial_sign_.assign(c_.capacity, 1);
 }
 
 void Contact::placeSurfaces(double t) const {

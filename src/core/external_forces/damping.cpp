@@ -1,5 +1,7 @@
 #include "coil_winding_sim/core/external_forces/damping.hpp"
 
+#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
+
 #include "coil_winding_sim/core/quaternion.hpp"
 
 namespace cws {
@@ -18,6 +20,40 @@ void Damping::addForces(double, const WireKinematics& k, WireForces& f) const {
       const Eigen::Vector4d fq = -2.0 * c_rot * e.transpose() * omega_world;
       f.f_q.col(i) += fq;
       f.fq_dissipative.col(i) += fq;
+    }
+  }
+}
+
+void Damping::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
+  const double c_lin = p_.translational * c_.point_length;  // [N s/m]
+  const double c_rot = p_.rotational * c_.point_length;     // [N m s]
+  const Eigen::Matrix2d id = Eigen::Matrix2d::Identity();
+  for (int i = s.first; i < s.n; ++i) {
+    const Eigen::Vector2d f = -c_lin * s.v.col(i);
+    a.addForce(i, f);
+    a.f_dissipative.col(i) += f;
+    a.addDamping(i, i, -c_lin * id);
+    if (c_rot <= 0.0) continue;
+    // Frame i turns with segment i-1 at omega = g . (v_i - v_{i-1}), g the
+    // gradient of its angle: the moment -c omega as forces on both points.
+    const Eigen::Vector2d d = s.segment(i - 1);
+    const Eigen::Vector2d g = planar::angleGradient(d);
+    const Eigen::Vector2d w = s.v.col(i) - s.v.col(i - 1);
+    const double omega = g.dot(w);
+    a.addForce(i, -c_rot * omega * g);
+    a.addForce(i - 1, c_rot * omega * g);
+    a.f_dissipative.col(i) += -c_rot * omega * g;
+    if (i - 1 >= s.first) a.f_dissipative.col(i - 1) += c_rot * omega * g;
+    const Eigen::Matrix2d dv = -c_rot * g * g.transpose();
+    const Eigen::Matrix2d hs = planar::angleHessian(d);
+    const Eigen::Matrix2d dx = -c_rot * (g * (hs * w).transpose() + omega * hs);
+    const int pts[2] = {i - 1, i};
+    const double sgn[2] = {-1.0, 1.0};
+    for (int r = 0; r < 2; ++r) {
+      for (int c = 0; c < 2; ++c) {
+        a.addDamping(pts[r], pts[c], sgn[r] * sgn[c] * dv);
+        a.addStiffness(pts[r], pts[c], sgn[r] * sgn[c] * dx);
+      }
     }
   }
 }

@@ -1,5 +1,7 @@
 #include "coil_winding_sim/core/external_forces/end_load.hpp"
 
+#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
+
 #include "coil_winding_sim/core/quaternion.hpp"
 
 namespace cws {
@@ -35,6 +37,30 @@ void EndLoad::addForces(double t, const WireKinematics& k, WireForces& f) const 
   const Eigen::Vector4d fq = 2.0 * quat::E(k.q.col(tip)).transpose() * moment_world;
   f.f_q.col(tip) += fq;
   f.fq_work.col(tip) += fq;
+}
+
+void EndLoad::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
+  Eigen::Vector3d force_world, moment_world;
+  loadAt(s.t, force_world, moment_world);
+  const int tip = s.n - 1;
+  const Eigen::Vector2d f = s.plane.vectorToPlane(force_world);
+  a.addForce(tip, f);
+  a.f_work.col(tip) += f;
+  // The moment about n turns the tip's frame, that is its segment: forces
+  // m dphi/dx on its two points.
+  const double m = moment_world.dot(s.plane.n_world);
+  if (m == 0.0) return;
+  const Eigen::Vector2d d = s.segment(tip - 1);
+  const Eigen::Vector2d g = m * planar::angleGradient(d);
+  a.addForce(tip, g);
+  a.addForce(tip - 1, -g);
+  a.f_work.col(tip) += g;
+  if (tip - 1 >= s.first) a.f_work.col(tip - 1) -= g;
+  const Eigen::Matrix2d h = m * planar::angleHessian(d);
+  a.addStiffness(tip, tip, h);
+  a.addStiffness(tip, tip - 1, -h);
+  a.addStiffness(tip - 1, tip, -h);
+  a.addStiffness(tip - 1, tip - 1, h);
 }
 
 }  // namespace cws

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
 #include "coil_winding_sim/core/quaternion.hpp"
 
 namespace cws {
@@ -80,6 +81,51 @@ void Supply::addForces(double, const WireKinematics& k, WireForces& f) const {
   const Eigen::Vector3d pull = tension_ * zeta;
   f.f_world.col(last) += pull;
   f.f_work_world.col(last) += pull;
+}
+
+void Supply::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
+  const int last = s.n - 1;
+  const Eigen::Vector2d d = s.segment(last - 1);
+  const double len = d.norm();
+  const Eigen::Vector2d u = d / len;
+  const Eigen::Matrix2d id = Eigen::Matrix2d::Identity();
+  const Eigen::Matrix2d proj = id - u * u.transpose();
+  // The boundary segment's tension pulls the last point along the last
+  // segment (its frame's zeta): a follower force.
+  a.addForce(last, tension_ * u);
+  a.f_work.col(last) += tension_ * u;
+  const Eigen::Matrix2d kt = (tension_ / len) * proj;
+  a.addStiffness(last, last, kt);
+  a.addStiffness(last, last - 1, -kt);
+  // Port constraint (eq. 22 in the plane): the port lies on the line of the
+  // last segment, g = cross(u, e) = 0 with e = x_L - p_s [m]. Its force
+  // lambda dg/dx; the row holds -scale g.
+  const PortMotion pm = port(s.t);
+  const Eigen::Vector2d e = s.x.col(last) - s.plane.toPlane(pm.p_world);
+  const double g = planar::cross(u, e);
+  const Eigen::Vector2d w = -planar::perp(e);
+  const Eigen::Vector2d g_d = proj * w / len;         // dg/dd
+  const Eigen::Vector2d g_e = planar::perp(u);        // dg/de
+  const Eigen::Vector2d grad_last = g_d + g_e, grad_prev = -g_d;
+  const double lambda = s.lambda_port;
+  a.addForce(last, lambda * grad_last);
+  a.addForce(last - 1, lambda * grad_prev);
+  // The moving port works on the wire through the constraint force.
+  a.power_external += lambda * g_e.dot(s.plane.vectorToPlane(pm.v_world));
+  // Scale: the row in N, like the force rows (the axial stiffness EA / l).
+  a.setConstraint(g, stretch_.elastic_rigidity / c_.segment_length);
+  if (!a.wantsJacobian()) return;
+  a.addConstraintGradient(last, grad_last);
+  a.addConstraintGradient(last - 1, grad_prev);
+  // lambda d^2 g / dx^2 over (x_{L-1}, x_L), with d = x_L - x_{L-1} and e.
+  const Eigen::Vector2d pw = proj * w;
+  const Eigen::Matrix2d h_dd =
+      -(u.dot(w) * proj + u * pw.transpose() + pw * u.transpose()) / (len * len);
+  const Eigen::Matrix2d h_ed = planar::perpMatrix() * proj / len;  // d g_e / dd
+  a.addStiffness(last, last, lambda * (h_dd + h_ed + h_ed.transpose()));
+  a.addStiffness(last, last - 1, lambda * (-h_dd - h_ed));
+  a.addStiffness(last - 1, last, lambda * (-h_dd - h_ed.transpose()));
+  a.addStiffness(last - 1, last - 1, lambda * h_dd);
 }
 
 }  // namespace cws

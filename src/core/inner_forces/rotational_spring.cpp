@@ -1,5 +1,9 @@
 #include "coil_winding_sim/core/inner_forces/rotational_spring.hpp"
 
+#include <algorithm>
+#include <cmath>
+
+#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
 #include "coil_winding_sim/core/quaternion.hpp"
 
 namespace cws {
@@ -10,6 +14,7 @@ RotationalSpring::RotationalSpring(const char* name, const WireConstants& c,
   if (plastic_) {
     upper_.assign(static_cast<std::size_t>(c_.capacity - 1) * count_, law_.initialUpper());
     x_committed_.assign(static_cast<std::size_t>(c_.capacity - 1) * count_, 0.0);
+    line_.assign(static_cast<std::size_t>(c_.capacity - 1) * count_, TwoLineLaw::kElastic);
   }
 }
 
@@ -23,6 +28,40 @@ Eigen::Vector3d RotationalSpring::darboux(const WireKinematics& k, int j) const 
 
 double RotationalSpring::stressOf(double x, int idx) const {
   return plastic_ ? law_.stress(x, upper_[idx]) : law_.elasticRigidity() * x;
+}
+
+double RotationalSpring::stressTangent(double x, int idx, double& tangent) const {
+  if (!plastic_) {
+    tangent = law_.elasticRigidity();
+    return tangent * x;
+  }
+  return law_.stressOnBranch(x, upper_[idx], line_[idx], tangent);
+}
+
+double RotationalSpring::planarCurvature(const PlanarState& s, int j, double& dphi) const {
+  // Frame j: the prescribed frame, or segment j-1; frame j+1: segment j.
+  const Eigen::Vector2d da = j == s.first - 1 ? s.boundary_tangent : s.segment(j - 1);
+  dphi = planar::turn(da, s.segment(j));
+  return (2.0 / jointLength(j)) * std::sin(0.5 * dphi);
+}
+
+bool RotationalSpring::recheckFlags(const PlanarState& s) {
+  if (!plastic_) return false;
+  bool changed = false;
+  for (int j = s.first - 1; j + 1 < s.n; ++j) {
+    double dphi;
+    const double kappa = planarCurvature(s, j, dphi);
+    for (int c = 0; c < count_; ++c) {
+      const double w = s.n_material[first_ + c];
+      if (w == 0.0) continue;
+      const int idx = j * count_ + c;
+      if (!law_.lineHolds(kappa * w, upper_[idx], line_[idx])) {
+        line_[idx] = static_cast<signed char>(law_.branch(kappa * w, upper_[idx]));
+        changed = true;
+      }
+    }
+  }
+  return changed;
 }
 
 double RotationalSpring::moment(const WireKinematics& k, int j, int m) const {
@@ -44,6 +83,68 @@ void RotationalSpring::addForces(double, const WireKinematics& k, WireForces& f)
     // dOmega/dq_a = -(2/lambda) G(q_b): the joint length lambda cancels.
     f.f_q.col(j) += 2.0 * quat::G(qb).transpose() * m;
     f.f_q.col(j + 1) -= 2.0 * quat::G(qa).transpose() * m;
+  }
+}
+
+void RotationalSpring::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
+  // In the plane, joint j turns by dphi about n from frame j to frame j+1
+  // (segment j), so Omega = (2 / lambda) sin(dphi / 2) n_material: each of
+  // this spring's components is kappa n_material[c] with its own law, and
+  // the moment about n is m = sum_c s_c n_material[c]. Nothing to do for a
+  // spring with no component about n (torsion).
+  double weight = 0.0;
+  for (int c = 0; c < count_; ++c) weight += std::abs(s.n_material[first_ + c]);
+  if (weight == 0.0) return;
+  for (int j = s.first - 1; j + 1 < s.n; ++j) {
+    const double lambda = jointLength(j);
+    // Frame j: the prescribed frame, or segment j-1; frame j+1: segment j.
+    const bool prescribed = j == s.first - 1;
+    const Eigen::Vector2d db = s.segment(j);
+    const Eigen::Vector2d da = prescribed ? s.boundary_tangent : s.segment(j - 1);
+    double dphi;
+    const double kappa = planarCurvature(s, j, dphi);
+    double m = 0.0, dm = 0.0;
+    for (int c = 0; c < count_; ++c) {
+      const double w = s.n_material[first_ + c];
+      if (w == 0.0) continue;
+      double k;
+      m += w * stressTangent(kappa * w, j * count_ + c, k);
+      dm += w * w * k;
+    }
+    // Generalized force on dphi: Q = -d(lambda W)/d dphi = -m cos(dphi / 2).
+    const double cosh = std::cos(0.5 * dphi);
+    const double q = -m * cosh;
+    const Eigen::Vector2d gb = planar::angleGradient(db);
+    const Eigen::Vector2d ga = prescribed ? Eigen::Vector2d::Zero() : planar::angleGradient(da);
+    // d dphi / dx for points j+1, j, j-1.
+    a.addForce(j + 1, q * gb);
+    a.addForce(j, q * (-gb - ga));
+    if (prescribed) {
+      a.addBoundaryTorque(-q);
+    } else {
+      a.addForce(j - 1, q * ga);
+    }
+    if (!a.wantsJacobian()) continue;
+    const double dq = -dm * cosh * cosh / lambda + 0.5 * m * std::sin(0.5 * dphi);
+    const Eigen::Vector2d g[3] = {ga, -gb - ga, gb};  // points j-1, j, j+1
+    const Eigen::Matrix2d hb = planar::angleHessian(db);
+    const Eigen::Matrix2d ha = prescribed ? Eigen::Matrix2d::Zero() : planar::angleHessian(da);
+    // Second derivatives of dphi = phi_b - phi_a over the three points.
+    Eigen::Matrix2d h[3][3];
+    h[2][2] = hb;
+    h[2][1] = -hb;
+    h[1][2] = -hb;
+    h[1][1] = hb - ha;
+    h[1][0] = ha;
+    h[0][1] = ha;
+    h[0][0] = -ha;
+    h[2][0].setZero();
+    h[0][2].setZero();
+    for (int r = prescribed ? 1 : 0; r < 3; ++r) {
+      for (int c = prescribed ? 1 : 0; c < 3; ++c) {
+        a.addStiffness(j - 1 + r, j - 1 + c, dq * g[r] * g[c].transpose() + q * h[r][c]);
+      }
+    }
   }
 }
 
@@ -69,6 +170,7 @@ void RotationalSpring::shrink(const WireKinematics& k) {
     const int idx = j * count_ + i;
     work_committed_ -= jointLength(j) * law_.elasticEnergy(moment(k, j, i));
     upper_[idx] = law_.initialUpper();
+    line_[idx] = TwoLineLaw::kElastic;
     x_committed_[idx] = 0.0;
   }
 }
@@ -98,6 +200,7 @@ void RotationalSpring::restoreHistory(HistoryReader& in) {
   const std::size_t used = static_cast<std::size_t>(c_.n - 1) * count_;
   for (std::size_t i = 0; i < used; ++i) upper_[i] = in.next();
   for (std::size_t i = 0; i < used; ++i) x_committed_[i] = in.next();
+  std::fill(line_.begin(), line_.end(), TwoLineLaw::kElastic);
   work_committed_ = in.next();
 }
 

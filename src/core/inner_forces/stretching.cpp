@@ -1,5 +1,9 @@
 #include "coil_winding_sim/core/inner_forces/stretching.hpp"
 
+#include <algorithm>
+
+#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
+
 namespace cws {
 
 Stretching::Stretching(const WireConstants& c, const HysteresisParams& p, bool plastic)
@@ -7,6 +11,7 @@ Stretching::Stretching(const WireConstants& c, const HysteresisParams& p, bool p
   if (plastic_) {
     upper_.assign(c_.capacity - 1, law_.initialUpper());
     x_committed_.assign(c_.capacity - 1, 0.0);
+    line_.assign(c_.capacity - 1, TwoLineLaw::kElastic);
   }
 }
 
@@ -16,6 +21,28 @@ double Stretching::strain(const WireKinematics& k, int j) const {
 
 double Stretching::stressOf(double x, int j) const {
   return plastic_ ? law_.stress(x, upper_[j]) : law_.elasticRigidity() * x;
+}
+
+double Stretching::stressTangent(double x, int j, double& tangent) const {
+  if (!plastic_) {
+    tangent = law_.elasticRigidity();
+    return tangent * x;
+  }
+  return law_.stressOnBranch(x, upper_[j], line_[j], tangent);
+}
+
+bool Stretching::recheckFlags(const PlanarState& s) {
+  if (!plastic_) return false;
+  bool changed = false;
+  const double l = c_.segment_length;
+  for (int j = s.first - 1; j + 1 < s.n; ++j) {
+    const double x = (s.segment(j).norm() - l) / l;
+    if (!law_.lineHolds(x, upper_[j], line_[j])) {
+      line_[j] = static_cast<signed char>(law_.branch(x, upper_[j]));
+      changed = true;
+    }
+  }
+  return changed;
 }
 
 double Stretching::axialForce(const WireKinematics& k, int j) const {
@@ -36,6 +63,29 @@ void Stretching::addForces(double, const WireKinematics& k, WireForces& f) const
     const Eigen::Vector3d pull = stressOf(x, j) / len * d;
     f.f_world.col(j) += pull;
     f.f_world.col(j + 1) -= pull;
+  }
+}
+
+void Stretching::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
+  // The same law in plane coordinates; its Jacobian blocks: the tangent
+  // k / l along the segment, the tension's geometric stiffness T / |d|
+  // across it.
+  const double l = c_.segment_length;
+  for (int j = s.first - 1; j + 1 < s.n; ++j) {
+    const Eigen::Vector2d d = s.segment(j);
+    const double len = d.norm();
+    double k;
+    const double tension = stressTangent((len - l) / l, j, k);
+    const Eigen::Vector2d t = d / len;
+    a.addForce(j, tension * t);
+    a.addForce(j + 1, -tension * t);
+    if (!a.wantsJacobian()) continue;
+    const Eigen::Matrix2d tt = t * t.transpose();
+    const Eigen::Matrix2d kb = (k / l) * tt + (tension / len) * (Eigen::Matrix2d::Identity() - tt);
+    a.addStiffness(j + 1, j + 1, -kb);
+    a.addStiffness(j + 1, j, kb);
+    a.addStiffness(j, j, -kb);
+    a.addStiffness(j, j + 1, kb);
   }
 }
 
@@ -75,7 +125,9 @@ void Stretching::loadVirgin(const WireKinematics& k, int j) {
 void Stretching::grow(const WireKinematics& k) {
   // The new segment arrives pre-stretched by the supply tension along the
   // virgin loading curve: its yield point and committed strain follow it.
-  if (plastic_) loadVirgin(k, c_.n - 2);
+  if (!plastic_) return;
+  loadVirgin(k, c_.n - 2);
+  line_[c_.n - 2] = TwoLineLaw::kElastic;
 }
 
 void Stretching::shrink(const WireKinematics& k) {
@@ -83,6 +135,7 @@ void Stretching::shrink(const WireKinematics& k) {
   const int j = c_.n - 2;
   work_committed_ -= c_.segment_length * law_.elasticEnergy(axialForce(k, j));
   upper_[j] = law_.initialUpper();
+  line_[j] = TwoLineLaw::kElastic;
   x_committed_[j] = 0.0;
 }
 
@@ -102,6 +155,7 @@ void Stretching::restoreHistory(HistoryReader& in) {
   if (!plastic_) return;
   for (int j = 0; j + 1 < c_.n; ++j) upper_[j] = in.next();
   for (int j = 0; j + 1 < c_.n; ++j) x_committed_[j] = in.next();
+  std::fill(line_.begin(), line_.end(), TwoLineLaw::kElastic);
   work_committed_ = in.next();
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "coil_winding_sim/core/time_steppers/implicit_stepper.hpp"
 #include "coil_winding_sim/core/time_steppers/rkf45.hpp"
 #include "coil_winding_sim/core/time_steppers/rosenbrock2.hpp"
 #include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
@@ -32,11 +33,17 @@ void throwStepFloor(const char* method, double min_step, double t, double e, dou
   throw IntegrationError(msg.str());
 }
 
-std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, const OdeSystem& sys) {
+std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, OdeSystem& sys) {
   if (p.integrator == "rkf45") return std::make_unique<Rkf45>(p, sys.capacity());
   if (p.integrator == "symplectic_euler")
     return std::make_unique<SymplecticEuler>(p, sys.capacity());
   if (p.integrator == "rosenbrock2") return std::make_unique<Rosenbrock2>(p, sys);
+  if (p.integrator == "implicit_euler") {
+    return std::make_unique<ImplicitStepper>(p, sys, ImplicitStepper::Scheme::kBackwardEuler);
+  }
+  if (p.integrator == "bdf2") {
+    return std::make_unique<ImplicitStepper>(p, sys, ImplicitStepper::Scheme::kBdf2);
+  }
   throw std::invalid_argument("unknown integrator '" + p.integrator + "'");
 }
 

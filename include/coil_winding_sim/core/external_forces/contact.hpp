@@ -34,6 +34,13 @@ class Contact : public ForceEffect {
 
   const char* name() const override { return "contact"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
+  // Implicit steps: the surface each point touches, stick (with its
+  // anchor) or slip (with its direction) stay frozen within one Newton
+  // solve; contact_planar.cpp.
+  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
+  void beginImplicitStep(const PlanarState& s0) override;
+  bool recheckFlags(const PlanarState& s) override;
+  void adoptFlags() override;
   void commit(double t, const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
   void appendHistory(std::vector<double>& out) const override;
@@ -63,6 +70,14 @@ class Contact : public ForceEffect {
                            const Eigen::Vector3d& n_world, double normal_force,
                            bool& slipping) const;
 
+  // Frozen surface of point i in the plane at the placed time: outward
+  // normal, penetration [m] and d normal / dx [1/m]; false if the point is
+  // at the surface's axis (no normal).
+  bool planarSurface(const PlanarState& s, int surface, const Eigen::Vector2d& x,
+                     Eigen::Vector2d& normal, double& depth, Eigen::Matrix2d& dnormal) const;
+  // Velocity of the core material at plane point x [m/s].
+  Eigen::Vector2d planarSurfaceVelocity(const PlanarState& s, const Eigen::Vector2d& x) const;
+
   const WireConstants& c_;  // the model's: n grows with a supply
   ContactParams p_;
   const RotatingCore& core_;
@@ -84,6 +99,12 @@ class Contact : public ForceEffect {
   std::vector<double> depth_;                    // committed penetration [m]
   double max_penetration_ = 0.0;
   double elastic_committed_ = 0.0;
+  // Implicit steps' trial flags (capacity): surface, stick, anchor (core
+  // frame) and slip direction (+1 / -1 along the surface tangent n x normal).
+  std::vector<int> trial_surface_;
+  std::vector<char> trial_stuck_;
+  std::vector<Eigen::Vector3d> trial_anchor_core_;
+  std::vector<signed char> trial_sign_;
 };
 
 }  // namespace cws

@@ -12,6 +12,7 @@ class Damping : public ForceEffect {
   Damping(const WireConstants& c, const DampingParams& p) : c_(c), p_(p) {}
   const char* name() const override { return "damping"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
+  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
 
  private:
   const WireConstants& c_;  // the model's: n grows with a supply

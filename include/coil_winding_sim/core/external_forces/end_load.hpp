@@ -15,6 +15,7 @@ class EndLoad : public ForceEffect {
       : c_(c), schedule_(schedule) {}
   const char* name() const override { return "end_load"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
+  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
 
   // Interpolated force [N] and moment [N m] in the world frame at time t [s].
   void loadAt(double t, Eigen::Vector3d& force_world, Eigen::Vector3d& moment_world) const;

@@ -10,6 +10,7 @@ class Gravity : public ForceEffect {
   Gravity(const WireConstants& c, const Eigen::Vector3d& g_world) : c_(c), g_world_(g_world) {}
   const char* name() const override { return "gravity"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
+  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
 
  private:
   const WireConstants& c_;   // the model's: n grows with a supply

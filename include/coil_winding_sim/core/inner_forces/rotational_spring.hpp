@@ -30,6 +30,10 @@ class RotationalSpring : public ForceEffect {
 
   const char* name() const override { return name_; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
+  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
+  // Implicit steps freeze the line of each law (elastic, upper or lower
+  // plastic) within a Newton solve; the lines carry over between steps.
+  bool recheckFlags(const PlanarState& s) override;
   void commit(double t, const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
   void appendHistory(std::vector<double>& out) const override;
@@ -48,8 +52,12 @@ class RotationalSpring : public ForceEffect {
 
  private:
   double stressOf(double x, int idx) const;
+  // Stress [N m] and consistent tangent [N m^2] of law idx at x.
+  double stressTangent(double x, int idx, double& tangent) const;
   // Length of wire that joint j stands for [m].
   double jointLength(int j) const;
+  // Planar curvature of joint j [1/m] and its turn angle [rad].
+  double planarCurvature(const PlanarState& s, int j, double& dphi) const;
 
   const char* name_;
   const WireConstants& c_;  // the model's: n grows with a supply
@@ -58,6 +66,7 @@ class RotationalSpring : public ForceEffect {
   int first_, count_;
   // Per joint and component, allocated only when plastic.
   std::vector<double> upper_, x_committed_;
+  std::vector<signed char> line_;  // implicit steps' frozen line per law
   double work_committed_ = 0.0;
 };
 

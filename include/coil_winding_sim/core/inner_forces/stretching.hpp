@@ -15,6 +15,10 @@ class Stretching : public ForceEffect {
 
   const char* name() const override { return "stretching"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
+  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
+  // Implicit steps freeze the line of each segment's law (elastic, upper or
+  // lower plastic) within a Newton solve; the lines carry over between steps.
+  bool recheckFlags(const PlanarState& s) override;
   void commit(double t, const WireKinematics& k) override;
   void grow(const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
@@ -36,6 +40,8 @@ class Stretching : public ForceEffect {
 
  private:
   double stressOf(double x, int j) const;
+  // Stress [N] and consistent tangent [N] at strain x of segment j.
+  double stressTangent(double x, int j, double& tangent) const;
   // Commits segment j as loaded from virgin to its present strain.
   void loadVirgin(const WireKinematics& k, int j);
 
@@ -45,6 +51,7 @@ class Stretching : public ForceEffect {
   // Per segment (capacity), allocated only when plastic: upper yield point,
   // strain at the last commit; work done on all segments up to it [J].
   std::vector<double> upper_, x_committed_;
+  std::vector<signed char> line_;  // implicit steps' frozen line per segment
   double work_committed_ = 0.0;
 };
 

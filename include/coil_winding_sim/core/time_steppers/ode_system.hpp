@@ -12,6 +12,8 @@
 
 namespace cws {
 
+class PlanarFormulation;
+
 // Sparsity of a chain: `lead` leading components that nothing depends on
 // (integrated quantities such as work done), then blocks of `block`
 // components, one per mass point; a block's rates depend on the blocks
@@ -47,6 +49,9 @@ class OdeSystem {
   virtual bool semiImplicitUpdate(double /*h*/, ConstRef /*dydt*/, Ref /*y*/) const {
     return false;
   }
+  // Reduced coordinates for implicit steppers (planar scenes); null when
+  // the system has none.
+  virtual PlanarFormulation* planarFormulation() { return nullptr; }
   // Sparsity for integrators that build a banded Jacobian.
   virtual ChainStructure chainStructure() const { return {}; }
   // Called once per accepted step with the new time and state (capacity()

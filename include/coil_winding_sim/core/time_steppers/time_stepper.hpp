@@ -15,6 +15,14 @@ struct StepCounts {
   long derivative_evaluations = 0;
 };
 
+// Newton's work over a run (implicit steppers), for summary.json.
+struct NewtonCounts {
+  long iterations = 0;     // Newton iterations, all solves
+  long flag_rounds = 0;    // solves repeated after a contact, stick or slip flag changed
+  long line_searches = 0;  // halved Newton steps
+  long retried_steps = 0;  // steps that did not converge and were retried smaller
+};
+
 class TimeStepper {
  public:
   virtual ~TimeStepper() = default;
@@ -32,6 +40,8 @@ class TimeStepper {
   // Size of the last accepted step [s].
   virtual double lastStep() const = 0;
   virtual const StepCounts& counts() const = 0;
+  // Newton's counts; null for a method without Newton iterations.
+  virtual const NewtonCounts* newtonCounts() const { return nullptr; }
   // Continues from a snapshot: next and last step sizes [s] and counts.
   virtual void restore(double next_step, double last_step, const StepCounts& counts) = 0;
 };
@@ -47,6 +57,6 @@ double scaledErrorNorm(const OdeSystem& sys, double rtol, const Eigen::VectorXd&
 [[noreturn]] void throwStepFloor(const char* method, double min_step, double t, double e, double h);
 
 // The integrator named by solver.integrator, sized for `sys`.
-std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, const OdeSystem& sys);
+std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, OdeSystem& sys);
 
 }  // namespace cws

@@ -1,0 +1,91 @@
+// The planar wire in reduced coordinates, for implicit time steppers:
+// positions alone (two per integrated point), frames tied to their segments,
+// and, with a supply, the port constraint's multiplier. One step of any
+// one-leg scheme
+//   v = alpha (x - x_hat),   alpha M (v - v_hat) = F(x, v)
+// (backward Euler: alpha = 1/h, x_hat = x_0, v_hat = v_0; BDF2 likewise with
+// its own coefficients) is solved by Newton's method with a line search over
+// a banded system that every effect assembles (ForceEffect::addPlanarForces).
+// The frames' rotational inertia enters with each frame's angle gradient
+// taken at the step's start. Contact, stick and slip flags stay frozen
+// within one Newton solve and are rechecked after it; the step is solved
+// again with the new flags up to solver.flag_rounds times.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
+#include "coil_winding_sim/core/scene.hpp"
+
+namespace cws {
+
+class WireModel;
+class ForceEffect;
+
+struct NewtonStats {
+  bool converged = false;
+  int iterations = 0;   // Newton iterations, all flag rounds
+  int flag_rounds = 0;  // solves repeated after a flag changed
+  int line_searches = 0;
+};
+
+class PlanarFormulation {
+ public:
+  PlanarFormulation(WireModel& model, const Scene& scene);
+
+  // Reads the committed state of the model at time t0 [s]: positions,
+  // velocities and frame rates of every point (carried ones too).
+  void load(double t0);
+  int first() const { return state_.first; }
+  int n() const { return state_.n; }
+  const Eigen::Matrix2Xd& x0() const { return x0_; }
+  const Eigen::Matrix2Xd& v0() const { return v0_; }
+  // Angular velocity of frame i (segment i-1) at the committed state [rad/s].
+  const Eigen::VectorXd& omega0() const { return omega0_; }
+
+  // Solves the step to t1 [s]: x_hat, v_hat [m], [m/s] and omega_hat
+  // [rad/s] per point / frame (columns first..n-1), starting Newton at
+  // x_guess. Leaves the solution in solution().
+  NewtonStats solve(double t1, double alpha, const Eigen::Matrix2Xd& x_hat,
+                    const Eigen::Matrix2Xd& v_hat, const Eigen::VectorXd& omega_hat,
+                    const Eigen::Matrix2Xd& x_guess);
+  const PlanarState& solution() const { return state_; }
+
+  // Writes the solution into the model's state vector y (positions,
+  // velocities, frames and their rates) and books the work and dissipation
+  // of the step of h [s]; the caller then accepts the step (acceptStep).
+  void store(double h, Eigen::VectorXd& y);
+
+  // The assembly at the present trial state (tests: Jacobians against
+  // finite differences).
+  PlanarState& trialState() { return state_; }
+  const PlanarAssembly& assemble(bool jacobian);
+
+ private:
+  // Prescribed point first-1 and its frame at time t into state_.
+  void placeBoundary(double t);
+  // Residual r = inertia - F (force rows), the scaled constraint; its max
+  // norm. With jacobian, the Newton matrix too.
+  double residual(bool jacobian);
+  // Velocities of the integrated points from x: alpha (x - x_hat).
+  void updateVelocities();
+
+  WireModel& model_;
+  std::vector<ForceEffect*> effects_;
+  bool multiplier_;  // a supply port constraint
+  double point_mass_, point_inertia_;
+  double newton_tol_;
+  int newton_max_iterations_, flag_rounds_;
+  Eigen::Vector3d p_boundary_world_, v_boundary_world_;
+  PlanarState state_;
+  PlanarAssembly assembly_;
+  // Committed state and the present step's scheme data (capacity columns).
+  Eigen::Matrix2Xd x0_, v0_, x_hat_, v_hat_, x_try_;
+  Eigen::VectorXd omega0_, omega_hat_;
+  Eigen::Matrix2Xd frame_gradient_;  // d phi_i / d d_{i-1} at the step's start
+  Eigen::VectorXd r_, dx_;
+  double alpha_ = 0.0;
+};
+
+}  // namespace cws

@@ -1,0 +1,49 @@
+// Implicit steps for the planar wire (PlanarFormulation): backward Euler
+// (implicit_euler), first order and L-stable, and the variable-step BDF2
+// (bdf2), second order and L-stable. Both solve
+//   v = alpha (x - x_hat),   alpha M (v - v_hat) = F(x, v)
+// with Newton's method at every step of solver.implicit_step; a step whose
+// Newton iterations do not converge is retried at a quarter of its size and
+// the step grows back by doubling. BDF2 starts, and restarts after a
+// retried step, with one backward Euler step.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "coil_winding_sim/core/implicit/planar_formulation.hpp"
+#include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
+
+namespace cws {
+
+class ImplicitStepper : public TimeStepper {
+ public:
+  enum class Scheme { kBackwardEuler, kBdf2 };
+  ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme);
+
+  const char* name() const override {
+    return scheme_ == Scheme::kBdf2 ? "bdf2" : "implicit_euler";
+  }
+  double collapseRatio() const override { return 0.0; }
+  void step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) override;
+  double nextStep() const override { return h_; }
+  double lastStep() const override { return h_last_; }
+  const StepCounts& counts() const override { return counts_; }
+  void restore(double next_step, double last_step, const StepCounts& counts) override;
+  const NewtonCounts* newtonCounts() const override { return &newton_; }
+
+ private:
+  SolverParams p_;
+  Scheme scheme_;
+  double h_, h_last_ = 0.0;
+  StepCounts counts_;
+  NewtonCounts newton_;
+  // The step before the present one (BDF2): positions, velocities and frame
+  // rates of every point, its size, and whether it can be used.
+  Eigen::Matrix2Xd x_prev_, v_prev_, x_hat_, v_hat_, guess_;
+  Eigen::VectorXd omega_prev_, omega_hat_;
+  double h_prev_ = 0.0;
+  int n_prev_ = 0;
+  bool have_prev_ = false;
+};
+
+}  // namespace cws

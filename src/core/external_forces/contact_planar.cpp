@@ -1,0 +1,160 @@
+// Contact and friction in the planar implicit formulation: the same penalty
+// springs, stick spring and static/kinetic friction as contact.cpp, with
+// their Jacobian blocks, and the flags an implicit step freezes within one
+// Newton solve and rechecks after it (docs/MODEL.md, "Implicit
+// integration").
+#include <cmath>
+
+#include "coil_winding_sim/core/external_forces/contact.hpp"
+#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
+
+namespace cws {
+
+bool Contact::planarSurface(const PlanarState& s, int surface, const Eigen::Vector2d& x,
+                            Eigen::Vector2d& normal, double& depth,
+                            Eigen::Matrix2d& dnormal) const {
+  const int cylinders = static_cast<int>(radii_.size());
+  if (surface < cylinders) {
+    // Distance from the cylinder's axis (the plane normal).
+    const Eigen::Vector2d r = x - s.plane.toPlane(centers_world_[surface]);
+    const double dist = r.norm();
+    if (dist == 0.0) return false;
+    normal = r / dist;
+    depth = radii_[surface] + c_.radius - dist;
+    dnormal = (Eigen::Matrix2d::Identity() - normal * normal.transpose()) / dist;
+    return true;
+  }
+  const int f = surface - cylinders;
+  normal = s.plane.vectorToPlane(face_normal_world_[f]);
+  depth = c_.radius - (x - s.plane.toPlane(face_from_world_[f])).dot(normal);
+  dnormal.setZero();
+  return true;
+}
+
+Eigen::Vector2d Contact::planarSurfaceVelocity(const PlanarState& s,
+                                               const Eigen::Vector2d& x) const {
+  return s.plane.vectorToPlane(core_.velocityWorld(s.t, s.plane.toWorld(x)));
+}
+
+void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
+  placeSurfaces(s.t);
+  const Eigen::Matrix2d rot90 = planar::perpMatrix();
+  const double k = p_.stiffness;
+  for (int i = s.first; i < s.n; ++i) {
+    const int surface = trial_surface_[i];
+    if (surface < 0) continue;
+    const Eigen::Vector2d x = s.x.col(i);
+    Eigen::Vector2d nrm;
+    double h;
+    Eigen::Matrix2d dn;
+    if (!planarSurface(s, surface, x, nrm, h, dn)) continue;
+    // Normal spring k h n, kept linear while the contact is active (the
+    // active set is rechecked after the solve).
+    const double normal = k * h;
+    Eigen::Vector2d f = normal * nrm;
+    Eigen::Matrix2d kx = -k * nrm * nrm.transpose() + normal * dn;
+    const Eigen::Vector2d u = planarSurfaceVelocity(s, x);
+    if (friction_) {
+      // Tangent n x normal and its derivative.
+      const Eigen::Vector2d tan = planar::perp(nrm);
+      const Eigen::Matrix2d dtan = rot90 * dn;
+      Eigen::Vector2d ft;
+      if (trial_stuck_[i]) {
+        // Stick: the tangential spring to the anchor.
+        const Eigen::Vector2d delta =
+            x - s.plane.toPlane(core_.originWorld() + rot_world_core_ * trial_anchor_core_[i]);
+        const double along = delta.dot(tan);
+        ft = -p_.stick_stiffness * along * tan;
+        kx += -p_.stick_stiffness *
+              (tan * (tan + dtan.transpose() * delta).transpose() + along * dtan);
+      } else {
+        // Slip: mu_d N against the frozen sliding direction.
+        const double sign = trial_sign_[i];
+        ft = -p_.kinetic_friction * normal * sign * tan;
+        kx += -p_.kinetic_friction * sign * (-k * tan * nrm.transpose() + normal * dtan);
+      }
+      f += ft;
+      a.f_dissipative.col(i) += ft;
+      a.power_dissipated += ft.dot(u);
+    }
+    a.addForce(i, f);
+    a.addStiffness(i, i, kx);
+    // The moving surface does work on the wire.
+    a.power_external += f.dot(u);
+  }
+}
+
+void Contact::beginImplicitStep(const PlanarState& s0) {
+  placeSurfaces(s0.t);
+  for (int i = s0.first; i < s0.n; ++i) {
+    trial_surface_[i] = cylinder_[i];
+    if (!friction_) continue;
+    trial_stuck_[i] = stuck_[i];
+    trial_anchor_core_[i] = anchor_core_[i];
+    // A slipping point keeps the direction it slides in.
+    trial_sign_[i] = 1;
+    Eigen::Vector2d nrm;
+    double h;
+    Eigen::Matrix2d dn;
+    const Eigen::Vector2d x = s0.x.col(i);
+    if (cylinder_[i] >= 0 && planarSurface(s0, cylinder_[i], x, nrm, h, dn)) {
+      const double vt = (s0.v.col(i) - planarSurfaceVelocity(s0, x)).dot(planar::perp(nrm));
+      trial_sign_[i] = vt < 0.0 ? -1 : 1;
+    }
+  }
+}
+
+bool Contact::recheckFlags(const PlanarState& s) {
+  placeSurfaces(s.t);
+  bool changed = false;
+  for (int i = s.first; i < s.n; ++i) {
+    const Eigen::Vector2d x = s.x.col(i);
+    double h_world;
+    Eigen::Vector3d n_world;
+    const int surface = touch(s.plane.toWorld(x), h_world, n_world);
+    Eigen::Vector2d nrm;
+    double h = 0.0;
+    Eigen::Matrix2d dn;
+    const bool on = surface >= 0 && planarSurface(s, surface, x, nrm, h, dn);
+    const bool fresh = surface != trial_surface_[i];
+    if (fresh) {
+      trial_surface_[i] = surface;
+      trial_stuck_[i] = 0;
+      changed = true;
+    }
+    if (!on || !friction_) continue;
+    const Eigen::Vector2d tan = planar::perp(nrm);
+    const double vt = (s.v.col(i) - planarSurfaceVelocity(s, x)).dot(tan);
+    if (trial_stuck_[i]) {
+      // Stick holds while the spring stays within mu_s N.
+      const Eigen::Vector2d delta =
+          x - s.plane.toPlane(core_.originWorld() + rot_world_core_ * trial_anchor_core_[i]);
+      const double along = delta.dot(tan);
+      if (p_.stick_stiffness * std::abs(along) > p_.static_friction * p_.stiffness * h) {
+        trial_stuck_[i] = 0;
+        trial_sign_[i] = along < 0.0 ? -1 : 1;
+        changed = true;
+      }
+    } else if (std::abs(vt) < p_.stick_speed) {
+      // Slow enough: stick where it is (as a commit of contact.cpp does).
+      trial_stuck_[i] = 1;
+      trial_anchor_core_[i] = rot_world_core_.transpose() * (s.plane.toWorld(x) - core_.originWorld());
+      changed = true;
+    } else if ((vt < 0.0) != (trial_sign_[i] < 0)) {
+      trial_sign_[i] = vt < 0.0 ? -1 : 1;
+      changed = true;
+    }
+  }
+  return changed;
+}
+
+void Contact::adoptFlags() {
+  for (int i = c_.first; i < c_.n; ++i) {
+    cylinder_[i] = trial_surface_[i];
+    if (!friction_) continue;
+    stuck_[i] = trial_stuck_[i];
+    anchor_core_[i] = trial_anchor_core_[i];
+  }
+}
+
+}  // namespace cws

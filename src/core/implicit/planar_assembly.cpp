@@ -1,0 +1,63 @@
+#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
+
+namespace cws {
+
+PlaneBasis PlaneBasis::through(const Eigen::Vector3d& origin_world, const Eigen::Vector3d& n_world) {
+  PlaneBasis b;
+  b.origin_world = origin_world;
+  b.n_world = n_world.normalized();
+  // e1: the world axis least parallel to n, made normal to it.
+  Eigen::Vector3d ref = Eigen::Vector3d::UnitX();
+  if (std::abs(b.n_world.x()) > 0.9) ref = Eigen::Vector3d::UnitY();
+  b.e1_world = (ref - ref.dot(b.n_world) * b.n_world).normalized();
+  b.e2_world = b.n_world.cross(b.e1_world);
+  return b;
+}
+
+void PlanarAssembly::resize(int capacity_points) {
+  const int unknowns = 2 * capacity_points + 1;
+  force_.setZero(unknowns);
+  f_work.setZero(2, capacity_points);
+  f_dissipative.setZero(2, capacity_points);
+  // Bending couples points two apart (4 dofs + 1 within a point); the port
+  // multiplier couples the last two points (at most 4 rows away).
+  matrix_.resize(unknowns, 5, 5);
+}
+
+void PlanarAssembly::begin(int first, int n, bool multiplier, bool jacobian, double alpha) {
+  first_ = first;
+  n_ = n;
+  unknowns_ = 2 * (n - first) + (multiplier ? 1 : 0);
+  jacobian_ = jacobian;
+  alpha_ = alpha;
+  force_.head(unknowns_).setZero();
+  const int from = std::max(0, first - 1);
+  f_work.middleCols(from, n - from).setZero();
+  f_dissipative.middleCols(from, n - from).setZero();
+  power_external = 0.0;
+  power_dissipated = 0.0;
+  boundary_force.setZero();
+  boundary_torque = 0.0;
+  if (jacobian_) matrix_.setZero(unknowns_);
+}
+
+void PlanarAssembly::addBlock(int i, int j, const Eigen::Matrix2d& b) {
+  if (!jacobian_ || i < first_ || j < first_) return;
+  const int r = dof(i), c = dof(j);
+  for (int a = 0; a < 2; ++a) {
+    for (int k = 0; k < 2; ++k) matrix_.at(r + a, c + k) += b(a, k);
+  }
+}
+
+void PlanarAssembly::addConstraintGradient(int i, const Eigen::Vector2d& grad) {
+  if (!jacobian_ || i < first_) return;
+  const int m = multiplierRow(), c = dof(i);
+  for (int a = 0; a < 2; ++a) {
+    // Row of the constraint: d(-scale g)/dx; column of the multiplier:
+    // d(-F)/d lambda = -dg/dx.
+    matrix_.at(m, c + a) += -constraint_scale_ * grad[a];
+    matrix_.at(c + a, m) += -grad[a];
+  }
+}
+
+}  // namespace cws

@@ -1,0 +1,245 @@
+#include "coil_winding_sim/core/implicit/planar_formulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "coil_winding_sim/core/quaternion.hpp"
+#include "coil_winding_sim/core/wire_model.hpp"
+
+namespace cws {
+
+namespace {
+// Quaternion (scalar first) of a turn by angle [rad] about the unit world
+// axis n, applied on the left (a world rotation).
+quat::Vec4 turnAbout(const Eigen::Vector3d& n, double angle, const quat::Vec4& q) {
+  const Eigen::Quaterniond r(Eigen::AngleAxisd(angle, n));
+  const Eigen::Quaterniond out = r * Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+  return {out.w(), out.x(), out.y(), out.z()};
+}
+}  // namespace
+
+PlanarFormulation::PlanarFormulation(WireModel& model, const Scene& scene)
+    : model_(model),
+      multiplier_(scene.physics.supply),
+      point_mass_(model.constants().point_mass),
+      point_inertia_(model.constants().point_inertia),
+      newton_tol_(scene.solver.newton_tol),
+      newton_max_iterations_(scene.solver.newton_max_iterations),
+      flag_rounds_(scene.solver.flag_rounds) {
+  const int cap = model.constants().capacity;
+  for (ForceEffect* e : model.effectList()) effects_.push_back(e);
+  const WireKinematics& k = model.committed();
+  state_.plane = PlaneBasis::through(k.p_world.col(0), scene.core.axis_world);
+  // The plane normal in the material axes: the same in every frame.
+  const quat::Vec4 q0 = k.q.col(0);
+  const Eigen::Vector3d n = state_.plane.n_world;
+  state_.n_material = {quat::xi(q0).dot(n), quat::eta(q0).dot(n), quat::zeta(q0).dot(n)};
+  state_.x.setZero(2, cap);
+  state_.v.setZero(2, cap);
+  assembly_.resize(cap);
+  x0_.setZero(2, cap);
+  v0_.setZero(2, cap);
+  x_hat_.setZero(2, cap);
+  v_hat_.setZero(2, cap);
+  x_try_.setZero(2, cap);
+  omega0_.setZero(cap);
+  omega_hat_.setZero(cap);
+  frame_gradient_.setZero(2, cap);
+  r_.setZero(2 * cap + 1);
+  dx_.setZero(2 * cap + 1);
+}
+
+void PlanarFormulation::load(double t0) {
+  const WireKinematics& k = model_.committed();
+  const WireConstants& c = model_.constants();
+  state_.first = c.first;
+  state_.n = c.n;
+  state_.t = t0;
+  for (int i = 0; i < c.n; ++i) {
+    x0_.col(i) = state_.plane.toPlane(k.p_world.col(i));
+    v0_.col(i) = state_.plane.vectorToPlane(k.v_world.col(i));
+  }
+  // Frame i turns with segment i-1.
+  for (int i = 1; i < c.n; ++i) {
+    const Eigen::Vector2d d = x0_.col(i) - x0_.col(i - 1);
+    frame_gradient_.col(i) = planar::angleGradient(d);
+    omega0_[i] = frame_gradient_.col(i).dot(v0_.col(i) - v0_.col(i - 1));
+  }
+  state_.x.leftCols(c.n) = x0_.leftCols(c.n);
+  state_.v.leftCols(c.n) = v0_.leftCols(c.n);
+  placeBoundary(t0);
+  for (ForceEffect* e : effects_) e->beginImplicitStep(state_);
+}
+
+void PlanarFormulation::placeBoundary(double t) {
+  Eigen::Vector4d q, qd;
+  model_.prescribedPose(t, p_boundary_world_, v_boundary_world_, q, qd);
+  const int b = state_.first - 1;
+  state_.x.col(b) = state_.plane.toPlane(p_boundary_world_);
+  state_.v.col(b) = state_.plane.vectorToPlane(v_boundary_world_);
+  state_.boundary_tangent = state_.plane.vectorToPlane(quat::zeta(q)).normalized();
+  // omega_world = 2 E(q) qdot, about n.
+  state_.boundary_omega = 2.0 * (quat::E(q) * qd).dot(state_.plane.n_world);
+}
+
+void PlanarFormulation::updateVelocities() {
+  const int f = state_.first, m = state_.n - f;
+  state_.v.middleCols(f, m) = alpha_ * (state_.x.middleCols(f, m) - x_hat_.middleCols(f, m));
+}
+
+const PlanarAssembly& PlanarFormulation::assemble(bool jacobian) {
+  assembly_.begin(state_.first, state_.n, multiplier_, jacobian, state_.alpha);
+  for (const ForceEffect* e : effects_) e->addPlanarForces(state_, assembly_);
+  return assembly_;
+}
+
+double PlanarFormulation::residual(bool jacobian) {
+  assemble(jacobian);
+  const int f = state_.first, n = state_.n;
+  const double a = alpha_;
+  const Eigen::VectorXd& force = assembly_.forces();
+  const int unknowns = assembly_.unknowns();
+  // Point inertia alpha M (v - v_hat), minus the forces.
+  for (int i = f; i < n; ++i) {
+    const int o = assembly_.dof(i);
+    r_.segment<2>(o) = a * point_mass_ * (state_.v.col(i) - v_hat_.col(i)) - force.segment<2>(o);
+  }
+  if (multiplier_) r_[unknowns - 1] = force[unknowns - 1];
+  // Frame inertia: I alpha (omega - omega_hat) g on both points of the
+  // segment, omega = g . (v_i - v_{i-1}) with g from the step's start.
+  for (int i = f; i < n; ++i) {
+    const Eigen::Vector2d g = frame_gradient_.col(i);
+    const double omega = g.dot(state_.v.col(i) - state_.v.col(i - 1));
+    const Eigen::Vector2d fi = point_inertia_ * a * (omega - omega_hat_[i]) * g;
+    r_.segment<2>(assembly_.dof(i)) += fi;
+    if (i - 1 >= f) r_.segment<2>(assembly_.dof(i - 1)) -= fi;
+  }
+  if (jacobian) {
+    BandedLu& m = assembly_.matrix();
+    const double mass = a * a * point_mass_;
+    for (int r = 0; r < 2 * (n - f); ++r) m.at(r, r) += mass;
+    for (int i = f; i < n; ++i) {
+      const Eigen::Vector2d g = frame_gradient_.col(i);
+      const Eigen::Matrix2d b = point_inertia_ * a * a * g * g.transpose();
+      const int oi = assembly_.dof(i);
+      for (int p = 0; p < 2; ++p) {
+        for (int q = 0; q < 2; ++q) {
+          m.at(oi + p, oi + q) += b(p, q);
+          if (i - 1 < f) continue;
+          const int oj = assembly_.dof(i - 1);
+          m.at(oj + p, oj + q) += b(p, q);
+          m.at(oi + p, oj + q) -= b(p, q);
+          m.at(oj + p, oi + q) -= b(p, q);
+        }
+      }
+    }
+  }
+  return r_.head(unknowns).lpNorm<Eigen::Infinity>();
+}
+
+NewtonStats PlanarFormulation::solve(double t1, double alpha, const Eigen::Matrix2Xd& x_hat,
+                                     const Eigen::Matrix2Xd& v_hat,
+                                     const Eigen::VectorXd& omega_hat,
+                                     const Eigen::Matrix2Xd& x_guess) {
+  NewtonStats st;
+  const int f = state_.first, n = state_.n, m = n - f;
+  alpha_ = alpha;
+  state_.alpha = alpha;
+  state_.t = t1;
+  x_hat_.middleCols(f, m) = x_hat.middleCols(f, m);
+  v_hat_.middleCols(f, m) = v_hat.middleCols(f, m);
+  omega_hat_.segment(f, m) = omega_hat.segment(f, m);
+  placeBoundary(t1);
+  state_.x.middleCols(f, m) = x_guess.middleCols(f, m);
+  updateVelocities();
+  for (int round = 0; round <= flag_rounds_; ++round) {
+    bool converged = false;
+    double norm = residual(true);
+    for (int it = 0; it < newton_max_iterations_; ++it) {
+      ++st.iterations;
+      const int unknowns = assembly_.unknowns();
+      if (!assembly_.matrix().factor()) return st;
+      dx_.head(unknowns) = -r_.head(unknowns);
+      assembly_.matrix().solve(dx_.head(unknowns));
+      const double step = dx_.head(2 * m).lpNorm<Eigen::Infinity>();
+      if (!std::isfinite(step)) return st;
+      // Line search on the residual's max norm: halve the step while the
+      // residual does not fall (the two-line laws' kinks make full steps
+      // cycle).
+      x_try_.middleCols(f, m) = state_.x.middleCols(f, m);
+      const double lambda0 = state_.lambda_port;
+      double s = 1.0, trial = 0.0;
+      int ls = 0;
+      for (;; ++ls) {
+        for (int i = f; i < n; ++i) {
+          state_.x.col(i) = x_try_.col(i) + s * dx_.segment<2>(assembly_.dof(i));
+        }
+        if (multiplier_) state_.lambda_port = lambda0 + s * dx_[unknowns - 1];
+        updateVelocities();
+        // The full step assembles the next Jacobian at once.
+        trial = residual(ls == 0);
+        if (trial < norm || ls >= 5 || s * step < newton_tol_) break;
+        s *= 0.5;
+        ++st.line_searches;
+      }
+      if (std::getenv("CWS_NEWTON_DEBUG")) {
+        Eigen::Index arg;
+        r_.head(unknowns).cwiseAbs().maxCoeff(&arg);
+        std::fprintf(stderr, "t %.6e round %d it %d norm %.3e step %.3e s %.3g trial %.3e row %d/%d\n", t1,
+                     round, it, norm, step, s, trial, int(arg), unknowns);
+      }
+      norm = trial;
+      if (s * step < newton_tol_) {
+        converged = true;
+        break;
+      }
+      if (ls > 0) residual(true);
+    }
+    if (!converged) return st;
+    bool changed = false;
+    for (ForceEffect* e : effects_) changed = e->recheckFlags(state_) || changed;
+    if (!changed) {
+      st.converged = true;
+      return st;
+    }
+    if (round < flag_rounds_) ++st.flag_rounds;
+  }
+  // Flags still changing after the last round: the step is retried smaller.
+  return st;
+}
+
+void PlanarFormulation::store(double h, Eigen::VectorXd& y) {
+  const WireKinematics& k = model_.committed();
+  const PlaneBasis& pl = state_.plane;
+  const int f = state_.first, n = state_.n;
+  // Bookkeeping at the end state (forces only).
+  assemble(false);
+  double work = assembly_.power_external, dissipated = assembly_.power_dissipated;
+  for (int i = f; i < n; ++i) {
+    work += assembly_.f_work.col(i).dot(state_.v.col(i));
+    dissipated -= assembly_.f_dissipative.col(i).dot(state_.v.col(i));
+  }
+  // The clamp (or the carried wire) works on the integrated wire.
+  work -= assembly_.boundary_force.dot(state_.v.col(f - 1)) +
+          assembly_.boundary_torque * state_.boundary_omega;
+  y[0] += h * work;
+  y[1] += h * dissipated;
+  for (int i = f; i < n; ++i) {
+    const int o = WireModel::stateOffset(i);
+    y.segment<3>(o) = pl.toWorld(state_.x.col(i));
+    y.segment<3>(o + 7) = pl.vectorToWorld(state_.v.col(i));
+    // Frame i: the committed frame turned about n onto segment i-1.
+    const Eigen::Vector2d d = state_.segment(i - 1);
+    const quat::Vec4 q_old = k.q.col(i);
+    const Eigen::Vector2d zeta_old = pl.vectorToPlane(quat::zeta(q_old));
+    const quat::Vec4 q = turnAbout(pl.n_world, planar::turn(zeta_old, d), q_old);
+    const double omega = planar::cross(d, state_.v.col(i) - state_.v.col(i - 1)) / d.squaredNorm();
+    y.segment<4>(o + 3) = q;
+    y.segment<4>(o + 10) = 0.5 * quat::E(q).transpose() * (omega * pl.n_world);
+  }
+  for (ForceEffect* e : effects_) e->adoptFlags();
+}
+
+}  // namespace cws

@@ -1,0 +1,105 @@
+#include "coil_winding_sim/core/time_steppers/implicit_stepper.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace cws {
+
+ImplicitStepper::ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme)
+    : p_(p), scheme_(scheme), h_(p.implicit_step) {
+  if (!sys.planarFormulation()) {
+    throw std::invalid_argument(std::string(name()) + " needs a planar scene (physics.planar)");
+  }
+  const int cap = sys.capacity();  // more than enough columns
+  const int points = (cap - 2) / 14 + 1;
+  x_prev_.setZero(2, points);
+  v_prev_.setZero(2, points);
+  x_hat_.setZero(2, points);
+  v_hat_.setZero(2, points);
+  guess_.setZero(2, points);
+  omega_prev_.setZero(points);
+  omega_hat_.setZero(points);
+}
+
+void ImplicitStepper::restore(double next_step, double last_step, const StepCounts& counts) {
+  h_ = next_step;
+  h_last_ = last_step;
+  counts_ = counts;
+  have_prev_ = false;  // a continued run restarts BDF2 with one Euler step
+}
+
+void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) {
+  PlanarFormulation& f = *sys.planarFormulation();
+  f.load(t);
+  const int first = f.first(), n = f.n(), m = n - first;
+  const Eigen::Matrix2Xd& x0 = f.x0();
+  const Eigen::Matrix2Xd& v0 = f.v0();
+  const Eigen::VectorXd& w0 = f.omega0();
+  for (;;) {
+    double h = std::min(h_, t_limit - t);
+    const bool clipped = h < h_;
+    // BDF2 over the last two steps (variable-step coefficients, ratio r =
+    // h / h_prev); backward Euler for the first step and after a retry.
+    const bool bdf2 = scheme_ == Scheme::kBdf2 && have_prev_;
+    double alpha = 1.0 / h;
+    if (bdf2) {
+      const double r = h / h_prev_;
+      const double c0 = (1.0 + r) * (1.0 + r) / (1.0 + 2.0 * r), c1 = r * r / (1.0 + 2.0 * r);
+      alpha = (1.0 + 2.0 * r) / ((1.0 + r) * h);
+      // Points drawn in since the last step have no past: extrapolate back.
+      for (int i = n_prev_; i < n; ++i) {
+        x_prev_.col(i) = x0.col(i) - h_prev_ * v0.col(i);
+        v_prev_.col(i) = v0.col(i);
+        omega_prev_[i] = w0[i];
+      }
+      x_hat_.middleCols(first, m) = c0 * x0.middleCols(first, m) - c1 * x_prev_.middleCols(first, m);
+      v_hat_.middleCols(first, m) = c0 * v0.middleCols(first, m) - c1 * v_prev_.middleCols(first, m);
+      omega_hat_.segment(first, m) = c0 * w0.segment(first, m) - c1 * omega_prev_.segment(first, m);
+    } else {
+      x_hat_.middleCols(first, m) = x0.middleCols(first, m);
+      v_hat_.middleCols(first, m) = v0.middleCols(first, m);
+      omega_hat_.segment(first, m) = w0.segment(first, m);
+    }
+    guess_.middleCols(first, m) = x0.middleCols(first, m) + h * v0.middleCols(first, m);
+    const NewtonStats st = f.solve(t + h, alpha, x_hat_, v_hat_, omega_hat_, guess_);
+    newton_.iterations += st.iterations;
+    newton_.flag_rounds += st.flag_rounds;
+    newton_.line_searches += st.line_searches;
+    if (!st.converged) {
+      ++counts_.rejected;
+      ++newton_.retried_steps;
+      h_ = 0.25 * h;
+      have_prev_ = false;
+      if (h_ < p_.min_step) {
+        std::ostringstream msg;
+        msg << "Newton's method did not converge at t = " << t << " s even at a step of " << h
+            << " s with " << name()
+            << ": the scene is beyond what the implicit step can follow; use rkf45 or "
+               "symplectic_euler, or raise solver.newton_max_iterations";
+        throw IntegrationError(msg.str());
+      }
+      // Back to the committed flags for the smaller step.
+      f.load(t);
+      continue;
+    }
+    // Keep this step's start as the past of the next one (all points, the
+    // carried ones too: a point released from the core has its past).
+    x_prev_.leftCols(n) = x0.leftCols(n);
+    v_prev_.leftCols(n) = v0.leftCols(n);
+    omega_prev_.head(n) = w0.head(n);
+    n_prev_ = n;
+    h_prev_ = h;
+    have_prev_ = true;
+    f.store(h, y);
+    ++counts_.accepted;
+    t = clipped ? t_limit : t + h;
+    h_last_ = h;
+    sys.acceptStep(t, y);
+    // Grow back towards the scene's step after a retry.
+    if (!clipped) h_ = std::min(p_.implicit_step, 2.0 * h_);
+    return;
+  }
+}
+
+}  // namespace cws
