@@ -75,12 +75,12 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out) {
   if (const NewtonCounts* nc = sim.stepper().newtonCounts()) {
     const double steps = std::max<long>(1, n.accepted);
     out << "  \"newton_iterations_per_step\": " << num(nc->iterations / steps) << ",\n"
+        << "  \"newton_factorizations_per_step\": " << num(nc->factorizations / steps) << ",\n"
         << "  \"newton_flag_rounds\": " << nc->flag_rounds << ",\n"
         << "  \"newton_line_searches\": " << nc->line_searches << ",\n"
         << "  \"newton_retried_steps\": " << nc->retried_steps << ",\n";
   }
-  out
-      << "  \"nodes\": " << sim.model().constants().n << ",\n"
+  out << "  \"nodes\": " << sim.model().constants().n << ",\n"
       << "  \"segment_length_m\": " << num(sim.model().constants().segment_length) << ",\n"
       << "  \"max_constraint_residual\": " << num(sim.maxConstraintResidual()) << ",\n"
       << "  \"kinetic_energy_J\": " << num(e.kinetic) << ",\n"

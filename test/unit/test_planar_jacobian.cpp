@@ -63,11 +63,10 @@ void checkEffect(cws::PlanarFormulation& form, const cws::ForceEffect& effect, i
 // A state of the default scene at 1200 rpm after t_s, with the trial
 // positions moved by up to `jitter` [m] at random.
 void checkAllAt(double t_s, double jitter, unsigned seed) {
-  cws::Scene scene =
-      cws::loadScene(kDefault, {"process.core_speed_rpm=1200", "solver.carry_stuck_wire=false",
-                                "physics.damping=true", "damping.translational=0.5",
-                                "damping.rotational=1e-6",
-                                "process.duration=" + std::to_string(t_s)});
+  cws::Scene scene = cws::loadScene(
+      kDefault, {"process.core_speed_rpm=1200", "solver.carry_stuck_wire=false",
+                 "physics.damping=true", "damping.translational=0.5", "damping.rotational=1e-6",
+                 "process.duration=" + std::to_string(t_s)});
   cws::Simulation sim(scene);
   sim.run();
   cws::WireModel& model = sim.model();
@@ -87,15 +86,14 @@ void checkAllAt(double t_s, double jitter, unsigned seed) {
     double worst = 0.0;
     e->beginImplicitStep(s);
     checkEffect(form, *e, capacity, worst);
-    ::testing::Test::RecordProperty(std::string(e->name()) + "_worst_relative", std::to_string(worst));
+    ::testing::Test::RecordProperty(std::string(e->name()) + "_worst_relative",
+                                    std::to_string(worst));
   }
 }
 
 }  // namespace
 
-TEST(PlanarJacobian, EveryEffectMatchesFiniteDifferencesWhileWinding) {
-  checkAllAt(0.02, 1e-6, 1);
-}
+TEST(PlanarJacobian, EveryEffectMatchesFiniteDifferencesWhileWinding) { checkAllAt(0.02, 1e-6, 1); }
 
 TEST(PlanarJacobian, EveryEffectMatchesFiniteDifferencesAtStart) { checkAllAt(1e-4, 1e-6, 2); }
 #endif

@@ -97,19 +97,19 @@ struct ProcessParams {
 struct SolverParams {
   // rkf45 | symplectic_euler | rosenbrock2 | implicit_euler | bdf2
   std::string integrator = "rkf45";
-  double rtol = 1.0e-6;              // relative tolerance [-]
-  double atol = 1.0e-11;             // absolute tolerance on positions [m]
-  double min_step = 1.0e-12;         // step floor [s]; below it the run stops
-  double max_step = 1.0e-4;          // [s]
-  double initial_step = 1.0e-7;      // [s]
-  double fixed_step = 5.0e-8;        // step of the fixed-step integrators [s]
-  double baumgarte_nu = 5000.0;      // constraint stabilization nu [1/s], eq. (6)
+  double rtol = 1.0e-6;          // relative tolerance [-]
+  double atol = 1.0e-11;         // absolute tolerance on positions [m]
+  double min_step = 1.0e-12;     // step floor [s]; below it the run stops
+  double max_step = 1.0e-4;      // [s]
+  double initial_step = 1.0e-7;  // [s]
+  double fixed_step = 5.0e-8;    // step of the fixed-step integrators [s]
+  double baumgarte_nu = 5000.0;  // constraint stabilization nu [1/s], eq. (6)
   // Implicit integrators (implicit_euler, bdf2): step [s], Newton's
   // convergence bound on the largest position update [m], its iteration
   // limit, and how often a step is solved again after a contact, stick or
   // slip flag changed.
   double implicit_step = 1.0e-4;
-  double newton_tol = 1.0e-9;
+  double newton_tol = 1.0e-8;
   int newton_max_iterations = 30;
   int flag_rounds = 4;
   // Wound wire held by static friction moves rigidly with the core and leaves

@@ -135,14 +135,16 @@ bool Contact::recheckFlags(const PlanarState& s) {
         trial_sign_[i] = along < 0.0 ? -1 : 1;
         changed = true;
       }
-    } else if (std::abs(vt) < p_.stick_speed) {
-      // Slow enough: stick where it is (as a commit of contact.cpp does).
+    } else if (fresh ? std::abs(vt) < p_.stick_speed : trial_sign_[i] * vt < p_.stick_speed) {
+      // Slow enough, or the sliding would have reversed within the step
+      // (kinetic friction stops a point, it does not push it back): stick
+      // where it is (as a commit of contact.cpp does).
       trial_stuck_[i] = 1;
-      trial_anchor_core_[i] = rot_world_core_.transpose() * (s.plane.toWorld(x) - core_.originWorld());
+      trial_anchor_core_[i] =
+          rot_world_core_.transpose() * (s.plane.toWorld(x) - core_.originWorld());
       changed = true;
-    } else if ((vt < 0.0) != (trial_sign_[i] < 0)) {
+    } else if (fresh) {
       trial_sign_[i] = vt < 0.0 ? -1 : 1;
-      changed = true;
     }
   }
   return changed;

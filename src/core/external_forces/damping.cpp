@@ -1,7 +1,6 @@
 #include "coil_winding_sim/core/external_forces/damping.hpp"
 
 #include "coil_winding_sim/core/implicit/planar_assembly.hpp"
-
 #include "coil_winding_sim/core/quaternion.hpp"
 
 namespace cws {

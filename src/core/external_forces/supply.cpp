@@ -104,8 +104,8 @@ void Supply::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
   const Eigen::Vector2d e = s.x.col(last) - s.plane.toPlane(pm.p_world);
   const double g = planar::cross(u, e);
   const Eigen::Vector2d w = -planar::perp(e);
-  const Eigen::Vector2d g_d = proj * w / len;         // dg/dd
-  const Eigen::Vector2d g_e = planar::perp(u);        // dg/de
+  const Eigen::Vector2d g_d = proj * w / len;   // dg/dd
+  const Eigen::Vector2d g_e = planar::perp(u);  // dg/de
   const Eigen::Vector2d grad_last = g_d + g_e, grad_prev = -g_d;
   const double lambda = s.lambda_port;
   a.addForce(last, lambda * grad_last);

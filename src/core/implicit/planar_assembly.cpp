@@ -2,7 +2,8 @@
 
 namespace cws {
 
-PlaneBasis PlaneBasis::through(const Eigen::Vector3d& origin_world, const Eigen::Vector3d& n_world) {
+PlaneBasis PlaneBasis::through(const Eigen::Vector3d& origin_world,
+                               const Eigen::Vector3d& n_world) {
   PlaneBasis b;
   b.origin_world = origin_world;
   b.n_world = n_world.normalized();
@@ -39,14 +40,6 @@ void PlanarAssembly::begin(int first, int n, bool multiplier, bool jacobian, dou
   boundary_force.setZero();
   boundary_torque = 0.0;
   if (jacobian_) matrix_.setZero(unknowns_);
-}
-
-void PlanarAssembly::addBlock(int i, int j, const Eigen::Matrix2d& b) {
-  if (!jacobian_ || i < first_ || j < first_) return;
-  const int r = dof(i), c = dof(j);
-  for (int a = 0; a < 2; ++a) {
-    for (int k = 0; k < 2; ++k) matrix_.at(r + a, c + k) += b(a, k);
-  }
 }
 
 void PlanarAssembly::addConstraintGradient(int i, const Eigen::Vector2d& grad) {

@@ -2,8 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
+#include <limits>
 
 #include "coil_winding_sim/core/quaternion.hpp"
 #include "coil_winding_sim/core/wire_model.hpp"
@@ -90,6 +89,7 @@ void PlanarFormulation::updateVelocities() {
 }
 
 const PlanarAssembly& PlanarFormulation::assemble(bool jacobian) {
+  if (jacobian) have_factor_ = false;  // the matrix is overwritten
   assembly_.begin(state_.first, state_.n, multiplier_, jacobian, state_.alpha);
   for (const ForceEffect* e : effects_) e->addPlanarForces(state_, assembly_);
   return assembly_;
@@ -154,20 +154,37 @@ NewtonStats PlanarFormulation::solve(double t1, double alpha, const Eigen::Matri
   placeBoundary(t1);
   state_.x.middleCols(f, m) = x_guess.middleCols(f, m);
   updateVelocities();
+  // A factorization from an earlier solve of the same system size and
+  // scheme coefficient serves as a start (modified Newton).
+  if (factored_alpha_ != alpha || factored_first_ != f || factored_n_ != n) have_factor_ = false;
   for (int round = 0; round <= flag_rounds_; ++round) {
     bool converged = false;
-    double norm = residual(true);
+    double norm = residual(false);
+    double previous = std::numeric_limits<double>::infinity();
+    bool fresh = false;
     for (int it = 0; it < newton_max_iterations_; ++it) {
       ++st.iterations;
       const int unknowns = assembly_.unknowns();
-      if (!assembly_.matrix().factor()) return st;
+      if (!have_factor_) {
+        residual(true);
+        if (!assembly_.matrix().factor()) return st;
+        have_factor_ = fresh = true;
+        factored_alpha_ = alpha;
+        factored_first_ = f;
+        factored_n_ = n;
+        ++st.factorizations;
+      }
       dx_.head(unknowns) = -r_.head(unknowns);
       assembly_.matrix().solve(dx_.head(unknowns));
       const double step = dx_.head(2 * m).lpNorm<Eigen::Infinity>();
+      // An old factorization that does not contract: refactor here.
+      if (!fresh && !(step < 0.5 * previous)) {
+        have_factor_ = false;
+        continue;
+      }
       if (!std::isfinite(step)) return st;
       // Line search on the residual's max norm: halve the step while the
-      // residual does not fall (the two-line laws' kinks make full steps
-      // cycle).
+      // residual does not fall.
       x_try_.middleCols(f, m) = state_.x.middleCols(f, m);
       const double lambda0 = state_.lambda_port;
       double s = 1.0, trial = 0.0;
@@ -178,24 +195,20 @@ NewtonStats PlanarFormulation::solve(double t1, double alpha, const Eigen::Matri
         }
         if (multiplier_) state_.lambda_port = lambda0 + s * dx_[unknowns - 1];
         updateVelocities();
-        // The full step assembles the next Jacobian at once.
-        trial = residual(ls == 0);
+        trial = residual(false);
         if (trial < norm || ls >= 5 || s * step < newton_tol_) break;
         s *= 0.5;
         ++st.line_searches;
-      }
-      if (std::getenv("CWS_NEWTON_DEBUG")) {
-        Eigen::Index arg;
-        r_.head(unknowns).cwiseAbs().maxCoeff(&arg);
-        std::fprintf(stderr, "t %.6e round %d it %d norm %.3e step %.3e s %.3g trial %.3e row %d/%d\n", t1,
-                     round, it, norm, step, s, trial, int(arg), unknowns);
       }
       norm = trial;
       if (s * step < newton_tol_) {
         converged = true;
         break;
       }
-      if (ls > 0) residual(true);
+      // A halved step: the Jacobian is refreshed for the next iteration.
+      if (ls > 0) have_factor_ = false;
+      previous = s * step;
+      fresh = false;
     }
     if (!converged) return st;
     bool changed = false;

@@ -53,8 +53,10 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
         v_prev_.col(i) = v0.col(i);
         omega_prev_[i] = w0[i];
       }
-      x_hat_.middleCols(first, m) = c0 * x0.middleCols(first, m) - c1 * x_prev_.middleCols(first, m);
-      v_hat_.middleCols(first, m) = c0 * v0.middleCols(first, m) - c1 * v_prev_.middleCols(first, m);
+      x_hat_.middleCols(first, m) =
+          c0 * x0.middleCols(first, m) - c1 * x_prev_.middleCols(first, m);
+      v_hat_.middleCols(first, m) =
+          c0 * v0.middleCols(first, m) - c1 * v_prev_.middleCols(first, m);
       omega_hat_.segment(first, m) = c0 * w0.segment(first, m) - c1 * omega_prev_.segment(first, m);
     } else {
       x_hat_.middleCols(first, m) = x0.middleCols(first, m);
@@ -66,6 +68,7 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     newton_.iterations += st.iterations;
     newton_.flag_rounds += st.flag_rounds;
     newton_.line_searches += st.line_searches;
+    newton_.factorizations += st.factorizations;
     if (!st.converged) {
       ++counts_.rejected;
       ++newton_.retried_steps;

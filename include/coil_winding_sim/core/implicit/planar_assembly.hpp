@@ -145,8 +145,8 @@ class PlanarAssembly {
   // Bookkeeping at the trial state, as WireForces does for the explicit
   // model: rates not paired with the wire's velocities, and the forces that
   // are (applied loads do work, friction and damping dissipate).
-  double power_external = 0.0;   // [W]
-  double power_dissipated = 0.0;  // [W]
+  double power_external = 0.0;             // [W]
+  double power_dissipated = 0.0;           // [W]
   Eigen::Matrix2Xd f_work, f_dissipative;  // per point [N] (capacity)
   // What the wire's effects do to the prescribed point and its frame: a
   // force [N] and a moment about n [N m] (the clamp's work).
@@ -156,7 +156,14 @@ class PlanarAssembly {
   void addBoundaryTorque(double m) { boundary_torque += m; }
 
  private:
-  void addBlock(int i, int j, const Eigen::Matrix2d& b);
+  void addBlock(int i, int j, const Eigen::Matrix2d& b) {
+    if (!jacobian_ || i < first_ || j < first_) return;
+    const int r = dof(i), c = dof(j);
+    matrix_.at(r, c) += b(0, 0);
+    matrix_.at(r + 1, c) += b(1, 0);
+    matrix_.at(r, c + 1) += b(0, 1);
+    matrix_.at(r + 1, c + 1) += b(1, 1);
+  }
 
   int first_ = 1, n_ = 0, unknowns_ = 0;
   bool jacobian_ = false;

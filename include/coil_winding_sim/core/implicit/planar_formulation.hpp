@@ -28,6 +28,7 @@ struct NewtonStats {
   int iterations = 0;   // Newton iterations, all flag rounds
   int flag_rounds = 0;  // solves repeated after a flag changed
   int line_searches = 0;
+  int factorizations = 0;
 };
 
 class PlanarFormulation {
@@ -86,6 +87,10 @@ class PlanarFormulation {
   Eigen::Matrix2Xd frame_gradient_;  // d phi_i / d d_{i-1} at the step's start
   Eigen::VectorXd r_, dx_;
   double alpha_ = 0.0;
+  // The factorization in the assembly's matrix, and what it was made for.
+  bool have_factor_ = false;
+  double factored_alpha_ = 0.0;
+  int factored_first_ = -1, factored_n_ = -1;
 };
 
 }  // namespace cws

@@ -20,9 +20,7 @@ class ImplicitStepper : public TimeStepper {
   enum class Scheme { kBackwardEuler, kBdf2 };
   ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme);
 
-  const char* name() const override {
-    return scheme_ == Scheme::kBdf2 ? "bdf2" : "implicit_euler";
-  }
+  const char* name() const override { return scheme_ == Scheme::kBdf2 ? "bdf2" : "implicit_euler"; }
   double collapseRatio() const override { return 0.0; }
   void step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) override;
   double nextStep() const override { return h_; }
