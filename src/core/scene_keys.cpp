@@ -47,10 +47,6 @@ SceneKey list(const char* name, const char* unit, const ListKeyHandlers& handler
   return SceneKey{name, unit, KeyRange{}, doc, &handlers};
 }
 
-const KeyRange kAny{KeyRange::kAny, {}};
-const KeyRange kPositive{KeyRange::kPositive, {}};
-const KeyRange kNonNegative{KeyRange::kNonNegative, {}};
-const KeyRange kDirection{KeyRange::kDirection, {}};
 KeyRange oneOf(std::vector<std::string> words) {
   return {KeyRange::kOneOf, std::move(words), 0, std::nullopt};
 }
@@ -59,122 +55,140 @@ KeyRange count(int most, std::optional<int> least = std::nullopt) {
   return {KeyRange::kCount, {}, most, least};
 }
 
+// Short names for the member chains of the table.
 using S = Scene;
-using W = WireParams;
-using H = HysteresisParams;
-using C = ContactParams;
-using Co = CoreParams;
-using P = ProcessParams;
-using So = SolverParams;
-using Ph = PhysicsSwitches;
-using Su = SupplyParams;
+using Wire = WireParams;
+using Law = HysteresisParams;
+using Contact = ContactParams;
+using Core = CoreParams;
+using Process = ProcessParams;
+using Solver = SolverParams;
+using Physics = PhysicsSwitches;
+using Supply = SupplyParams;
 
 // ---------------------------------------------------------------------------
-// The table.
+// The table: key<field's member chain>(dotted name, unit, range, doc), or
+// list(dotted name, unit, handlers, doc). Numbers are also always finite.
 std::vector<SceneKey> declareKeys() {
   using namespace detail;  // the list handlers
+  const KeyRange kAny{KeyRange::kAny, {}, 0, std::nullopt};
+  const KeyRange kPositive{KeyRange::kPositive, {}, 0, std::nullopt};
+  const KeyRange kNonNegative{KeyRange::kNonNegative, {}, 0, std::nullopt};
+  const KeyRange kDirection{KeyRange::kDirection, {}, 0, std::nullopt};
   return {
-      key<&S::wire, &W::diameter>("wire.diameter", "m", kPositive, "wire diameter"),
-      key<&S::wire, &W::line_density>("wire.line_density", "kg/m", kPositive,
-                                      "mass per length (Table 1 prints 7.02e5, a typo)"),
-      key<&S::wire, &W::length>("wire.length", "m", kPositive,
-                                "initial wire length of a scene without supply"),
-      key<&S::wire, &W::segment_length>("wire.segment_length", "m", kPositive,
-                                        "largest natural segment length l"),
-      key<&S::wire, &W::stretch, &H::elastic_rigidity>("wire.stretch.elastic_rigidity", "N",
-                                                       kPositive, "axial rigidity EA"),
-      key<&S::wire, &W::stretch, &H::plastic_rigidity>("wire.stretch.plastic_rigidity", "N",
-                                                       kNonNegative, "axial slope after yield"),
-      key<&S::wire, &W::stretch, &H::yield>("wire.stretch.yield_strain", "-", kPositive,
-                                            "first axial yield strain"),
-      key<&S::wire, &W::bend, &H::elastic_rigidity>("wire.bend.elastic_rigidity", "N m^2",
-                                                    kPositive, "bending rigidity EI"),
-      key<&S::wire, &W::bend, &H::plastic_rigidity>("wire.bend.plastic_rigidity", "N m^2",
-                                                    kNonNegative, "bending slope after yield"),
-      key<&S::wire, &W::bend, &H::yield>("wire.bend.yield_curvature", "1/m", kPositive,
-                                         "first yield curvature"),
-      key<&S::wire, &W::torsion, &H::elastic_rigidity>("wire.torsion.elastic_rigidity", "N m^2",
-                                                       kPositive, "torsional rigidity GJ"),
-      key<&S::wire, &W::torsion, &H::plastic_rigidity>("wire.torsion.plastic_rigidity", "N m^2",
-                                                       kNonNegative, "torsional slope after yield"),
-      key<&S::wire, &W::torsion, &H::yield>("wire.torsion.yield_twist", "rad/m", kPositive,
-                                            "first yield twist"),
+      key<&S::wire, &Wire::diameter>("wire.diameter", "m", kPositive, "wire diameter"),
+      key<&S::wire, &Wire::line_density>("wire.line_density", "kg/m", kPositive,
+                                         "mass per length (Table 1 prints 7.02e5, a typo)"),
+      key<&S::wire, &Wire::length>("wire.length", "m", kPositive,
+                                   "initial wire length of a scene without supply"),
+      key<&S::wire, &Wire::segment_length>("wire.segment_length", "m", kPositive,
+                                           "largest natural segment length l"),
+      key<&S::wire, &Wire::stretch, &Law::elastic_rigidity>("wire.stretch.elastic_rigidity", "N",
+                                                            kPositive, "axial rigidity EA"),
+      key<&S::wire, &Wire::stretch, &Law::plastic_rigidity>(
+          "wire.stretch.plastic_rigidity", "N", kNonNegative, "axial slope after yield"),
+      key<&S::wire, &Wire::stretch, &Law::yield>("wire.stretch.yield_strain", "-", kPositive,
+                                                 "first axial yield strain"),
+      key<&S::wire, &Wire::bend, &Law::elastic_rigidity>("wire.bend.elastic_rigidity", "N m^2",
+                                                         kPositive, "bending rigidity EI"),
+      key<&S::wire, &Wire::bend, &Law::plastic_rigidity>("wire.bend.plastic_rigidity", "N m^2",
+                                                         kNonNegative, "bending slope after yield"),
+      key<&S::wire, &Wire::bend, &Law::yield>("wire.bend.yield_curvature", "1/m", kPositive,
+                                              "first yield curvature"),
+      key<&S::wire, &Wire::torsion, &Law::elastic_rigidity>(
+          "wire.torsion.elastic_rigidity", "N m^2", kPositive, "torsional rigidity GJ"),
+      key<&S::wire, &Wire::torsion, &Law::plastic_rigidity>(
+          "wire.torsion.plastic_rigidity", "N m^2", kNonNegative, "torsional slope after yield"),
+      key<&S::wire, &Wire::torsion, &Law::yield>("wire.torsion.yield_twist", "rad/m", kPositive,
+                                                 "first yield twist"),
 
-      key<&S::contact, &C::static_friction>("contact.static_friction", "-", kNonNegative,
-                                            "static friction coefficient mu_s"),
-      key<&S::contact, &C::kinetic_friction>("contact.kinetic_friction", "-", kNonNegative,
-                                             "kinetic friction coefficient mu_d, <= mu_s"),
-      key<&S::contact, &C::stiffness>("contact.stiffness", "N/m", kPositive,
-                                      "virtual contact spring per mass point k_j"),
-      key<&S::contact, &C::stick_stiffness>("contact.stick_stiffness", "N/m", kPositive,
-                                            "tangential spring holding a stuck point"),
-      key<&S::contact, &C::stick_speed>("contact.stick_speed", "m/s", kPositive,
-                                        "a slipping point sticks again below this speed"),
+      key<&S::contact, &Contact::static_friction>("contact.static_friction", "-", kNonNegative,
+                                                  "static friction coefficient mu_s"),
+      key<&S::contact, &Contact::kinetic_friction>("contact.kinetic_friction", "-", kNonNegative,
+                                                   "kinetic friction coefficient mu_d, <= mu_s"),
+      key<&S::contact, &Contact::stiffness>("contact.stiffness", "N/m", kPositive,
+                                            "virtual contact spring per mass point k_j"),
+      key<&S::contact, &Contact::stick_stiffness>("contact.stick_stiffness", "N/m", kPositive,
+                                                  "tangential spring holding a stuck point"),
+      key<&S::contact, &Contact::stick_speed>("contact.stick_speed", "m/s", kPositive,
+                                              "a slipping point sticks again below this speed"),
 
-      key<&S::core, &Co::position_world>("core.position", "m", kAny,
-                                         "a point of the core axis, world frame"),
-      key<&S::core, &Co::axis_world>("core.axis", "-", kDirection,
-                                     "rotation axis (core z), world frame"),
-      key<&S::core, &Co::start_at_speed>("core.start_at_speed", "", kAny,
-                                         "true: at process.core_speed_rpm from t = 0"),
-      key<&S::core, &Co::max_angular_acceleration>("core.max_angular_acceleration", "rad/s^2",
-                                                   kPositive, "limit of the core's speed changes"),
+      key<&S::core, &Core::position_world>("core.position", "m", kAny,
+                                           "a point of the core axis, world frame"),
+      key<&S::core, &Core::axis_world>("core.axis", "-", kDirection,
+                                       "rotation axis (core z), world frame"),
+      key<&S::core, &Core::start_at_speed>("core.start_at_speed", "", kAny,
+                                           "true: at process.core_speed_rpm from t = 0"),
+      key<&S::core, &Core::max_angular_acceleration>("core.max_angular_acceleration", "rad/s^2",
+                                                     kPositive,
+                                                     "limit of the core's speed changes"),
       list("core.cylinders", "m", kCylinderList, "cylinders: {center: [x, y], radius}"),
       list("core.faces", "m", kFaceList, "flat faces: {from: [x, y], to: [x, y]}"),
-      key<&S::core, &Co::hull_faces>("core.hull_faces", "", kAny,
-                                     "add the flat sides between neighbouring cylinders"),
+      key<&S::core, &Core::hull_faces>("core.hull_faces", "", kAny,
+                                       "add the flat sides between neighbouring cylinders"),
 
-      key<&S::process, &P::core_speed_rpm>("process.core_speed_rpm", "rpm", kAny,
-                                           "core speed, counter-clockwise positive"),
-      key<&S::process, &P::tension>("process.tension", "N", kNonNegative, "supply tension F_T"),
-      key<&S::process, &P::traverse_pitch>("process.traverse_pitch", "m", kAny,
-                                           "port travel along the core axis per core turn"),
-      key<&S::process, &P::max_core_speed_rpm>("process.max_core_speed_rpm", "rpm", kPositive,
-                                               "setpoints beyond +- this are refused"),
-      key<&S::process, &P::max_tension>("process.max_tension", "N", kPositive,
-                                        "setpoints above this are refused"),
-      key<&S::process, &P::turns>("process.turns", "-", kNonNegative,
-                                  "core revolutions to simulate"),
-      key<&S::process, &P::duration>("process.duration", "s", kPositive,
-                                     "when set (not ~), ends the run instead of turns"),
+      key<&S::process, &Process::core_speed_rpm>("process.core_speed_rpm", "rpm", kAny,
+                                                 "core speed, counter-clockwise positive"),
+      key<&S::process, &Process::tension>("process.tension", "N", kNonNegative,
+                                          "supply tension F_T"),
+      key<&S::process, &Process::traverse_pitch>("process.traverse_pitch", "m", kAny,
+                                                 "port travel along the core axis per core turn"),
+      key<&S::process, &Process::max_core_speed_rpm>("process.max_core_speed_rpm", "rpm", kPositive,
+                                                     "setpoints beyond +- this are refused"),
+      key<&S::process, &Process::max_tension>("process.max_tension", "N", kPositive,
+                                              "setpoints above this are refused"),
+      key<&S::process, &Process::turns>("process.turns", "-", kNonNegative,
+                                        "core revolutions to simulate"),
+      key<&S::process, &Process::duration>("process.duration", "s", kPositive,
+                                           "when set (not ~), ends the run instead of turns"),
 
-      key<&S::solver, &So::integrator>(
+      key<&S::solver, &Solver::integrator>(
           "solver.integrator", "",
           oneOf({"rkf45", "symplectic_euler", "rosenbrock2", "implicit_euler", "bdf2"}),
           "time integrator"),
-      key<&S::solver, &So::rtol>("solver.rtol", "-", kPositive, "relative tolerance"),
-      key<&S::solver, &So::atol>("solver.atol", "m", kPositive, "absolute tolerance on positions"),
-      key<&S::solver, &So::min_step>("solver.min_step", "s", kPositive,
-                                     "step floor; below it the run stops"),
-      key<&S::solver, &So::max_step>("solver.max_step", "s", kPositive, "largest step"),
-      key<&S::solver, &So::initial_step>("solver.initial_step", "s", kAny,
-                                         "first step, within [min_step, max_step]"),
-      key<&S::solver, &So::fixed_step>("solver.fixed_step", "s", kPositive,
-                                       "step of the fixed-step integrators"),
-      key<&S::solver, &So::baumgarte_nu>("solver.baumgarte_nu", "1/s", kNonNegative,
-                                         "constraint stabilization nu, eq. (6)"),
-      key<&S::solver, &So::carry_stuck_wire>("solver.carry_stuck_wire", "", kAny,
-                                             "stuck wound wire moves rigidly with the core"),
+      key<&S::solver, &Solver::rtol>("solver.rtol", "-", kPositive, "relative tolerance"),
+      key<&S::solver, &Solver::atol>("solver.atol", "m", kPositive,
+                                     "absolute tolerance on positions"),
+      key<&S::solver, &Solver::min_step>("solver.min_step", "s", kPositive,
+                                         "step floor; below it the run stops"),
+      key<&S::solver, &Solver::max_step>("solver.max_step", "s", kPositive, "largest step"),
+      key<&S::solver, &Solver::initial_step>("solver.initial_step", "s", kAny,
+                                             "first step, within [min_step, max_step]"),
+      key<&S::solver, &Solver::fixed_step>("solver.fixed_step", "s", kPositive,
+                                           "step of the fixed-step integrators"),
+      key<&S::solver, &Solver::baumgarte_nu>("solver.baumgarte_nu", "1/s", kNonNegative,
+                                             "constraint stabilization nu, eq. (6)"),
+      key<&S::solver, &Solver::implicit_step>("solver.implicit_step", "s", kPositive,
+                                              "step of implicit_euler and bdf2"),
+      key<&S::solver, &Solver::newton_tol>("solver.newton_tol", "m", kPositive,
+                                           "Newton's bound on the largest position update"),
+      key<&S::solver, &Solver::newton_max_iterations>("solver.newton_max_iterations", "-",
+                                                      count(1000, 1),
+                                                      "Newton iterations before a retry at 1/4"),
+      key<&S::solver, &Solver::flag_rounds>("solver.flag_rounds", "-", count(100),
+                                            "solves again after a contact/stick/slip change"),
+      key<&S::solver, &Solver::carry_stuck_wire>("solver.carry_stuck_wire", "", kAny,
+                                                 "stuck wound wire moves rigidly with the core"),
 
-      key<&S::physics, &Ph::torsion>("physics.torsion", "", kAny, "twist and torsion"),
-      key<&S::physics, &Ph::plasticity>("physics.plasticity", "", kAny,
-                                        "false: linear elastic laws"),
-      key<&S::physics, &Ph::gravity>("physics.gravity", "", kAny, "the wire's weight"),
-      key<&S::physics, &Ph::damping>("physics.damping", "", kAny, "viscous damping"),
-      key<&S::physics, &Ph::contact>("physics.contact", "", kAny,
-                                     "wire against the core's cylinders and faces"),
-      key<&S::physics, &Ph::friction>("physics.friction", "", kAny,
-                                      "static/kinetic friction on contact"),
-      key<&S::physics, &Ph::supply>("physics.supply", "", kAny,
-                                    "wire drawn in through a port at constant tension"),
-      key<&S::physics, &Ph::planar>("physics.planar", "", kAny,
-                                    "motion in the plane normal to core.axis"),
+      key<&S::physics, &Physics::torsion>("physics.torsion", "", kAny, "twist and torsion"),
+      key<&S::physics, &Physics::plasticity>("physics.plasticity", "", kAny,
+                                             "false: linear elastic laws"),
+      key<&S::physics, &Physics::gravity>("physics.gravity", "", kAny, "the wire's weight"),
+      key<&S::physics, &Physics::damping>("physics.damping", "", kAny, "viscous damping"),
+      key<&S::physics, &Physics::contact>("physics.contact", "", kAny,
+                                          "wire against the core's cylinders and faces"),
+      key<&S::physics, &Physics::friction>("physics.friction", "", kAny,
+                                           "static/kinetic friction on contact"),
+      key<&S::physics, &Physics::supply>("physics.supply", "", kAny,
+                                         "wire drawn in through a port at constant tension"),
+      key<&S::physics, &Physics::planar>("physics.planar", "", kAny,
+                                         "motion in the plane normal to core.axis"),
 
-      key<&S::supply, &Su::port_position_world>("supply.port_position", "m", kAny,
-                                                "port p_s at t = 0, world frame"),
-      key<&S::supply, &Su::max_points>("supply.max_points", "-",
-                                       KeyRange{KeyRange::kPointCount, {}, 0, std::nullopt},
-                                       "storage for this many points; 0: estimated"),
+      key<&S::supply, &Supply::port_position_world>("supply.port_position", "m", kAny,
+                                                    "port p_s at t = 0, world frame"),
+      key<&S::supply, &Supply::max_points>("supply.max_points", "-",
+                                           KeyRange{KeyRange::kPointCount, {}, 0, std::nullopt},
+                                           "storage for this many points; 0: estimated"),
 
       key<&S::gravity, &GravityParams::acceleration_world>(
           "gravity.acceleration", "m/s^2", kAny, "gravitational acceleration, world frame"),
