@@ -1,0 +1,245 @@
+// Loading scenes: user YAML merged over the defaults (the tree the key table
+// writes, which is also the schema), key=value overrides, scene files with
+// their base files, and the public entry points loadScene,
+// sceneFromYamlText and sceneToYamlText.
+#include <yaml-cpp/eventhandler.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+#include "scene_detail.hpp"
+
+namespace cws {
+
+namespace {
+using detail::describe;
+using detail::join;
+using detail::keysOf;
+using detail::printable;
+
+// ---------------------------------------------------------------------------
+// Merging user YAML over the defaults, refusing keys the schema lacks.
+void mergeChecked(YAML::Node base, const YAML::Node& user, const std::string& prefix) {
+  if (!user.IsMap()) {
+    throw SceneError(prefix.empty() ? "(top level)" : prefix,
+                     "expected a map of keys, got " + describe(user));
+  }
+  keysOf(user, prefix);  // plain names, none twice
+  for (const auto& kv : user) {
+    const std::string key = kv.first.Scalar();
+    const std::string path = join(prefix, printable(key));
+    const YAML::Node& cbase = base;
+    if (!cbase[key]) {
+      std::string known;
+      for (const auto& b : cbase) known += (known.empty() ? "" : ", ") + b.first.Scalar();
+      throw SceneError(path, "unknown key (" + (prefix.empty() ? std::string("a scene") : prefix) +
+                                 " has: " + known + ")");
+    }
+    YAML::Node target = base[key];
+    if (target.IsMap()) {
+      mergeChecked(target, kv.second, path);
+    } else {
+      base[key] = YAML::Clone(kv.second);
+    }
+  }
+}
+
+void applyOverride(YAML::Node root, const std::string& text) {
+  const std::size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw SceneError(text, "an override must look like key.path=value");
+  }
+  const std::string path = text.substr(0, eq);
+  const std::string value = text.substr(eq + 1);
+  YAML::Node parsed;
+  try {
+    parsed = YAML::Load(value);
+  } catch (const YAML::Exception& e) {
+    throw SceneError(path, "cannot parse value '" + value + "': " + e.msg);
+  }
+  // Build a one-key nested map and merge it like a scene file.
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  for (std::string part; std::getline(ss, part, '.');) {
+    if (part.empty()) throw SceneError(path, "empty key in path");
+    parts.push_back(part);
+  }
+  // A path that goes on below a value (wire.diameter.x) names no key.
+  std::vector<YAML::Node> chain{root};
+  std::string walked;
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    const YAML::Node& here = chain.back();
+    const YAML::Node next = here[parts[i]];
+    if (!next) break;  // an unknown key: mergeChecked names it
+    walked = join(walked, parts[i]);
+    if (next.IsSequence()) {
+      throw SceneError(path, "'" + walked + "' is a list, set as a whole: " + walked + "=[...]");
+    }
+    if (!next.IsMap()) {
+      throw SceneError(path, "'" + walked + "' is a value, not a section with keys");
+    }
+    chain.push_back(next);
+  }
+  YAML::Node user = parsed;
+  for (auto it = parts.rbegin(); it != parts.rend(); ++it) {
+    YAML::Node m(YAML::NodeType::Map);
+    m[*it] = user;
+    user = m;
+  }
+  mergeChecked(root, user, "");
+}
+
+// ---------------------------------------------------------------------------
+// Scene files and text.
+
+// Records where each document starts, ignoring everything else.
+class DocumentStarts : public YAML::EventHandler {
+ public:
+  std::vector<YAML::Mark> starts;
+  void OnDocumentStart(const YAML::Mark& mark) override { starts.push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
+// The one YAML document of `text` (null if it has none), refused under
+// `key` with `what` (the file) named: text that is not YAML (yaml-cpp's
+// message gives line and column), more than one document (YAML::Load would
+// silently drop all but the first), and text yaml-cpp cannot read on after
+// its first document (a stray ',' or ']' at the top level, which
+// YAML::Load silently drops; YAML::LoadAll never returns on it and
+// allocates until memory runs out, yaml-cpp 0.7 issue 1040). The documents
+// are therefore counted by the parser, a bounded number of times.
+YAML::Node parseOne(const std::string& text, const std::string& key, const std::string& what) {
+  YAML::Node doc;
+  DocumentStarts docs;
+  try {
+    doc = YAML::Load(text);
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    while (docs.starts.size() < 3 && parser.HandleNextDocument(docs)) {
+    }
+  } catch (const YAML::Exception& e) {
+    throw SceneError(key, what + " is not valid YAML: " + printable(e.what(), 300));
+  }
+  for (std::size_t i = 1; i < docs.starts.size(); ++i) {
+    const YAML::Mark& m = docs.starts[i];
+    if (m.pos == docs.starts[i - 1].pos) {
+      throw SceneError(key, what + " is not valid YAML: at line " + std::to_string(m.line + 1) +
+                                ", column " + std::to_string(m.column + 1) +
+                                " the text cannot be read on (a stray ',' or bracket?)");
+    }
+  }
+  if (docs.starts.size() > 1) {
+    throw SceneError(key, what +
+                              " holds more than one YAML document (separated by ---); a "
+                              "scene is one");
+  }
+  return doc;
+}
+
+// Scene files are small; anything larger (such as /dev/zero) is not one.
+constexpr std::size_t kMaxSceneFileBytes = 16u << 20;
+
+// The text of the scene file at `path`. A directory, a file that cannot be
+// opened or read (an I/O error), and a file too large to be a scene are
+// refused by its path.
+std::string readSceneFile(const std::string& path) {
+  const std::string shown = printable(path, 4096);  // a path may hold any bytes
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw SceneError("(file)", "'" + shown + "' is a directory, not a scene file");
+  }
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) {
+    throw SceneError("(file)", "cannot open scene file '" + shown + "': " + std::strerror(errno));
+  }
+  std::string text;
+  char buf[1 << 16];
+  for (std::size_t got; (got = std::fread(buf, 1, sizeof buf, f.get())) > 0;) {
+    text.append(buf, got);
+    if (text.size() > kMaxSceneFileBytes) {
+      throw SceneError("(file)", "'" + shown + "' is larger than 16 MiB, not a scene file");
+    }
+  }
+  if (std::ferror(f.get())) {
+    throw SceneError("(file)", "cannot read scene file '" + shown + "': " + std::strerror(errno));
+  }
+  return text;
+}
+
+// Merges the scene file at `path` into root: first its `base` file (a path
+// relative to it), if it names one, then its own keys.
+void mergeFile(YAML::Node root, const std::string& path, int depth) {
+  const std::string shown = printable(path, 4096);  // a path may hold any bytes
+  if (depth > 8) throw SceneError("base", "more than 8 nested base files at '" + shown + "'");
+  const std::string text = readSceneFile(path);
+  YAML::Node user = parseOne(text, "(file)", "'" + shown + "'");
+  // An empty file is more likely a failed write (print-scene > file after an
+  // error) than a wish for the defaults, which `{}` states.
+  if (user.IsNull()) {
+    throw SceneError("(file)", "'" + shown +
+                                   "' holds no settings (it is empty or only comments); write {} "
+                                   "for a scene of the defaults");
+  }
+  if (!user.IsMap()) {
+    throw SceneError("(top level)",
+                     "'" + shown + "' must hold a map of keys, got " + describe(user));
+  }
+  keysOf(user, "");  // plain names, none twice (base included)
+  if (user["base"]) {
+    const YAML::Node base = user["base"];
+    if (!base.IsScalar()) throw SceneError("base", "expected a file name in '" + shown + "'");
+    const std::string dir = std::filesystem::path(path).parent_path().string();
+    try {
+      mergeFile(root, (std::filesystem::path(dir) / base.Scalar()).string(), depth + 1);
+    } catch (const SceneError& e) {
+      // Name the file that asked for the base too.
+      throw SceneError(e.key(), e.why() + " (in the base file of '" + shown + "')");
+    }
+    user.remove("base");
+  }
+  mergeChecked(root, user, "");
+}
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// The public entry points: defaults, then the user's keys, then validation.
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
+  YAML::Node root = detail::toYaml(Scene{});
+  if (!path.empty()) mergeFile(root, path, 0);
+  for (const std::string& o : overrides) applyOverride(root, o);
+  Scene s = detail::fromYaml(root);
+  validateScene(s);
+  return s;
+}
+
+Scene sceneFromYamlText(const std::string& text) {
+  YAML::Node root = detail::toYaml(Scene{});
+  const YAML::Node user = parseOne(text, "(text)", "the scene text");
+  if (!user.IsNull()) mergeChecked(root, user, "");
+  Scene s = detail::fromYaml(root);
+  validateScene(s);
+  return s;
+}
+
+std::string sceneToYamlText(const Scene& scene) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(10);
+  out << detail::toYaml(scene);
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace cws
