@@ -60,7 +60,7 @@ void removeOutputs(const std::string& dir) {
   }
 }
 
-void writeSummaryJson(const Simulation& sim, std::ostream& out) {
+void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstimate* estimate) {
   const EnergyReport e = sim.energy();
   const StepCounts& n = sim.stepper().counts();
   out << "{\n"
@@ -100,6 +100,14 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out) {
       << "  \"max_penetration_ratio\": "
       << (m.contact() ? num(sim.maxPenetration() / radius) : std::string("null")) << ",\n"
       << "  \"carried_points\": " << m.carriedPoints() << ",\n";
+  if (estimate) {
+    out << "  \"error_estimate\": {\"refinement\": \"" << estimate->refinement << "\", "
+        << "\"shape_error_rel_diameter\": " << num(estimate->shape_error_rel_diameter) << ", "
+        << "\"bulging_error_rel\": "
+        << (estimate->bulging_valid ? num(estimate->bulging_error_rel) : std::string("null"))
+        << ", \"wall_time_s\": " << num(estimate->wall_s)
+        << ", \"refined_wall_time_s\": " << num(estimate->refined_wall_s) << "},\n";
+  }
   // Bulging: null until the scene has a core with contact and wound wire.
   const BulgeReport b = m.bulging();
   if (b.valid) {
@@ -154,10 +162,10 @@ void checkOutputDir(const std::string& dir) {
   fs::remove(probe, ec);
 }
 
-void writeOutputs(const Simulation& sim, const std::string& dir) {
+void writeOutputs(const Simulation& sim, const std::string& dir, const ErrorEstimate* estimate) {
   checkOutputDir(dir);
   std::ostringstream summary, csv;
-  writeSummaryJson(sim, summary);
+  writeSummaryJson(sim, summary, estimate);
   writeWireCsv(sim, csv);
   writeFileAtomically((fs::path(dir) / "wire.csv").string(), csv.str());
   if (sim.model().core() && !sim.scene().core.cylinders.empty()) {

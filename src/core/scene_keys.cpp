@@ -10,6 +10,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "scene_detail.hpp"
 
 namespace cws {
@@ -142,10 +143,8 @@ std::vector<SceneKey> declareKeys() {
       key<&S::process, &Process::duration>("process.duration", "s", kPositive,
                                            "when set (not ~), ends the run instead of turns"),
 
-      key<&S::solver, &Solver::integrator>(
-          "solver.integrator", "",
-          oneOf({"rkf45", "symplectic_euler", "rosenbrock2", "implicit_euler", "bdf2"}),
-          "time integrator"),
+      key<&S::solver, &Solver::integrator>("solver.integrator", "", oneOf(integratorNames()),
+                                           "time integrator"),
       key<&S::solver, &Solver::rtol>("solver.rtol", "-", kPositive, "relative tolerance"),
       key<&S::solver, &Solver::atol>("solver.atol", "m", kPositive,
                                      "absolute tolerance on positions"),

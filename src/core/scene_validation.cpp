@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "coil_winding_sim/core/core_geometry.hpp"
+#include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "scene_detail.hpp"
 
 namespace cws {
@@ -207,8 +208,8 @@ void supplyStorage(const Scene& s) {
 // ---------------------------------------------------------------------------
 // The solver.
 void implicitNeedsPlanar(const Scene& s) {
-  if ((s.solver.integrator == "implicit_euler" || s.solver.integrator == "bdf2") &&
-      !s.physics.planar) {
+  const IntegratorInfo* info = findIntegrator(s.solver.integrator);
+  if (info && info->planar_only && !s.physics.planar) {
     throw SceneError("solver.integrator",
                      s.solver.integrator +
                          " integrates planar scenes (physics.planar: true) only; use "
@@ -219,7 +220,8 @@ void implicitNeedsPlanar(const Scene& s) {
 // The fixed step is compared for any finite value; its sign is the table's
 // check.
 void fixedStepStable(const Scene& s) {
-  if (s.solver.integrator != "symplectic_euler") return;
+  const IntegratorInfo* info = findIntegrator(s.solver.integrator);
+  if (!info || !info->explicit_fixed_step) return;
   if (s.solver.fixed_step > s.solver.max_step) {
     throw SceneError("solver.fixed_step",
                      fmt(s.solver.fixed_step) +
@@ -235,7 +237,7 @@ void fixedStepStable(const Scene& s) {
         << " s of this wire (the time a wave needs to cross a segment l from "
         << "wire.segment_length and wire.length, at the wave speed c from "
         << "wire.stretch.elastic_rigidity, wire.line_density and, with physics.torsion, "
-        << "wire.torsion.elastic_rigidity and wire.diameter); symplectic_euler "
+        << "wire.torsion.elastic_rigidity and wire.diameter); " << info->name << " "
         << "(solver.integrator) would run but be wrong: use at most that step, or rkf45";
     throw SceneError("solver.fixed_step", why.str());
   }

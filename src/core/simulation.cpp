@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "coil_winding_sim/core/time_steppers/integrators.hpp"
+
 namespace cws {
 
 namespace {
@@ -104,7 +106,8 @@ void Simulation::step(double t_limit) {
     msg << "at t = " << t_ << " s the wire diverged: a segment is " << max_residual_
         << " rad off its frame's tangent (a sound run stays below 1e-3): " << stepper_->name()
         << " is unstable on this scene at its step of " << stepper_->lastStep() << " s (";
-    if (scene_.solver.integrator == "symplectic_euler") {
+    const IntegratorInfo* info = findIntegrator(scene_.solver.integrator);
+    if (info && info->explicit_fixed_step) {
       msg << "validation checks only l / c; a stiffer contact or load needs a smaller step): "
              "lower solver.fixed_step, or use rkf45, which tells an unstable step from a "
              "motion that itself diverges";

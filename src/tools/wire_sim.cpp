@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -31,14 +32,17 @@
 namespace {
 
 const char* kUsage =
-    "usage: wire_sim run [--scene FILE] [--set key.path=value ...] [--out DIR]\n"
+    "usage: wire_sim run [--scene FILE] [--set key.path=value ...] [--out DIR] [--error-estimate]\n"
     "       wire_sim print-scene [--scene FILE] [--set key.path=value ...]\n"
     "       wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]\n"
     "       wire_sim work-precision [--scene FILE] [--set ...] [--out DIR] [--jobs N]\n"
     "       wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]\n"
     "                          [--budget SECONDS] [--checkpoint SECONDS] [--fresh | --report]\n"
     "Without --scene the package's default scene is used; --out defaults to out/run\n"
-    "(out/study for study). study runs the paper's 2 x 2 case study (600/1200 rpm x\n"
+    "(out/study for study). run --error-estimate runs the scene a second time with half\n"
+    "the step (a tenth of the tolerances for rkf45 and rosenbrock2) and reports the\n"
+    "difference in shape and bulging beside both wall times (summary.json).\n"
+    "study runs the paper's 2 x 2 case study (600/1200 rpm x\n"
     "30/70 N, 1 3/4 turns) on N threads (default 2) and writes tables of the results.\n"
     "work-precision runs the scene with every integrator over a range of tolerances or\n"
     "steps against a tight reference and writes the errors and wall times (CSV).\n"
@@ -63,6 +67,7 @@ struct Args {
   std::vector<std::string> overrides;
   std::string out;
   int jobs = 2;
+  bool error_estimate = false;            // run: --error-estimate
   cws_tools::StabilityOptions stability;  // --only, --budget, --checkpoint, --fresh
 };
 
@@ -169,7 +174,24 @@ int run(const Args& a) {
                  sig == SIGINT ? "SIGINT" : "SIGTERM", sim.time(), sim.endTime(), out.c_str());
     return 128 + sig;
   }
-  cws::writeOutputs(sim, out);
+  // --error-estimate: the same scene again, refined, and the difference.
+  std::unique_ptr<cws::ErrorEstimate> estimate;
+  if (a.error_estimate) {
+    std::string refinement;
+    cws::Simulation refined(cws::refinedScene(scene, refinement));
+    std::fprintf(stderr, "wire_sim: error estimate: the scene again with %s\n", refinement.c_str());
+    refined.run({}, [] { return g_stop_signal != 0; });
+    if (g_stop_signal != 0) {
+      const int sig = g_stop_signal;
+      std::fprintf(stderr,
+                   "wire_sim: stopped by %s during the error estimate; no results written\n",
+                   sig == SIGINT ? "SIGINT" : "SIGTERM");
+      return 128 + sig;
+    }
+    estimate =
+        std::make_unique<cws::ErrorEstimate>(cws::compareWithRefined(sim, refined, refinement));
+  }
+  cws::writeOutputs(sim, out, estimate.get());
   const cws::EnergyReport e = sim.energy();
   std::printf(
       "done: t = %.6g s in %.3g s wall (real-time factor %.3g), %ld steps (%ld rejected)\n"
@@ -178,6 +200,13 @@ int run(const Args& a) {
       sim.time(), sim.wallTime(), sim.realTimeFactor(), sim.stepper().counts().accepted,
       sim.stepper().counts().rejected, sim.maxConstraintResidual(), sim.maxAxialForce(),
       e.imbalance(), out.c_str(), out.c_str());
+  if (estimate) {
+    std::printf(
+        "      error estimate (against the scene with %s): shape %.3g of the wire "
+        "diameter, bulging %.3g, in %.3g s against %.3g s\n",
+        estimate->refinement.c_str(), estimate->shape_error_rel_diameter,
+        estimate->bulging_error_rel, estimate->wall_s, estimate->refined_wall_s);
+  }
   const cws::BulgeReport b = sim.model().bulging();
   if (b.valid) {
     std::printf(
@@ -214,7 +243,7 @@ int main(int argc, char** argv) {
       a.command == "study" || a.command == "work-precision" || a.command == "stability";
   const bool stability = a.command == "stability";
   bool seen_scene = false, seen_out = false, seen_jobs = false, seen_only = false,
-       seen_budget = false, seen_checkpoint = false, seen_fresh = false;
+       seen_budget = false, seen_checkpoint = false, seen_fresh = false, seen_estimate = false;
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& opt = args[i];
     // The option's value: present and not empty (an empty --scene or --out,
@@ -278,6 +307,9 @@ int main(int argc, char** argv) {
           problem = opt + " needs a positive number of seconds, got '" + value + "'";
         }
       }
+    } else if (opt == "--error-estimate" && a.command == "run") {
+      problem = once(seen_estimate);
+      a.error_estimate = true;
     } else if ((opt == "--fresh" || opt == "--report") && stability) {
       if (seen_fresh) {
         problem = "--fresh and --report exclude each other, and each comes once";
@@ -287,6 +319,7 @@ int main(int argc, char** argv) {
     } else if (!opt.empty() && opt[0] == '-') {
       problem = "unknown option '" + opt + "' for " + a.command + " (it takes --scene, --set" +
                 (takes_out ? ", --out" : "") + (takes_jobs ? ", --jobs" : "") +
+                (a.command == "run" ? ", --error-estimate" : "") +
                 (stability ? ", --only, --budget, --checkpoint, --fresh, --report" : "") + ")";
     } else {
       problem = "unexpected argument '" + opt + "' (options come as --scene FILE, --set ...)";

@@ -12,6 +12,7 @@
 
 #include "coil_winding_sim/core/output.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "parallel.hpp"
 
 namespace cws_tools {
@@ -118,6 +119,18 @@ int runWorkPrecision(const std::string& scene_path, const std::vector<std::strin
     runs.push_back(
         make("rosenbrock2", std::string("atol") + tol,
              {"solver.rtol=1e-3", std::string("solver.atol=") + tol, "solver.min_step=5e-9"}));
+  }
+  // The Newton-step methods of planar scenes over steps from 1e-6 to 1e-3 s,
+  // with the wound wire carried (their intended use).
+  for (const cws::IntegratorInfo& info : cws::integrators()) {
+    if (!info.planar_only || !scene.physics.planar) continue;
+    for (const char* h : {"1e-3", "3e-4", "1e-4", "3e-5", "1e-5", "3e-6", "1e-6"}) {
+      Run r = make(info.name, std::string("h") + h,
+                   {std::string("solver.implicit_step=") + h, "solver.carry_stuck_wire=true"});
+      r.method = std::string(info.name) + "+carry";
+      r.name = std::string(info.name) + "_carry_h" + h;
+      runs.push_back(r);
+    }
   }
   // Results of an earlier sweep go first, so that none is taken for this one's.
   for (const Run& r : runs) cws::removeOutputs((fs::path(dir) / r.name).string());

@@ -4,11 +4,15 @@
 #include <ostream>
 #include <string>
 
+#include "coil_winding_sim/core/error_estimate.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 
 namespace cws {
 
-void writeSummaryJson(const Simulation& sim, std::ostream& out);
+// With `estimate`, summary.json also reports the run's own error
+// (error_estimate.hpp).
+void writeSummaryJson(const Simulation& sim, std::ostream& out,
+                      const ErrorEstimate* estimate = nullptr);
 void writeWireCsv(const Simulation& sim, std::ostream& out);
 
 // The wire in the core frame with each point's stand-off from the winding
@@ -19,7 +23,8 @@ void writeShapeCsv(const Simulation& sim, std::ostream& out);
 // (creating DIR). Each file is
 // written to a temporary name and renamed, so a failed run never leaves a
 // complete-looking file. Throws std::runtime_error naming the path.
-void writeOutputs(const Simulation& sim, const std::string& dir);
+void writeOutputs(const Simulation& sim, const std::string& dir,
+                  const ErrorEstimate* estimate = nullptr);
 
 // Refuses early (before a run) a directory that cannot be created or written.
 void checkOutputDir(const std::string& dir);

@@ -4,10 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "coil_winding_sim/core/time_steppers/implicit_stepper.hpp"
-#include "coil_winding_sim/core/time_steppers/rkf45.hpp"
-#include "coil_winding_sim/core/time_steppers/rosenbrock2.hpp"
-#include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
+#include "coil_winding_sim/core/time_steppers/integrators.hpp"
 
 namespace cws {
 
@@ -34,17 +31,9 @@ void throwStepFloor(const char* method, double min_step, double t, double e, dou
 }
 
 std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, OdeSystem& sys) {
-  if (p.integrator == "rkf45") return std::make_unique<Rkf45>(p, sys.capacity());
-  if (p.integrator == "symplectic_euler")
-    return std::make_unique<SymplecticEuler>(p, sys.capacity());
-  if (p.integrator == "rosenbrock2") return std::make_unique<Rosenbrock2>(p, sys);
-  if (p.integrator == "implicit_euler") {
-    return std::make_unique<ImplicitStepper>(p, sys, ImplicitStepper::Scheme::kBackwardEuler);
-  }
-  if (p.integrator == "bdf2") {
-    return std::make_unique<ImplicitStepper>(p, sys, ImplicitStepper::Scheme::kBdf2);
-  }
-  throw std::invalid_argument("unknown integrator '" + p.integrator + "'");
+  const IntegratorInfo* info = findIntegrator(p.integrator);
+  if (!info) throw std::invalid_argument("unknown integrator '" + p.integrator + "'");
+  return info->make(p, sys);
 }
 
 }  // namespace cws

@@ -1,0 +1,31 @@
+// A run's own error: the same scene run again with a refined setting (half
+// the step of a fixed-step or Newton-step method, a tenth of the tolerances
+// of an error-controlled one) and the two results compared, so that a user
+// reads error against run time for their own scene (wire_sim run
+// --error-estimate).
+#pragma once
+
+#include <string>
+
+#include "coil_winding_sim/core/scene.hpp"
+
+namespace cws {
+
+class Simulation;
+
+struct ErrorEstimate {
+  std::string refinement;  // what the second run changed, e.g. "solver.fixed_step / 2"
+  double shape_error_rel_diameter = 0.0;  // largest point distance (core frame) / d
+  double bulging_error_rel = 0.0;         // |difference| / refined bulging height (0 without one)
+  bool bulging_valid = false;
+  double wall_s = 0.0;          // the run's own wall time [s]
+  double refined_wall_s = 0.0;  // the refined run's [s]
+};
+
+// The scene of the refined run, and a description of the refinement.
+Scene refinedScene(const Scene& scene, std::string& refinement);
+// Compares a finished run with its refined twin.
+ErrorEstimate compareWithRefined(const Simulation& run, const Simulation& refined,
+                                 const std::string& refinement);
+
+}  // namespace cws

@@ -1,0 +1,39 @@
+// The one registry of time integrators: each one's name (solver.integrator),
+// a line of description, the solver keys it reads, the scenes it takes and
+// how it is built. Scene validation, the stepper factory, the simulation's
+// messages and the tools read it; adding an integrator adds one entry here
+// and its file in this folder.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "coil_winding_sim/core/scene.hpp"
+
+namespace cws {
+
+class OdeSystem;
+class TimeStepper;
+
+struct IntegratorInfo {
+  const char* name;
+  const char* description;
+  std::vector<const char*> keys;  // the solver keys it reads
+  // Fixed step solver.fixed_step, explicit: refused above the stability
+  // limit l / c.
+  bool explicit_fixed_step = false;
+  // Error-controlled (solver.rtol, solver.atol).
+  bool error_controlled = false;
+  // Reduced coordinates of a planar scene only (physics.planar).
+  bool planar_only = false;
+  std::unique_ptr<TimeStepper> (*make)(const SolverParams& p, OdeSystem& sys) = nullptr;
+};
+
+// All integrators, in the order messages list them.
+const std::vector<IntegratorInfo>& integrators();
+// The entry named `name`, or null.
+const IntegratorInfo* findIntegrator(const std::string& name);
+std::vector<std::string> integratorNames();
+
+}  // namespace cws

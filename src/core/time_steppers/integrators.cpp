@@ -1,0 +1,86 @@
+#include "coil_winding_sim/core/time_steppers/integrators.hpp"
+
+#include "coil_winding_sim/core/time_steppers/implicit_stepper.hpp"
+#include "coil_winding_sim/core/time_steppers/rkf45.hpp"
+#include "coil_winding_sim/core/time_steppers/rosenbrock2.hpp"
+#include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
+
+namespace cws {
+
+namespace {
+std::unique_ptr<TimeStepper> makeRkf45(const SolverParams& p, OdeSystem& sys) {
+  return std::make_unique<Rkf45>(p, sys.capacity());
+}
+std::unique_ptr<TimeStepper> makeSymplecticEuler(const SolverParams& p, OdeSystem& sys) {
+  return std::make_unique<SymplecticEuler>(p, sys.capacity());
+}
+std::unique_ptr<TimeStepper> makeRosenbrock2(const SolverParams& p, OdeSystem& sys) {
+  return std::make_unique<Rosenbrock2>(p, sys);
+}
+std::unique_ptr<TimeStepper> makeImplicitEuler(const SolverParams& p, OdeSystem& sys) {
+  return std::make_unique<ImplicitStepper>(p, sys, ImplicitStepper::Scheme::kBackwardEuler);
+}
+std::unique_ptr<TimeStepper> makeBdf2(const SolverParams& p, OdeSystem& sys) {
+  return std::make_unique<ImplicitStepper>(p, sys, ImplicitStepper::Scheme::kBdf2);
+}
+
+std::vector<IntegratorInfo> registry() {
+  std::vector<IntegratorInfo> r;
+  r.push_back({"rkf45",
+               "the paper's Runge-Kutta-Fehlberg 4(5), error-controlled; the reference",
+               {"rtol", "atol", "min_step", "max_step", "initial_step", "baumgarte_nu"},
+               false,
+               true,
+               false,
+               makeRkf45});
+  r.push_back({"symplectic_euler",
+               "fixed-step semi-implicit Euler below the explicit limit l / c",
+               {"fixed_step", "baumgarte_nu"},
+               true,
+               false,
+               false,
+               makeSymplecticEuler});
+  r.push_back({"rosenbrock2",
+               "linearly implicit Rosenbrock-W, banded Jacobian; stiff scenes without friction",
+               {"rtol", "atol", "min_step", "max_step", "initial_step", "baumgarte_nu"},
+               false,
+               true,
+               false,
+               makeRosenbrock2});
+  r.push_back({"implicit_euler",
+               "backward Euler with Newton steps in reduced coordinates (planar scenes)",
+               {"implicit_step", "newton_tol", "newton_max_iterations", "flag_rounds", "min_step"},
+               false,
+               false,
+               true,
+               makeImplicitEuler});
+  r.push_back({"bdf2",
+               "variable-step BDF2 with Newton steps in reduced coordinates (planar scenes)",
+               {"implicit_step", "newton_tol", "newton_max_iterations", "flag_rounds", "min_step"},
+               false,
+               false,
+               true,
+               makeBdf2});
+  return r;
+}
+}  // namespace
+
+const std::vector<IntegratorInfo>& integrators() {
+  static const std::vector<IntegratorInfo> r = registry();
+  return r;
+}
+
+const IntegratorInfo* findIntegrator(const std::string& name) {
+  for (const IntegratorInfo& i : integrators()) {
+    if (name == i.name) return &i;
+  }
+  return nullptr;
+}
+
+std::vector<std::string> integratorNames() {
+  std::vector<std::string> names;
+  for (const IntegratorInfo& i : integrators()) names.emplace_back(i.name);
+  return names;
+}
+
+}  // namespace cws
