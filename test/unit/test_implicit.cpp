@@ -11,6 +11,7 @@
 
 using cws_test::cantilever;
 using cws_test::rampedStatic;
+using cws_test::settle;
 
 namespace {
 constexpr double kL = 0.1;  // wire length [m]
@@ -21,14 +22,6 @@ cws::Scene implicitScene(cws::Scene s, const char* integrator) {
   s.solver.integrator = integrator;
   s.solver.implicit_step = 1e-4;
   return s;
-}
-
-cws::Simulation settle(const cws::Scene& s) {
-  cws::Simulation sim(s);
-  sim.run();
-  const cws::EnergyReport e = sim.energy();
-  EXPECT_LT(e.kinetic, 1e-5 * e.elastic) << "the wire did not come to rest";
-  return sim;
 }
 
 class Implicit : public ::testing::TestWithParam<const char*> {};

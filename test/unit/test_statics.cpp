@@ -11,19 +11,10 @@
 
 using cws_test::cantilever;
 using cws_test::rampedStatic;
+using cws_test::settle;
 
 namespace {
 constexpr double kL = 0.1;  // wire length [m]
-
-// Runs a quasi-static scene to its end and checks the wire came to rest
-// (kinetic energy below 1e-5 of the stored elastic energy).
-cws::Simulation settle(const cws::Scene& s) {
-  cws::Simulation sim(s);
-  sim.run();
-  const cws::EnergyReport e = sim.energy();
-  EXPECT_LT(e.kinetic, 1e-5 * e.elastic) << "the wire did not come to rest";
-  return sim;
-}
 }  // namespace
 
 TEST(Statics, AxialStretchMatchesFLoverEA) {

@@ -1,6 +1,8 @@
 // Scenes and helpers shared by the physics tests.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include "coil_winding_sim/core/quaternion.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 
@@ -50,6 +52,16 @@ inline cws::Scene elasticOscillation() {
   s.end.load = {a, b};
   s.process.duration = 0.03;
   return s;
+}
+
+// Runs a quasi-static scene to its end and checks the wire came to rest
+// (kinetic energy below 1e-5 of the stored elastic energy).
+inline cws::Simulation settle(const cws::Scene& s) {
+  cws::Simulation sim(s);
+  sim.run();
+  const cws::EnergyReport e = sim.energy();
+  EXPECT_LT(e.kinetic, 1e-5 * e.elastic) << "the wire did not come to rest";
+  return sim;
 }
 
 inline Eigen::Vector3d tipPosition(const cws::Simulation& sim) {

@@ -40,8 +40,11 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     double h = std::min(h_, t_limit - t);
     const bool clipped = h < h_;
     // BDF2 over the last two steps (variable-step coefficients, ratio r =
-    // h / h_prev); backward Euler for the first step and after a retry.
-    const bool bdf2 = scheme_ == Scheme::kBdf2 && have_prev_;
+    // h / h_prev); backward Euler for the first step, after a retry, and
+    // where the step grows more than twofold (variable-step BDF2 is
+    // zero-stable only for r < 1 + sqrt(2): after a step clipped at a ramp's
+    // end, r can reach 1e5).
+    const bool bdf2 = scheme_ == Scheme::kBdf2 && have_prev_ && h <= 2.0 * h_prev_;
     double alpha = 1.0 / h;
     if (bdf2) {
       const double r = h / h_prev_;

@@ -5,7 +5,8 @@
 // with Newton's method at every step of solver.implicit_step; a step whose
 // Newton iterations do not converge is retried at a quarter of its size and
 // the step grows back by doubling. BDF2 starts, and restarts after a
-// retried step, with one backward Euler step.
+// retried step or a step more than twice the last, with one backward Euler
+// step.
 #pragma once
 
 #include <Eigen/Core>
