@@ -98,16 +98,16 @@ const PlanarAssembly& PlanarFormulation::assemble(bool jacobian) {
 double PlanarFormulation::residual(bool jacobian) {
   assemble(jacobian);
   const int f = state_.first, n = state_.n;
-  const double a = alpha_;
+  const double a = kappa_;
   const Eigen::VectorXd& force = assembly_.forces();
   const int unknowns = assembly_.unknowns();
-  // Point inertia alpha M (v - v_hat), minus the forces.
+  // Point inertia M a = kappa M (v - v_hat), minus the forces.
   for (int i = f; i < n; ++i) {
     const int o = assembly_.dof(i);
     r_.segment<2>(o) = a * point_mass_ * (state_.v.col(i) - v_hat_.col(i)) - force.segment<2>(o);
   }
   if (multiplier_) r_[unknowns - 1] = force[unknowns - 1];
-  // Frame inertia: I alpha (omega - omega_hat) g on both points of the
+  // Frame inertia: I kappa (omega - omega_hat) g on both points of the
   // segment, omega = g . (v_i - v_{i-1}) with g from the step's start.
   for (int i = f; i < n; ++i) {
     const Eigen::Vector2d g = frame_gradient_.col(i);
@@ -118,11 +118,11 @@ double PlanarFormulation::residual(bool jacobian) {
   }
   if (jacobian) {
     BandedLu& m = assembly_.matrix();
-    const double mass = a * a * point_mass_;
+    const double mass = a * alpha_ * point_mass_;
     for (int r = 0; r < 2 * (n - f); ++r) m.at(r, r) += mass;
     for (int i = f; i < n; ++i) {
       const Eigen::Vector2d g = frame_gradient_.col(i);
-      const Eigen::Matrix2d b = point_inertia_ * a * a * g * g.transpose();
+      const Eigen::Matrix2d b = point_inertia_ * a * alpha_ * g * g.transpose();
       const int oi = assembly_.dof(i);
       for (int p = 0; p < 2; ++p) {
         for (int q = 0; q < 2; ++q) {
@@ -139,13 +139,14 @@ double PlanarFormulation::residual(bool jacobian) {
   return r_.head(unknowns).lpNorm<Eigen::Infinity>();
 }
 
-NewtonStats PlanarFormulation::solve(double t1, double alpha, const Eigen::Matrix2Xd& x_hat,
-                                     const Eigen::Matrix2Xd& v_hat,
+NewtonStats PlanarFormulation::solve(double t1, double alpha, double kappa,
+                                     const Eigen::Matrix2Xd& x_hat, const Eigen::Matrix2Xd& v_hat,
                                      const Eigen::VectorXd& omega_hat,
                                      const Eigen::Matrix2Xd& x_guess) {
   NewtonStats st;
   const int f = state_.first, n = state_.n, m = n - f;
   alpha_ = alpha;
+  kappa_ = kappa;
   state_.alpha = alpha;
   state_.t = t1;
   x_hat_.middleCols(f, m) = x_hat.middleCols(f, m);
@@ -156,7 +157,10 @@ NewtonStats PlanarFormulation::solve(double t1, double alpha, const Eigen::Matri
   updateVelocities();
   // A factorization from an earlier solve of the same system size and
   // scheme coefficient serves as a start (modified Newton).
-  if (factored_alpha_ != alpha || factored_first_ != f || factored_n_ != n) have_factor_ = false;
+  if (factored_alpha_ != alpha || factored_kappa_ != kappa || factored_first_ != f ||
+      factored_n_ != n) {
+    have_factor_ = false;
+  }
   for (int round = 0; round <= flag_rounds_; ++round) {
     bool converged = false;
     double norm = residual(false);
@@ -170,6 +174,7 @@ NewtonStats PlanarFormulation::solve(double t1, double alpha, const Eigen::Matri
         if (!assembly_.matrix().factor()) return st;
         have_factor_ = fresh = true;
         factored_alpha_ = alpha;
+        factored_kappa_ = kappa;
         factored_first_ = f;
         factored_n_ = n;
         ++st.factorizations;

@@ -38,19 +38,26 @@ double RotationalSpring::stressTangent(double x, int idx, double& tangent) const
   return law_.stressOnBranch(x, upper_[idx], line_[idx], tangent);
 }
 
-double RotationalSpring::planarCurvature(const PlanarState& s, int j, double& dphi) const {
+double RotationalSpring::planarCurvature(const PlanarState& s, int j, double& sin_half,
+                                         double& cos_half) const {
   // Frame j: the prescribed frame, or segment j-1; frame j+1: segment j.
-  const Eigen::Vector2d da = j == s.first - 1 ? s.boundary_tangent : s.segment(j - 1);
-  dphi = planar::turn(da, s.segment(j));
-  return (2.0 / jointLength(j)) * std::sin(0.5 * dphi);
+  // The half angle of the turn from the tangents' dot and cross products
+  // (no trigonometry): cos(dphi / 2) = sqrt((1 + c) / 2) for |dphi| < pi.
+  const Eigen::Vector2d ta =
+      (j == s.first - 1 ? s.boundary_tangent : s.segment(j - 1)).normalized();
+  const Eigen::Vector2d tb = s.segment(j).normalized();
+  const double c = ta.dot(tb), sn = planar::cross(ta, tb);
+  cos_half = std::sqrt(std::max(0.0, 0.5 * (1.0 + c)));
+  sin_half = cos_half > 0.0 ? 0.5 * sn / cos_half : 1.0;
+  return (2.0 / jointLength(j)) * sin_half;
 }
 
 bool RotationalSpring::recheckFlags(const PlanarState& s) {
   if (!plastic_) return false;
   bool changed = false;
   for (int j = s.first - 1; j + 1 < s.n; ++j) {
-    double dphi;
-    const double kappa = planarCurvature(s, j, dphi);
+    double sin_half, cos_half;
+    const double kappa = planarCurvature(s, j, sin_half, cos_half);
     for (int c = 0; c < count_; ++c) {
       const double w = s.n_material[first_ + c];
       if (w == 0.0) continue;
@@ -101,8 +108,8 @@ void RotationalSpring::addPlanarForces(const PlanarState& s, PlanarAssembly& a) 
     const bool prescribed = j == s.first - 1;
     const Eigen::Vector2d db = s.segment(j);
     const Eigen::Vector2d da = prescribed ? s.boundary_tangent : s.segment(j - 1);
-    double dphi;
-    const double kappa = planarCurvature(s, j, dphi);
+    double sin_half, cos_half;
+    const double kappa = planarCurvature(s, j, sin_half, cos_half);
     double m = 0.0, dm = 0.0;
     for (int c = 0; c < count_; ++c) {
       const double w = s.n_material[first_ + c];
@@ -112,7 +119,7 @@ void RotationalSpring::addPlanarForces(const PlanarState& s, PlanarAssembly& a) 
       dm += w * w * k;
     }
     // Generalized force on dphi: Q = -d(lambda W)/d dphi = -m cos(dphi / 2).
-    const double cosh = std::cos(0.5 * dphi);
+    const double cosh = cos_half;
     const double q = -m * cosh;
     const Eigen::Vector2d gb = planar::angleGradient(db);
     const Eigen::Vector2d ga = prescribed ? Eigen::Vector2d::Zero() : planar::angleGradient(da);
@@ -125,7 +132,7 @@ void RotationalSpring::addPlanarForces(const PlanarState& s, PlanarAssembly& a) 
       a.addForce(j - 1, q * ga);
     }
     if (!a.wantsJacobian()) continue;
-    const double dq = -dm * cosh * cosh / lambda + 0.5 * m * std::sin(0.5 * dphi);
+    const double dq = -dm * cosh * cosh / lambda + 0.5 * m * sin_half;
     const Eigen::Vector2d g[3] = {ga, -gb - ga, gb};  // points j-1, j, j+1
     const Eigen::Matrix2d hb = planar::angleHessian(db);
     const Eigen::Matrix2d ha = prescribed ? Eigen::Matrix2d::Zero() : planar::angleHessian(da);

@@ -67,7 +67,7 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
       omega_hat_.segment(first, m) = w0.segment(first, m);
     }
     guess_.middleCols(first, m) = x0.middleCols(first, m) + h * v0.middleCols(first, m);
-    const NewtonStats st = f.solve(t + h, alpha, x_hat_, v_hat_, omega_hat_, guess_);
+    const NewtonStats st = f.solve(t + h, alpha, alpha, x_hat_, v_hat_, omega_hat_, guess_);
     newton_.iterations += st.iterations;
     newton_.flag_rounds += st.flag_rounds;
     newton_.line_searches += st.line_searches;

@@ -45,10 +45,11 @@ class PlanarFormulation {
   // Angular velocity of frame i (segment i-1) at the committed state [rad/s].
   const Eigen::VectorXd& omega0() const { return omega0_; }
 
-  // Solves the step to t1 [s]: x_hat, v_hat [m], [m/s] and omega_hat
-  // [rad/s] per point / frame (columns first..n-1), starting Newton at
-  // x_guess. Leaves the solution in solution().
-  NewtonStats solve(double t1, double alpha, const Eigen::Matrix2Xd& x_hat,
+  // Solves the step to t1 [s] with the scheme's alpha = dv/dx and kappa =
+  // da/dv [1/s]: x_hat, v_hat [m], [m/s] and omega_hat [rad/s] per point /
+  // frame (columns first..n-1), starting Newton at x_guess. Leaves the
+  // solution in solution().
+  NewtonStats solve(double t1, double alpha, double kappa, const Eigen::Matrix2Xd& x_hat,
                     const Eigen::Matrix2Xd& v_hat, const Eigen::VectorXd& omega_hat,
                     const Eigen::Matrix2Xd& x_guess);
   const PlanarState& solution() const { return state_; }
@@ -86,10 +87,10 @@ class PlanarFormulation {
   Eigen::VectorXd omega0_, omega_hat_;
   Eigen::Matrix2Xd frame_gradient_;  // d phi_i / d d_{i-1} at the step's start
   Eigen::VectorXd r_, dx_;
-  double alpha_ = 0.0;
+  double alpha_ = 0.0, kappa_ = 0.0;
   // The factorization in the assembly's matrix, and what it was made for.
   bool have_factor_ = false;
-  double factored_alpha_ = 0.0;
+  double factored_alpha_ = 0.0, factored_kappa_ = 0.0;
   int factored_first_ = -1, factored_n_ = -1;
 };
 

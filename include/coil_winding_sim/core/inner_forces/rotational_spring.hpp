@@ -56,8 +56,9 @@ class RotationalSpring : public ForceEffect {
   double stressTangent(double x, int idx, double& tangent) const;
   // Length of wire that joint j stands for [m].
   double jointLength(int j) const;
-  // Planar curvature of joint j [1/m] and its turn angle [rad].
-  double planarCurvature(const PlanarState& s, int j, double& dphi) const;
+  // Planar curvature of joint j [1/m], with the sine and cosine of half its
+  // turn angle.
+  double planarCurvature(const PlanarState& s, int j, double& sin_half, double& cos_half) const;
 
   const char* name_;
   const WireConstants& c_;  // the model's: n grows with a supply
