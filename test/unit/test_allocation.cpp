@@ -74,3 +74,11 @@ TEST(Allocation, CommandedPortStepsAllocateNothing) {
 // Jacobian builds, refactorizations and rejected steps included.
 TEST(Allocation, ImplicitStepsAllocateNothing) { expectStepsAllocateNothing("rosenbrock2", 3000); }
 #endif
+
+#ifdef CWS_SOURCE_DIR
+// Newton steps, flag rounds, retried steps and the supply's new points.
+TEST(Allocation, NewtonStepsAllocateNothing) {
+  expectStepsAllocateNothing("implicit_euler", 300);
+  expectStepsAllocateNothing("bdf2", 300);
+}
+#endif

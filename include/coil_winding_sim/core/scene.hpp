@@ -109,7 +109,7 @@ struct SolverParams {
   // limit, and how often a step is solved again after a contact, stick or
   // slip flag changed.
   double implicit_step = 1.0e-4;
-  double newton_tol = 1.0e-8;
+  double newton_tol = 1.0e-9;
   int newton_max_iterations = 30;
   int flag_rounds = 4;
   // Wound wire held by static friction moves rigidly with the core and leaves
