@@ -111,6 +111,11 @@ void Simulation::step(double t_limit) {
       msg << "validation checks only l / c; a stiffer contact or load needs a smaller step): "
              "lower solver.fixed_step, or use rkf45, which tells an unstable step from a "
              "motion that itself diverges";
+    } else if (info && info->planar_only) {
+      // The Newton-step methods hold the frames on their segments exactly:
+      // what diverged are the positions.
+      msg << "solver.implicit_step = " << scene_.solver.implicit_step
+          << " s): lower solver.implicit_step, or use rkf45";
     } else {
       msg << "solver.rtol = " << scene_.solver.rtol
           << "): lower solver.rtol, or use another "
