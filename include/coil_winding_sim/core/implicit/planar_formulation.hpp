@@ -56,7 +56,8 @@ class PlanarFormulation {
 
   // Writes the solution into the model's state vector y (positions,
   // velocities, frames and their rates) and books the work and dissipation
-  // of the step of h [s]; the caller then accepts the step (acceptStep).
+  // of the step of h [s] from the converged solve's last evaluation (call
+  // it right after solve()); the caller then accepts the step (acceptStep).
   void store(double h, Eigen::VectorXd& y);
 
   // The assembly at the present trial state (tests: Jacobians against
