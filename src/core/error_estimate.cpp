@@ -12,7 +12,7 @@ Scene refinedScene(const Scene& scene, std::string& refinement) {
   Scene s = scene;
   const IntegratorInfo* info = findIntegrator(s.solver.integrator);
   if (info && info->explicit_fixed_step) {
-    s.solver.fixed_step *= 0.5;
+    s.solver.fixed_step = 0.5 * fixedStep(scene);
     refinement = "solver.fixed_step / 2";
   } else if (info && info->planar_only) {
     s.solver.implicit_step *= 0.5;

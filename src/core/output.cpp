@@ -9,6 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "coil_winding_sim/core/time_steppers/integrators.hpp"
+
 namespace cws {
 
 namespace fs = std::filesystem;
@@ -89,7 +91,13 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
       << "  \"plastic_work_J\": " << num(e.plastic) << ",\n"
       << "  \"viscous_dissipation_J\": " << num(e.viscous) << ",\n"
       << "  \"work_done_J\": " << num(e.work_done) << ",\n"
-      << "  \"energy_imbalance_J\": " << num(e.imbalance()) << ",\n"
+      << "  \"energy_imbalance_J\": " << num(e.imbalance()) << ",\n";
+  // A numerically dissipative method's lost energy, as its own term
+  // (IntegratorInfo::numerically_dissipative); null for the others.
+  const IntegratorInfo* info = findIntegrator(sim.scene().solver.integrator);
+  out << "  \"numerical_dissipation_J\": "
+      << (info && info->numerically_dissipative ? num(-e.imbalance()) : std::string("null"))
+      << ",\n"
       << "  \"max_axial_force_N\": " << num(sim.maxAxialForce()) << ",\n";
   const WireModel& m = sim.model();
   const double radius = m.constants().radius;

@@ -94,4 +94,9 @@ double explicitStepLimit(const Scene& s) {
   return l / c;
 }
 
+double fixedStep(const Scene& s) {
+  if (s.solver.fixed_step) return *s.solver.fixed_step;
+  return std::min(kAutoStepFraction * explicitStepLimit(s), s.solver.max_step);
+}
+
 }  // namespace cws

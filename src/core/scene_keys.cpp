@@ -49,11 +49,11 @@ SceneKey list(const char* name, const char* unit, const ListKeyHandlers& handler
 }
 
 KeyRange oneOf(std::vector<std::string> words) {
-  return {KeyRange::kOneOf, std::move(words), 0, std::nullopt};
+  return {KeyRange::kOneOf, std::move(words), 0, std::nullopt, ""};
 }
 // A whole number from 0 to `most`, at least `least` when that is given.
 KeyRange count(int most, std::optional<int> least = std::nullopt) {
-  return {KeyRange::kCount, {}, most, least};
+  return {KeyRange::kCount, {}, most, least, ""};
 }
 
 // Short names for the member chains of the table.
@@ -72,10 +72,11 @@ using Supply = SupplyParams;
 // list(dotted name, unit, handlers, doc). Numbers are also always finite.
 std::vector<SceneKey> declareKeys() {
   using namespace detail;  // the list handlers
-  const KeyRange kAny{KeyRange::kAny, {}, 0, std::nullopt};
-  const KeyRange kPositive{KeyRange::kPositive, {}, 0, std::nullopt};
-  const KeyRange kNonNegative{KeyRange::kNonNegative, {}, 0, std::nullopt};
-  const KeyRange kDirection{KeyRange::kDirection, {}, 0, std::nullopt};
+  const KeyRange kAny{KeyRange::kAny, {}, 0, std::nullopt, ""};
+  const KeyRange kPositive{KeyRange::kPositive, {}, 0, std::nullopt, ""};
+  const KeyRange kNonNegative{KeyRange::kNonNegative, {}, 0, std::nullopt, ""};
+  const KeyRange kDirection{KeyRange::kDirection, {}, 0, std::nullopt, ""};
+  const KeyRange kAutoStep{KeyRange::kPositive, {}, 0, std::nullopt, "auto"};
   return {
       key<&S::wire, &Wire::diameter>("wire.diameter", "m", kPositive, "wire diameter"),
       key<&S::wire, &Wire::line_density>("wire.line_density", "kg/m", kPositive,
@@ -153,8 +154,8 @@ std::vector<SceneKey> declareKeys() {
       key<&S::solver, &Solver::max_step>("solver.max_step", "s", kPositive, "largest step"),
       key<&S::solver, &Solver::initial_step>("solver.initial_step", "s", kAny,
                                              "first step, within [min_step, max_step]"),
-      key<&S::solver, &Solver::fixed_step>("solver.fixed_step", "s", kPositive,
-                                           "step of the fixed-step integrators"),
+      key<&S::solver, &Solver::fixed_step>("solver.fixed_step", "s", kAutoStep,
+                                           "step of symplectic_euler; auto: 1/4 of l / c"),
       key<&S::solver, &Solver::baumgarte_nu>("solver.baumgarte_nu", "1/s", kNonNegative,
                                              "constraint stabilization nu, eq. (6)"),
       key<&S::solver, &Solver::implicit_step>("solver.implicit_step", "s", kPositive,
@@ -186,7 +187,7 @@ std::vector<SceneKey> declareKeys() {
       key<&S::supply, &Supply::port_position_world>("supply.port_position", "m", kAny,
                                                     "port p_s at t = 0, world frame"),
       key<&S::supply, &Supply::max_points>("supply.max_points", "-",
-                                           KeyRange{KeyRange::kPointCount, {}, 0, std::nullopt},
+                                           KeyRange{KeyRange::kPointCount, {}, 0, std::nullopt, ""},
                                            "storage for this many points; 0: estimated"),
 
       key<&S::gravity, &GravityParams::acceleration_world>(

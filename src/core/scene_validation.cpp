@@ -219,26 +219,40 @@ void implicitNeedsPlanar(const Scene& s) {
 
 // The fixed step is compared for any finite value; its sign is the table's
 // check.
+// `auto` is within both bounds by construction (fixedStep()), but an
+// absurd wire (a wave speed that overflows) leaves it no step at all.
 void fixedStepStable(const Scene& s) {
   const IntegratorInfo* info = findIntegrator(s.solver.integrator);
   if (!info || !info->explicit_fixed_step) return;
-  if (s.solver.fixed_step > s.solver.max_step) {
+  if (!s.solver.fixed_step) {
+    const double step = fixedStep(s);
+    if (!(step > 0.0) || !std::isfinite(step)) {
+      throw SceneError("solver.fixed_step",
+                       "auto (1/4 of l / c) gives " + fmt(step) +
+                           " s for this wire: its wave speed c from wire.stretch.elastic_rigidity "
+                           "and wire.line_density (and the torsion's) is out of range");
+    }
+    return;
+  }
+  const double step = *s.solver.fixed_step;
+  if (step > s.solver.max_step) {
     throw SceneError("solver.fixed_step",
-                     fmt(s.solver.fixed_step) +
+                     fmt(step) +
                          " s is above solver.max_step = " + fmt(s.solver.max_step) + " s");
   }
   // Above the explicit stability limit symplectic Euler stays bounded but
   // wrong, with no warning (measured on the paper's case at 2 mm: three
   // wire diameters off at 1.05 l / c, right at 0.53 l / c).
   const double limit = explicitStepLimit(s);
-  if (s.solver.fixed_step > limit) {
+  if (step > limit) {
     std::ostringstream why;
-    why << s.solver.fixed_step << " s is above the stability limit l / c = " << limit
+    why << step << " s is above the stability limit l / c = " << limit
         << " s of this wire (the time a wave needs to cross a segment l from "
         << "wire.segment_length and wire.length, at the wave speed c from "
         << "wire.stretch.elastic_rigidity, wire.line_density and, with physics.torsion, "
         << "wire.torsion.elastic_rigidity and wire.diameter); " << info->name << " "
-        << "(solver.integrator) would run but be wrong: use at most that step, or rkf45";
+        << "(solver.integrator) would run but be wrong: use at most that step, auto "
+        << "(1/4 of it), or rkf45";
     throw SceneError("solver.fixed_step", why.str());
   }
 }
@@ -281,7 +295,7 @@ const CrossRule kCrossRules[] = {
     {"process.duration", runEnds},
     {"process.duration", supplyStorage},
     {"solver.integrator", implicitNeedsPlanar},
-    {"solver.integrator", fixedStepStable},
+    {"solver.fixed_step", fixedStepStable},
     {"solver.initial_step", stepBoundsOrdered},
 };
 

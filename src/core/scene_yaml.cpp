@@ -39,6 +39,15 @@ YAML::Node vec3(const Eigen::Vector3d& v) {
 
 // ---------------------------------------------------------------------------
 // YAML -> values.
+// A scalar that spells a number beyond the range of a double (1e400).
+static bool rangeError(const YAML::Node& n) {
+  errno = 0;
+  char* end = nullptr;
+  const char* text = n.Scalar().c_str();
+  std::strtod(text, &end);
+  return end != text && *end == '\0' && errno == ERANGE;
+}
+
 double readDouble(const YAML::Node& n, const std::string& key) {
   if (!n.IsScalar()) throw SceneError(key, "expected a number, got " + describe(n));
   double v = 0.0;
@@ -47,11 +56,7 @@ double readDouble(const YAML::Node& n, const std::string& key) {
   } catch (const YAML::Exception&) {
     // A number beyond the range of a double (1e400) is a number, but too
     // large (or too small) to use: say so rather than "not a number".
-    errno = 0;
-    char* end = nullptr;
-    const char* text = n.Scalar().c_str();
-    std::strtod(text, &end);
-    if (end != text && *end == '\0' && errno == ERANGE) {
+    if (rangeError(n)) {
       throw SceneError(key, describe(n) + " is beyond the range of a double");
     }
     throw SceneError(key, "expected a number, got " + describe(n));
@@ -201,10 +206,13 @@ YAML::Node nodeAt(const YAML::Node& root, const std::string& name) {
 // One key's value as YAML.
 struct ValueToYaml {
   const Scene& s;
+  const SceneKey& k;
   YAML::Node operator()(const KeyField<double>& f) const { return num(f.get(s)); }
   YAML::Node operator()(const KeyField<std::optional<double>>& f) const {
     const std::optional<double>& v = f.get(s);
-    return v ? num(*v) : YAML::Node(YAML::NodeType::Null);
+    if (v) return num(*v);
+    return k.range.unset_word.empty() ? YAML::Node(YAML::NodeType::Null)
+                                      : YAML::Node(k.range.unset_word);
   }
   YAML::Node operator()(const KeyField<Eigen::Vector3d>& f) const { return vec3(f.get(s)); }
   YAML::Node operator()(const KeyField<bool>& f) const { return YAML::Node(f.get(s)); }
@@ -221,7 +229,19 @@ struct ValueFromYaml {
   const std::string& key = k.name;
   void operator()(const KeyField<double>& f) const { f.ref(s) = readDouble(n, key); }
   void operator()(const KeyField<std::optional<double>>& f) const {
-    f.ref(s) = n.IsNull() ? std::nullopt : std::optional<double>(readDouble(n, key));
+    const std::string& word = k.range.unset_word;
+    if (word.empty()) {
+      f.ref(s) = n.IsNull() ? std::nullopt : std::optional<double>(readDouble(n, key));
+    } else if (n.IsScalar() && n.Scalar() == word) {
+      f.ref(s) = std::nullopt;
+    } else {
+      // Anything else must be a number: a stray word names both choices.
+      double v = 0.0;
+      if (!n.IsScalar() || (!YAML::convert<double>::decode(n, v) && !rangeError(n))) {
+        throw SceneError(key, "expected a number or '" + word + "', got " + describe(n));
+      }
+      f.ref(s) = readDouble(n, key);
+    }
   }
   void operator()(const KeyField<Eigen::Vector3d>& f) const { f.ref(s) = readVec3(n, key); }
   void operator()(const KeyField<bool>& f) const { f.ref(s) = readBool(n, key); }
@@ -237,7 +257,7 @@ struct ValueFromYaml {
 YAML::Node toYaml(const Scene& s) {
   // A map from the start: a copy of a null node would not share its children.
   YAML::Node root(YAML::NodeType::Map);
-  for (const SceneKey& k : sceneKeys()) setAt(root, k.name, std::visit(ValueToYaml{s}, k.access));
+  for (const SceneKey& k : sceneKeys()) setAt(root, k.name, std::visit(ValueToYaml{s, k}, k.access));
   return root;
 }
 

@@ -17,7 +17,10 @@ Scene validated(const Scene& s) {
 
 Simulation::Simulation(const Scene& scene) : scene_(validated(scene)) {
   model_ = std::make_unique<WireModel>(scene_);
-  stepper_ = makeTimeStepper(scene_.solver, *model_);
+  // The steppers take the fixed step resolved (solver.fixed_step: auto).
+  SolverParams solver = scene_.solver;
+  solver.fixed_step = fixedStep(scene_);
+  stepper_ = makeTimeStepper(solver, *model_);
   y_ = model_->initialState();
   t_end_ = scene_.endTime();
   collapse_step_s_ = stepper_->collapseRatio() * explicitStepLimit(scene_);

@@ -17,6 +17,7 @@
 #include "coil_winding_sim/core/run_checks.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "parallel.hpp"
 #include "run_store.hpp"
 
@@ -215,9 +216,9 @@ uint64_t identity(const Study& st, const Run& r) {
 // A finished run's result: one `key value` line per field, the message last.
 void writeResult(const std::string& path, uint64_t id, const Run& r) {
   std::ostringstream f;
-  f << std::setprecision(17) << "cws-stability-result/1\nidentity " << id << "\noutcome "
+  f << std::setprecision(17) << "cws-stability-result/2\nidentity " << id << "\noutcome "
     << static_cast<int>(r.outcome) << "\nmeasured " << r.measured << "\nfinite " << r.m.finite
-    << "\nenergy_rel " << r.m.energy_rel << "\nenergy_scale_J " << r.m.energy_scale_J
+    << "\nenergy_signed_rel " << r.m.energy_signed_rel << "\nenergy_scale_J " << r.m.energy_scale_J
     << "\nresidual " << r.m.residual << "\npenetration_ratio " << r.m.penetration_ratio
     << "\nsteps " << r.m.steps << "\nrejected " << r.m.rejected << "\nmean_step_s "
     << r.m.mean_step_s << "\nwall_s " << r.wall_s << "\nsim_s " << r.sim_s << "\nend_s " << r.end_s
@@ -231,7 +232,7 @@ void writeResult(const std::string& path, uint64_t id, const Run& r) {
 bool readResult(const std::string& path, uint64_t id, Run& r) {
   std::ifstream f(path);
   std::string magic, key;
-  if (!std::getline(f, magic) || magic != "cws-stability-result/1") return false;
+  if (!std::getline(f, magic) || magic != "cws-stability-result/2") return false;
   uint64_t file_id = 0;
   int outcome = 0;
   Run x = r;
@@ -240,7 +241,8 @@ bool readResult(const std::string& path, uint64_t id, Run& r) {
     return static_cast<bool>(f >> key >> v) && key == name;
   };
   if (!(field("outcome", outcome) && field("measured", x.measured) && field("finite", x.m.finite) &&
-        field("energy_rel", x.m.energy_rel) && field("energy_scale_J", x.m.energy_scale_J) &&
+        field("energy_signed_rel", x.m.energy_signed_rel) &&
+        field("energy_scale_J", x.m.energy_scale_J) &&
         field("residual", x.m.residual) && field("penetration_ratio", x.m.penetration_ratio) &&
         field("steps", x.m.steps) && field("rejected", x.m.rejected) &&
         field("mean_step_s", x.m.mean_step_s) && field("wall_s", x.wall_s) &&
@@ -249,6 +251,9 @@ bool readResult(const std::string& path, uint64_t id, Run& r) {
   }
   if (!(f >> key) || key != "message") return false;
   std::getline(f >> std::ws, x.message);
+  x.m.energy_rel = std::abs(x.m.energy_signed_rel);
+  const cws::IntegratorInfo* info = cws::findIntegrator(x.method);
+  x.m.dissipative_method = info && info->numerically_dissipative;
   if (outcome < 0 || outcome > static_cast<int>(Outcome::kBudget)) return false;
   x.outcome = static_cast<Outcome>(outcome);
   r = x;
@@ -299,14 +304,11 @@ void execute(Study& st, Run& r) {
     std::vector<std::string> o = st.base;
     o.insert(o.end(), r.c->overrides.begin(), r.c->overrides.end());
     o.push_back("solver.integrator=" + r.method);
-    // (Loaded with a step any wire accepts; the case's step is set below.)
-    if (r.method == "symplectic_euler") o.push_back("solver.fixed_step=1e-10");
+    // The fixed-step method at a quarter of its stability limit (auto), as
+    // the default scene is.
+    if (r.method == "symplectic_euler") o.push_back("solver.fixed_step=auto");
     cws::Scene scene = cws::loadScene(st.scene_path, o);
-    // The fixed-step method at a quarter of its stability limit, as the
-    // default scene is (1e-7 s at 1 mm).
-    if (r.method == "symplectic_euler")
-      scene.solver.fixed_step = 0.25 * cws::explicitStepLimit(scene);
-    r.step_s = scene.solver.fixed_step;
+    r.step_s = cws::fixedStep(scene);
     sim = std::make_unique<cws::Simulation>(scene);
   } catch (const cws::SceneError& e) {
     r.outcome = Outcome::kRefused;
@@ -457,7 +459,13 @@ A run counts as **stable** when it reaches its end time and
   every accepted step and stops with "the state became non-finite at t = ..."
   otherwise;
 - **energy balance**: |kinetic + elastic + dissipated - work done| is at most
-  1 % of max(|work done|, kinetic + elastic + dissipated). Each term is
+  1 % of max(|work done|, kinetic + elastic + dissipated) (the table's
+  "energy error", with its sign: negative is energy lost). For the
+  numerically dissipative methods (`implicit_euler`, `bdf2`: L-stable, they
+  remove the energy of motion their step does not resolve) energy lost is
+  their numerical dissipation, reported as its own term
+  (`numerical_dissipation_J` in summary.json), and only energy created
+  counts against the 1 %. Each term is
   computed independently (kinetic and elastic from the state, plastic work
   from the hysteresis loops, friction and viscous losses and the work of the
   core, supply and loads integrated from their power). The paper's case
@@ -513,10 +521,12 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
   std::vector<Run> runs;
   for (const Case& c : cases) {
     if (!opt.only.empty() && c.name.find(opt.only) == std::string::npos) continue;
-    for (const char* m : {"symplectic_euler", "rkf45", "rosenbrock2"}) {
+    // Every registered integrator; the Newton-step ones refuse 3-D cases.
+    for (const cws::IntegratorInfo& m : cws::integrators()) {
+      if (!opt.method.empty() && opt.method != m.name) continue;
       Run r;
       r.c = &c;
-      r.method = m;
+      r.method = m.name;
       runs.push_back(r);
     }
   }
@@ -546,14 +556,16 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
   }
 
   std::ostringstream csv, md;
-  csv << "case,method,outcome,energy_error_rel,max_residual,max_penetration_rel_radius,steps,"
+  csv << "case,method,outcome,energy_error_signed_rel,max_residual,max_penetration_rel_radius,steps,"
          "rejected,mean_step_s,sim_time_s,end_time_s,wall_time_s,message\n";
   md << kPreamble
      << "Base scene: the package's default scene (the paper's case in its planar form, 30 N) "
         "with 2 mm segments at 1200 rpm (`--set wire.segment_length=2e-3 --set "
         "process.core_speed_rpm=1200`), carried wire on. Each case changes what its column "
         "says. symplectic_euler steps at a quarter of the case's l / c; rkf45 and rosenbrock2 "
-        "use the scene's tolerances (rtol 1e-6, atol 1e-11). Wall-time budget per run: "
+        "use the scene's tolerances (rtol 1e-6, atol 1e-11); implicit_euler and bdf2 take "
+        "Newton steps of solver.implicit_step (1e-4 s) and refuse 3-D cases (they integrate "
+        "planar scenes only). Wall-time budget per run: "
      << opt.budget_s << " s. Machine: " << machine() << "; " << opt.jobs
      << " runs in parallel.\n\n"
         "| case | method | outcome | energy error | max residual | max penetration / r | "
@@ -571,7 +583,7 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
     }
     csv << r.c->name << ',' << r.method << ',' << outcomeName(r.outcome) << ',';
     if (r.measured) {
-      csv << r.m.energy_rel << ',' << r.m.residual << ',' << r.m.penetration_ratio << ','
+      csv << r.m.energy_signed_rel << ',' << r.m.residual << ',' << r.m.penetration_ratio << ','
           << r.m.steps << ',' << r.m.rejected << ',' << r.m.mean_step_s << ',';
     } else {
       csv << ",,,,,,";
@@ -580,7 +592,7 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
     md << "| " << r.c->name << " (" << r.c->what << ") | " << r.method << " | "
        << outcomeName(r.outcome) << " | ";
     if (r.measured) {
-      md << fmt("%.2e", r.m.energy_rel) << " | " << fmt("%.2e", r.m.residual) << " | "
+      md << fmt("%+.2e", r.m.energy_signed_rel) << " | " << fmt("%.2e", r.m.residual) << " | "
          << fmt("%.3f", r.m.penetration_ratio) << " | " << r.m.steps << " | "
          << fmt("%.2e", r.m.mean_step_s);
     } else {

@@ -11,6 +11,7 @@ namespace cws_tools {
 struct StabilityOptions {
   int jobs = 2;               // runs in parallel
   std::string only;           // only the cases whose name contains this
+  std::string method;         // only this integrator (empty: every one)
   double budget_s = 18000.0;  // wall time per run [s]
   // Wall time between checkpoints of a run [s].
   double checkpoint_s = 300.0;

@@ -4,7 +4,7 @@
 //   wire_sim print-scene [--scene FILE] [--set key.path=value ...]
 //   wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
 //   wire_sim work-precision [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
-//   wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]
+//   wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME] [--method M]
 //                      [--budget SECONDS] [--checkpoint SECONDS] [--fresh | --report]
 #include <signal.h>
 
@@ -21,6 +21,7 @@
 #include "coil_winding_sim/core/output.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "stability.hpp"
 #include "study.hpp"
 #include "work_precision.hpp"
@@ -37,7 +38,8 @@ const char* kUsage =
     "       wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]\n"
     "       wire_sim work-precision [--scene FILE] [--set ...] [--out DIR] [--jobs N]\n"
     "       wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]\n"
-    "                          [--budget SECONDS] [--checkpoint SECONDS] [--fresh | --report]\n"
+    "                          [--method INTEGRATOR] [--budget SECONDS] [--checkpoint SECONDS]\n"
+    "                          [--fresh | --report]\n"
     "Without --scene the package's default scene is used; --out defaults to out/run\n"
     "(out/study for study). run --error-estimate runs the scene a second time with half\n"
     "the step (a tenth of the tolerances for rkf45 and rosenbrock2) and reports the\n"
@@ -47,7 +49,8 @@ const char* kUsage =
     "work-precision runs the scene with every integrator over a range of tolerances or\n"
     "steps against a tight reference and writes the errors and wall times (CSV).\n"
     "stability runs the extreme cases of docs/STABILITY.md (those whose name contains\n"
-    "NAME) with every integrator, checks each run against the stability criteria and\n"
+    "NAME) with every integrator (or INTEGRATOR only), checks each run against the\n"
+    "stability criteria and\n"
     "writes DIR/STABILITY.md and DIR/stability.csv (default out/stability); a run\n"
     "longer than SECONDS of wall time (default 18000) is stopped and reported. It keeps\n"
     "each finished run's result and a checkpoint of each unfinished one (every\n"
@@ -243,6 +246,7 @@ int main(int argc, char** argv) {
       a.command == "study" || a.command == "work-precision" || a.command == "stability";
   const bool stability = a.command == "stability";
   bool seen_scene = false, seen_out = false, seen_jobs = false, seen_only = false,
+       seen_method = false,
        seen_budget = false, seen_checkpoint = false, seen_fresh = false, seen_estimate = false;
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& opt = args[i];
@@ -291,6 +295,15 @@ int main(int argc, char** argv) {
       problem = once(seen_only);
       if (problem.empty()) problem = take("a case name");
       a.stability.only = value;
+    } else if (opt == "--method" && stability) {
+      problem = once(seen_method);
+      if (problem.empty()) problem = take("an integrator");
+      if (problem.empty() && !cws::findIntegrator(value)) {
+        std::string names;
+        for (const std::string& n : cws::integratorNames()) names += (names.empty() ? "" : ", ") + n;
+        problem = "--method: unknown integrator '" + value + "' (available: " + names + ")";
+      }
+      a.stability.method = value;
     } else if ((opt == "--budget" || opt == "--checkpoint") && stability) {
       const bool budget = opt == "--budget";
       problem = once(budget ? seen_budget : seen_checkpoint);
@@ -320,7 +333,7 @@ int main(int argc, char** argv) {
       problem = "unknown option '" + opt + "' for " + a.command + " (it takes --scene, --set" +
                 (takes_out ? ", --out" : "") + (takes_jobs ? ", --jobs" : "") +
                 (a.command == "run" ? ", --error-estimate" : "") +
-                (stability ? ", --only, --budget, --checkpoint, --fresh, --report" : "") + ")";
+                (stability ? ", --only, --method, --budget, --checkpoint, --fresh, --report" : "") + ")";
     } else {
       problem = "unexpected argument '" + opt + "' (options come as --scene FILE, --set ...)";
     }

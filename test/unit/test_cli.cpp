@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "temp_dir_test.hpp"
 
 namespace {
@@ -579,9 +580,10 @@ TEST_F(WireSimCli, StudyRemovesEarlierResultsFirst) {
 // The stability study stopped with Ctrl-C in the middle of a run keeps its
 // finished runs and a checkpoint of the unfinished one; the same command
 // continues it, and every figure equals those of a study never stopped. A
-// third call keeps all three results; other inputs reuse none. --report
-// shows the study in progress. One case of
-// 5 mm segments (about 9 s a study; rosenbrock2 runs first, then rkf45).
+// third call keeps all five results; other inputs reuse none. --report
+// shows the study in progress. One case of 5 mm segments (about 9 s a
+// study; the runs go in reverse registry order: bdf2, implicit_euler,
+// rosenbrock2, symplectic_euler, then rkf45).
 TEST_F(WireSimCli, StabilityStudyResumesWhereItWasStopped) {
   const std::vector<std::string> study{
       "stability", "--only", "segment_5mm_core_r5mm", "--jobs", "1", "--checkpoint", "0.05"};
@@ -608,7 +610,7 @@ TEST_F(WireSimCli, StabilityStudyResumesWhereItWasStopped) {
   const RunResult a = run(with_out(straight));
   ASSERT_EQ(a.status, 0) << a.err;
   const std::vector<std::string> expected = figures(straight / "stability.csv");
-  ASSERT_EQ(expected.size(), 4u) << readAll(straight / "stability.csv");
+  ASSERT_EQ(expected.size(), 1u + cws::integrators().size()) << readAll(straight / "stability.csv");
 
   // Stopped once the unfinished run has a checkpoint.
   const fs::path err = dir_ / "stopped_stderr.txt";
@@ -635,8 +637,8 @@ TEST_F(WireSimCli, StabilityStudyResumesWhereItWasStopped) {
   const std::string table = readAll(resumed / "stability.csv");
   EXPECT_TRUE(contains(table, "rkf45,PENDING")) << table;
   EXPECT_TRUE(contains(table, "not finished: checkpoint at t = ")) << table;
-  EXPECT_TRUE(contains(table, "symplectic_euler,PENDING")) << table;
-  EXPECT_TRUE(contains(table, "not run yet")) << table;
+  EXPECT_TRUE(contains(table, "symplectic_euler,stable")) << table;
+  EXPECT_TRUE(contains(table, "bdf2,stable")) << table;
   EXPECT_TRUE(contains(table, "rosenbrock2,stopped")) << table;
   EXPECT_TRUE(fs::exists(checkpoint));
 
@@ -648,12 +650,12 @@ TEST_F(WireSimCli, StabilityStudyResumesWhereItWasStopped) {
   EXPECT_EQ(figures(resumed / "stability.csv"), expected);
   EXPECT_FALSE(fs::exists(checkpoint)) << "a finished run keeps no checkpoint";
 
-  // Again: all three kept, the same table.
+  // Again: all five kept, the same table.
   const RunResult c = run(with_out(resumed));
   ASSERT_EQ(c.status, 0) << c.err;
-  EXPECT_EQ(splitLines(c.err).size(), 3u) << c.err;
+  EXPECT_EQ(splitLines(c.err).size(), cws::integrators().size()) << c.err;
   EXPECT_EQ(figures(resumed / "stability.csv"), expected);
-  EXPECT_TRUE(contains(readAll(resumed / "STABILITY.md"), "kept 3 results")) << c.err;
+  EXPECT_TRUE(contains(readAll(resumed / "STABILITY.md"), "kept 5 results")) << c.err;
 
   // Another input (the tension), or --fresh: nothing kept. (A short budget
   // keeps this quick: the runs end as BUDGET, exit 1.)

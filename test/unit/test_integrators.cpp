@@ -52,7 +52,7 @@ TEST(ErrorEstimate, RefinesTheSettingTheMethodReads) {
   EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.implicit_step, 0.5 * s.solver.implicit_step);
   EXPECT_EQ(what, "solver.implicit_step / 2");
   s = cws::loadScene(kDefault, {"solver.integrator=symplectic_euler"});
-  EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.fixed_step, 0.5 * s.solver.fixed_step);
+  EXPECT_DOUBLE_EQ(*cws::refinedScene(s, what).solver.fixed_step, 0.5 * cws::fixedStep(s));
   s = cws::loadScene(kDefault, {"solver.integrator=rkf45"});
   EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.rtol, 0.1 * s.solver.rtol);
   EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.atol, 0.1 * s.solver.atol);

@@ -796,7 +796,9 @@ std::vector<Field> numberFields(const cws::Scene& like) {
   add("solver.min_step", [](cws::Scene& s) -> double& { return s.solver.min_step; });
   add("solver.max_step", [](cws::Scene& s) -> double& { return s.solver.max_step; });
   add("solver.initial_step", [](cws::Scene& s) -> double& { return s.solver.initial_step; });
-  add("solver.fixed_step", [](cws::Scene& s) -> double& { return s.solver.fixed_step; });
+  if (like.solver.fixed_step) {
+    add("solver.fixed_step", [](cws::Scene& s) -> double& { return *s.solver.fixed_step; });
+  }
   add("solver.baumgarte_nu", [](cws::Scene& s) -> double& { return s.solver.baumgarte_nu; });
   vec("gravity.acceleration", 3,
       [](cws::Scene& s, int i) -> double& { return s.gravity.acceleration_world[i]; });

@@ -73,3 +73,51 @@ TEST(SymplecticEuler, AboveTheStabilityLimitItIsRefused) {
   below.run();
   EXPECT_TRUE(std::isfinite(cws_test::tipPosition(below).norm()));
 }
+
+TEST(SymplecticEuler, AutoStepFollowsAStifferWire) {
+  // solver.fixed_step: auto (the default scene's) is a quarter of l / c for
+  // whatever wire the scene has: a wire 100 times stiffer in tension
+  // (c = sqrt(EA / rho) ten times higher) is not refused for a step its
+  // user never set, and its step is l / (4 c) from the closed form.
+  const std::string path = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
+  const std::vector<std::string> stiff = {"solver.integrator=symplectic_euler",
+                                          "wire.stretch.elastic_rigidity=4.89e6",
+                                          "physics.torsion=false", "process.duration=2e-5"};
+  cws::Scene s = cws::loadScene(path, stiff);
+  EXPECT_FALSE(s.solver.fixed_step.has_value());
+  const double c = std::sqrt(4.89e6 / 7.02e-3);  // [m/s]
+  EXPECT_NEAR(cws::fixedStep(s), 0.25 * 1.0e-3 / c, 1e-12 * 1.0e-3 / c);
+  cws::Simulation sim(s);
+  sim.run();
+  EXPECT_NEAR(sim.time(), 2e-5, 1e-15);
+  EXPECT_TRUE(std::isfinite(sim.model().maxConstraintResidual()));
+  // The same wire with the step the default scene used to name (1e-7 s,
+  // above its l / c of 3.8e-8 s) is refused, naming the key.
+  std::vector<std::string> fixed = stiff;
+  fixed.push_back("solver.fixed_step=1e-7");
+  try {
+    cws::loadScene(path, fixed);
+    FAIL() << "expected a SceneError";
+  } catch (const cws::SceneError& e) {
+    EXPECT_EQ(e.key(), "solver.fixed_step");
+  }
+}
+
+TEST(SymplecticEuler, AutoIsAWordOfTheSceneFile) {
+  // `auto` reads as unset and is printed back as `auto`; another word is
+  // refused naming both choices.
+  cws::Scene s = cws::loadScene("", {"solver.fixed_step=auto"});
+  EXPECT_FALSE(s.solver.fixed_step.has_value());
+  EXPECT_NE(cws::sceneToYamlText(s).find("fixed_step: auto"), std::string::npos);
+  s = cws::loadScene("", {"solver.fixed_step=2e-7"});
+  ASSERT_TRUE(s.solver.fixed_step.has_value());
+  EXPECT_DOUBLE_EQ(*s.solver.fixed_step, 2e-7);
+  EXPECT_DOUBLE_EQ(cws::fixedStep(s), 2e-7);
+  try {
+    cws::loadScene("", {"solver.fixed_step=fast"});
+    FAIL() << "expected a SceneError";
+  } catch (const cws::SceneError& e) {
+    EXPECT_EQ(e.key(), "solver.fixed_step");
+    EXPECT_NE(std::string(e.what()).find("a number or 'auto'"), std::string::npos) << e.what();
+  }
+}

@@ -25,7 +25,11 @@ struct StabilityCriteria {
 // Figures of a run against those criteria.
 struct RunMeasures {
   bool finite = true;              // state and energy terms all finite
-  double energy_rel = 0.0;         // relative energy imbalance [-]
+  double energy_rel = 0.0;         // relative energy imbalance |KE + U + D - W| / scale [-]
+  double energy_signed_rel = 0.0;  // the same with its sign: < 0 energy lost, > 0 created
+  // The method is numerically dissipative (IntegratorInfo): its lost energy
+  // is numerical dissipation, reported, not a broken balance.
+  bool dissipative_method = false;
   double energy_scale_J = 0.0;     // max(|W|, KE + U + D) [J]
   double residual = 0.0;           // largest constraint residual [-]
   double penetration_ratio = 0.0;  // deepest penetration / radius [-] (0 without contact)

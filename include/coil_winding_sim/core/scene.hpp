@@ -102,7 +102,9 @@ struct SolverParams {
   double min_step = 1.0e-12;     // step floor [s]; below it the run stops
   double max_step = 1.0e-4;      // [s]
   double initial_step = 1.0e-7;  // [s]
-  double fixed_step = 5.0e-8;    // step of the fixed-step integrators [s]
+  // Step of the fixed-step integrators [s]; unset (YAML `auto`): a safe
+  // fraction of the scene's explicit stability limit (fixedStep()).
+  std::optional<double> fixed_step;
   double baumgarte_nu = 5000.0;  // constraint stabilization nu [1/s], eq. (6)
   // Implicit integrators (implicit_euler, bdf2): step [s], Newton's
   // convergence bound on the largest position update [m], its iteration
@@ -212,6 +214,14 @@ void validateScene(const Scene& scene);
 // Stability limit of an explicit step for this wire [s]: the time l / c a
 // wave needs to cross a segment (axial, or torsional with torsion on).
 double explicitStepLimit(const Scene& scene);
+
+// The fraction of explicitStepLimit() that solver.fixed_step: auto takes
+// (docs/MODEL.md, "Time integration").
+constexpr double kAutoStepFraction = 0.25;
+
+// The step of the fixed-step integrators [s]: solver.fixed_step, or with
+// `auto` kAutoStepFraction of explicitStepLimit(), at most solver.max_step.
+double fixedStep(const Scene& scene);
 
 // Loads the defaults, then `path` (if not empty; a top-level `base: FILE`
 // in it loads FILE, relative to it, first), then each "key.path=value"

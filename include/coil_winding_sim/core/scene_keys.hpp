@@ -43,6 +43,9 @@ struct KeyRange {
   std::vector<std::string> words;  // kOneOf: the allowed words
   int most = 0;                    // kCount
   std::optional<int> least;        // kCount: checked by validateScene when set
+  // An optional number: the word for "unset" in a scene file (e.g. `auto`);
+  // empty: YAML's null (~).
+  std::string unset_word;
 };
 
 // Calls fn(key, value) for each number of a scene, vectors by component

@@ -135,10 +135,12 @@ bool Contact::recheckFlags(const PlanarState& s) {
         trial_sign_[i] = along < 0.0 ? -1 : 1;
         changed = true;
       }
-    } else if (fresh ? std::abs(vt) < p_.stick_speed : trial_sign_[i] * vt < p_.stick_speed) {
+    } else if (p_.static_friction > 0.0 &&
+               (fresh ? std::abs(vt) < p_.stick_speed : trial_sign_[i] * vt < p_.stick_speed)) {
       // Slow enough, or the sliding would have reversed within the step
       // (kinetic friction stops a point, it does not push it back): stick
-      // where it is (as a commit of contact.cpp does).
+      // where it is (as a commit of contact.cpp does). Without static
+      // friction a stuck point would slip at once: it keeps sliding.
       trial_stuck_[i] = 1;
       trial_anchor_core_[i] =
           rot_world_core_.transpose() * (s.plane.toWorld(x) - core_.originWorld());

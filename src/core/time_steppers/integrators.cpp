@@ -32,11 +32,13 @@ std::vector<IntegratorInfo> registry() {
                false,
                true,
                false,
+               false,
                makeRkf45});
   r.push_back({"symplectic_euler",
                "fixed-step semi-implicit Euler below the explicit limit l / c",
                {"fixed_step", "baumgarte_nu"},
                true,
+               false,
                false,
                false,
                makeSymplecticEuler});
@@ -46,6 +48,7 @@ std::vector<IntegratorInfo> registry() {
                false,
                true,
                false,
+               false,
                makeRosenbrock2});
   r.push_back({"implicit_euler",
                "backward Euler with Newton steps in reduced coordinates (planar scenes)",
@@ -53,12 +56,14 @@ std::vector<IntegratorInfo> registry() {
                false,
                false,
                true,
+               true,
                makeImplicitEuler});
   r.push_back({"bdf2",
                "variable-step BDF2 with Newton steps in reduced coordinates (planar scenes)",
                {"implicit_step", "newton_tol", "newton_max_iterations", "flag_rounds", "min_step"},
                false,
                false,
+               true,
                true,
                makeBdf2});
   return r;

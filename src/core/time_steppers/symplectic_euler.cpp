@@ -2,10 +2,14 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace cws {
 
-SymplecticEuler::SymplecticEuler(const SolverParams& p, int capacity) : h_(p.fixed_step) {
+SymplecticEuler::SymplecticEuler(const SolverParams& p, int capacity)
+    : h_(p.fixed_step.value_or(0.0)) {
+  // Simulation resolves `auto` (fixedStep()) before it builds the stepper.
+  if (!(h_ > 0.0)) throw std::invalid_argument("symplectic_euler needs a resolved fixed step");
   dydt_.setZero(capacity);
 }
 

@@ -27,6 +27,10 @@ struct IntegratorInfo {
   bool error_controlled = false;
   // Reduced coordinates of a planar scene only (physics.planar).
   bool planar_only = false;
+  // L-stable: it removes the energy of motion its step does not resolve.
+  // That numerical dissipation is reported as its own term; the energy
+  // balance then bounds only energy the method creates.
+  bool numerically_dissipative = false;
   std::unique_ptr<TimeStepper> (*make)(const SolverParams& p, OdeSystem& sys) = nullptr;
 };
 
