@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "coil_winding_sim/core/external_forces/damping.hpp"
 #include "coil_winding_sim/core/external_forces/end_load.hpp"
@@ -206,7 +207,7 @@ void WireModel::prescribedPose(double t, Eigen::Vector3d& p_world, Eigen::Vector
   qd = 0.5 * quat::E(q).transpose() * w;
 }
 
-Eigen::Vector3d WireModel::unpack(double t, ConstRef y, WireKinematics& k) const {
+Eigen::Vector3d WireModel::unpack(double t, ConstRef y, WireKinematics& k, int from) const {
   Eigen::Vector3d p0, v0, a0;
   Eigen::Vector4d q0, qd0;
   clamp(t, p0, v0, a0, q0, qd0);
@@ -214,7 +215,7 @@ Eigen::Vector3d WireModel::unpack(double t, ConstRef y, WireKinematics& k) const
   k.v_world.col(0) = v0;
   k.q.col(0) = q0;
   k.qd.col(0) = qd0;
-  for (int i = 1; i < c_.n; ++i) {
+  for (int i = std::max(from, 1); i < c_.n; ++i) {
     const int o = offsetOf(i);
     k.p_world.col(i) = y.segment<3>(o);
     k.q.col(i) = y.segment<4>(o + 3);
@@ -345,7 +346,8 @@ void WireModel::appendPoint(double t, Eigen::VectorXd& y) {
   y.segment<4>(o + 10) = qd;
   ++c_.n;
   ++points_added_;
-  unpack(t, y, committed_);
+  // (The carried wire's committed poses stay: they need no unpacking.)
+  unpack(t, y, committed_, c_.first);
   for (ForceEffect* e : all_) e->grow(committed_);
   // The new material brings its kinetic energy and the work that stretched
   // it to the supply tension: both count as work done on the wire.
@@ -358,14 +360,14 @@ void WireModel::removeLastPoint(double t, Eigen::VectorXd& y) {
   for (ForceEffect* e : all_) e->shrink(committed_);
   --c_.n;
   --points_added_;
-  unpack(t, y, committed_);
+  unpack(t, y, committed_, c_.first);
   // The wire that leaves takes its kinetic and recoverable energy with it:
   // work done by the wire on the supply (its plastic work stays counted).
   const EnergyReport after = energy(y);
   y[0] -= (before.kinetic - after.kinetic) + (before.elastic - after.elastic);
 }
 
-void WireModel::placeCarried(double t, int i, Eigen::VectorXd& y) {
+void WireModel::placeCarried(double t, int i) {
   // The core's pose at t, once per accepted step (a sine and cosine each).
   if (t != carry_frame_time_) {
     carry_frame_time_ = t;
@@ -379,27 +381,33 @@ void WireModel::placeCarried(double t, int i, Eigen::VectorXd& y) {
   const Eigen::Quaterniond qw = carry_q_ * qc;
   const quat::Vec4 q(qw.w(), qw.x(), qw.y(), qw.z());
   const Eigen::Vector3d& w = carry_w_;
+  committed_.p_world.col(i) = p;
+  committed_.q.col(i) = q;
+  committed_.v_world.col(i) = w.cross(p - core_->originWorld());
+  committed_.qd.col(i) = 0.5 * quat::E(q).transpose() * w;
+}
+
+void WireModel::writeCommitted(int i, Eigen::VectorXd& y) const {
   const int o = offsetOf(i);
-  y.segment<3>(o) = p;
-  y.segment<4>(o + 3) = q;
-  y.segment<3>(o + 7) = w.cross(p - core_->originWorld());
-  y.segment<4>(o + 10) = 0.5 * quat::E(q).transpose() * w;
-  committed_.p_world.col(i) = y.segment<3>(o);
-  committed_.q.col(i) = y.segment<4>(o + 3);
-  committed_.v_world.col(i) = y.segment<3>(o + 7);
-  committed_.qd.col(i) = y.segment<4>(o + 10);
+  y.segment<3>(o) = committed_.p_world.col(i);
+  y.segment<4>(o + 3) = committed_.q.col(i);
+  y.segment<3>(o + 7) = committed_.v_world.col(i);
+  y.segment<4>(o + 10) = committed_.qd.col(i);
+}
+
+void WireModel::placeCarried(double t, int i, Eigen::VectorXd& y) {
+  placeCarried(t, i);
+  writeCommitted(i, y);
 }
 
 void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
   // Stuck groups: runs of points held by static friction. The core carries
   // wound wire at most up to the start of the last group but one; that
   // group and the wire after it stay integrated.
+  // (Found from the far end: a scan of the integrated wire, not the wound.)
   int last_start = -1, prev_start = -1;
-  for (int i = 1; i < c_.n; ++i) {
-    if (contact_->stuck(i) && !contact_->stuck(i - 1)) {
-      prev_start = last_start;
-      last_start = i;
-    }
+  for (int i = c_.n - 1; i >= 1 && prev_start < 0; --i) {
+    if (contact_->stuck(i) && !contact_->stuck(i - 1)) (last_start < 0 ? last_start : prev_start) = i;
   }
   const int limit = std::min(prev_start, c_.n - 2);
   // Release: wound wire before that limit slips on the core (in contact,
@@ -409,6 +417,8 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
     if (contact_->inContact(i) && !contact_->stuck(i)) {
       int r = i;
       while (r > 1 && !(contact_->stuck(r) && !contact_->stuck(r - 1))) --r;
+      // Released points are integrated again from their rigid poses now.
+      if (r < c_.first) placeCarriedWire(y);
       c_.first = std::min(c_.first, r);
       return;
     }
@@ -447,10 +457,19 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
 }
 
 void WireModel::acceptStep(double t, Eigen::VectorXd& y) {
-  unpack(t, y, committed_);
   committed_time_ = t;
-  // Carried points: back onto their exact rigid poses (no drift).
-  for (int i = 1; i < c_.first; ++i) placeCarried(t, i, y);
+  if (carried_deferred_ && c_.first > 1) {
+    // The integrated points, and the boundary one on its rigid pose; the
+    // rest of the carried wire waits for placeCarriedWire().
+    unpack(t, y, committed_, c_.first);
+    placeCarried(t, c_.first - 1, y);
+    carried_kinematics_placed_ = carried_state_placed_ = c_.first == 2;
+  } else {
+    unpack(t, y, committed_);
+    // Carried points: back onto their exact rigid poses (no drift).
+    for (int i = 1; i < c_.first; ++i) placeCarried(t, i, y);
+    carried_kinematics_placed_ = carried_state_placed_ = true;
+  }
   for (ForceEffect* e : all_) e->commit(t, committed_);
   if (core_) core_->commit(t);
   if (supply_) {
@@ -463,12 +482,36 @@ void WireModel::acceptStep(double t, Eigen::VectorXd& y) {
   if (carry_) updateCarried(t, y);
 }
 
+void WireModel::placeCarriedWire() const {
+  if (carried_kinematics_placed_) return;
+  // Only the carried poses of the committed kinematics (a cache) change.
+  WireModel& self = const_cast<WireModel&>(*this);
+  for (int i = 1; i < c_.first - 1; ++i) self.placeCarried(committed_time_, i);
+  self.carried_kinematics_placed_ = true;
+}
+
+void WireModel::requirePlacedState() const {
+  if (!carried_state_placed_) {
+    throw std::logic_error("WireModel: the state vector's carried wire is not placed (call "
+                           "placeCarriedWire(y) first)");
+  }
+}
+
+void WireModel::placeCarriedWire(Eigen::VectorXd& y) const {
+  if (carried_state_placed_) return;
+  placeCarriedWire();
+  for (int i = 1; i < c_.first - 1; ++i) writeCommitted(i, y);
+  carried_state_placed_ = true;
+}
+
 double WireModel::standOff(int i) const {
+  placeCarriedWire();
   const Eigen::Vector3d p_core = core_->pointCore(committed_time_, committed_.p_world.col(i));
   return section_->signedDistance(p_core.head<2>()) - c_.radius;
 }
 
 BulgeReport WireModel::bulging() const {
+  placeCarriedWire();
   BulgeReport b;
   if (!contact_ || !section_) return b;
   int last_contact = -1;
@@ -492,6 +535,7 @@ BulgeReport WireModel::bulging() const {
 }
 
 ModelState WireModel::saveState(const Eigen::VectorXd& y) const {
+  requirePlacedState();
   ModelState m;
   m.points = c_.n;
   m.y.assign(y.data(), y.data() + size());
@@ -568,6 +612,7 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
     carried_p_core_[i] = Eigen::Map<const Eigen::Vector3d>(pose);
     carried_q_core_[i] = Eigen::Map<const Eigen::Vector4d>(pose + 3);
   }
+  carried_kinematics_placed_ = carried_state_placed_ = true;  // a snapshot: the whole wire
 }
 
 void WireModel::setCoreSpeed(double omega) {
@@ -587,6 +632,7 @@ void WireModel::setPortCommand(const Eigen::Vector3d& p_world, double t_s) {
 }
 
 EnergyReport WireModel::energy(const Eigen::VectorXd& y) const {
+  placeCarriedWire();
   EnergyReport r;
   const WireKinematics& k = committed_;
   for (int i = 1; i < c_.n; ++i) {
@@ -605,6 +651,7 @@ EnergyReport WireModel::energy(const Eigen::VectorXd& y) const {
 double WireModel::axialForce(int j) const { return stretching_->axialForce(committed_, j); }
 
 PointReport WireModel::point(int i) const {
+  placeCarriedWire();
   PointReport r;
   const WireKinematics& k = committed_;
   r.p_world = k.p_world.col(i);

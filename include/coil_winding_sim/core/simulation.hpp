@@ -100,8 +100,13 @@ class Simulation {
   const WireModel& model() const { return *model_; }
   WireModel& model() { return *model_; }
   const TimeStepper& stepper() const { return *stepper_; }
-  const Eigen::VectorXd& state() const { return y_; }
-  EnergyReport energy() const { return model_->energy(y_); }
+  // The state with the whole wire at the last accepted step (deferred
+  // carried wire placed first: WireModel::setCarriedDeferred).
+  const Eigen::VectorXd& state() const {
+    model_->placeCarriedWire(y_);
+    return y_;
+  }
+  EnergyReport energy() const { return model_->energy(state()); }
   // Largest values over all accepted steps.
   double maxConstraintResidual() const { return max_residual_; }
   double maxAxialForce() const { return max_axial_force_; }  // [N]
@@ -123,7 +128,9 @@ class Simulation {
   Scene scene_;
   std::unique_ptr<WireModel> model_;
   std::unique_ptr<TimeStepper> stepper_;
-  Eigen::VectorXd y_;
+  // The state; mutable for the deferred carried wire it is brought up to
+  // date with when read (WireModel::setCarriedDeferred).
+  mutable Eigen::VectorXd y_;
   double t_ = 0.0;
   double t_end_ = 0.0;
   double wall_s_ = 0.0;

@@ -112,11 +112,17 @@ class WireModel : public OdeSystem {
   const Eigen::VectorXd& initialState() const { return y0_; }
   const WireConstants& constants() const { return c_; }
 
-  // Kinematics of all points (point 0 included) for a state; returns the
+  // Kinematics of point 0 and of points from..n-1 for a state; returns the
   // clamp's (point 0's) acceleration [m/s^2].
-  Eigen::Vector3d unpack(double t, ConstRef y, WireKinematics& k) const;
-  // Kinematics at the last accepted step.
-  const WireKinematics& committed() const { return committed_; }
+  Eigen::Vector3d unpack(double t, ConstRef y, WireKinematics& k, int from = 1) const;
+  // Kinematics at the last accepted step, of the whole wire.
+  const WireKinematics& committed() const {
+    placeCarriedWire();
+    return committed_;
+  }
+  // The same without placing deferred carried wire: valid from the
+  // boundary point first-1 on (for the steppers).
+  const WireKinematics& integratedKinematics() const { return committed_; }
 
   EnergyReport energy(const Eigen::VectorXd& y) const;
   double maxConstraintResidual() const { return constraints_.maxResidual(committed_); }
@@ -157,6 +163,19 @@ class WireModel : public OdeSystem {
   // Points 1..carriedPoints() move rigidly with the core and are not
   // integrated (solver.carry_stuck_wire); 0 otherwise.
   int carriedPoints() const { return c_.first - 1; }
+  // Deferred carried wire (for steppers that read only the integrated
+  // points and the boundary point first-1, as the Newton-step ones do): an
+  // accepted step then places only the boundary point. The other carried
+  // points are placed in committed() when the whole wire is next read
+  // (committed(), bulging(), standOff(), point()), and in a state vector by
+  // placeCarriedWire(y), which energy(y) and saveState(y) require first
+  // (Simulation::state() and Simulation::energy() call it). This keeps a
+  // step's cost independent of the wound wire's length.
+  void setCarriedDeferred(bool deferred) { carried_deferred_ = deferred; }
+  // Places deferred carried wire in the committed kinematics, and in y, the
+  // state of the last accepted step (caches: logically const).
+  void placeCarriedWire() const;
+  void placeCarriedWire(Eigen::VectorXd& y) const;
 
  private:
   // Clamp state of point 0 and frame 0 at time t (world frame).
@@ -172,6 +191,11 @@ class WireModel : public OdeSystem {
   // i at time t, written into y and the committed kinematics; and the
   // decision, after an accepted step, of how much wire the core carries.
   void placeCarried(double t, int i, Eigen::VectorXd& y);
+  void placeCarried(double t, int i);                  // the committed kinematics only
+  void writeCommitted(int i, Eigen::VectorXd& y) const;  // point i's committed state into y
+  // Throws std::logic_error where a reader of y comes before
+  // placeCarriedWire(y) (a programming error, not an input one).
+  void requirePlacedState() const;
   void updateCarried(double t, Eigen::VectorXd& y);
 
   WireConstants c_;
@@ -201,6 +225,10 @@ class WireModel : public OdeSystem {
   Eigen::Matrix3d carry_rot_;
   Eigen::Quaterniond carry_q_;
   Eigen::Vector3d carry_w_;
+  bool carried_deferred_ = false;
+  // Carried poses at committed_time_ in committed_ and in the state vector.
+  bool carried_kinematics_placed_ = true;
+  mutable bool carried_state_placed_ = true;
 
   std::unique_ptr<PlanarFormulation> planar_;  // planar scenes only
   Eigen::VectorXd y0_, atol_, rweight_;

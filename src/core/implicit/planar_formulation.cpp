@@ -29,7 +29,7 @@ PlanarFormulation::PlanarFormulation(WireModel& model, const Scene& scene)
       flag_rounds_(scene.solver.flag_rounds) {
   const int cap = model.constants().capacity;
   for (ForceEffect* e : model.effectList()) effects_.push_back(e);
-  const WireKinematics& k = model.committed();
+  const WireKinematics& k = model.integratedKinematics();
   state_.plane = PlaneBasis::through(k.p_world.col(0), scene.core.axis_world);
   // The plane normal in the material axes: the same in every frame.
   const quat::Vec4 q0 = k.q.col(0);
@@ -51,23 +51,26 @@ PlanarFormulation::PlanarFormulation(WireModel& model, const Scene& scene)
 }
 
 void PlanarFormulation::load(double t0) {
-  const WireKinematics& k = model_.committed();
+  const WireKinematics& k = model_.integratedKinematics();
   const WireConstants& c = model_.constants();
   state_.first = c.first;
   state_.n = c.n;
   state_.t = t0;
-  for (int i = 0; i < c.n; ++i) {
+  // The integrated points and the boundary one before them; carried wire
+  // is not read (WireModel::setCarriedDeferred).
+  const int b = c.first - 1, m = c.n - b;
+  for (int i = b; i < c.n; ++i) {
     x0_.col(i) = state_.plane.toPlane(k.p_world.col(i));
     v0_.col(i) = state_.plane.vectorToPlane(k.v_world.col(i));
   }
   // Frame i turns with segment i-1.
-  for (int i = 1; i < c.n; ++i) {
+  for (int i = c.first; i < c.n; ++i) {
     const Eigen::Vector2d d = x0_.col(i) - x0_.col(i - 1);
     frame_gradient_.col(i) = planar::angleGradient(d);
     omega0_[i] = frame_gradient_.col(i).dot(v0_.col(i) - v0_.col(i - 1));
   }
-  state_.x.leftCols(c.n) = x0_.leftCols(c.n);
-  state_.v.leftCols(c.n) = v0_.leftCols(c.n);
+  state_.x.middleCols(b, m) = x0_.middleCols(b, m);
+  state_.v.middleCols(b, m) = v0_.middleCols(b, m);
   placeBoundary(t0);
   for (ForceEffect* e : effects_) e->beginImplicitStep(state_);
 }
@@ -229,7 +232,7 @@ NewtonStats PlanarFormulation::solve(double t1, double alpha, double kappa,
 }
 
 void PlanarFormulation::store(double h, Eigen::VectorXd& y) {
-  const WireKinematics& k = model_.committed();
+  const WireKinematics& k = model_.integratedKinematics();
   const PlaneBasis& pl = state_.plane;
   const int f = state_.first, n = state_.n;
   // Bookkeeping at the end state: a converged solve's last evaluation was

@@ -30,15 +30,30 @@ void ImplicitStepper::restore(double next_step, double last_step, const StepCoun
 }
 
 void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) {
+  // A limit within rounding of t is reached as it is. A step of that size
+  // would turn Newton's position tolerance into velocities of tol / h: at
+  // h = 1e-18 s (t summed from steps of 1e-4 s short of a limit of 0.005 s)
+  // the wire was flung and drawn back through the port.
+  if (t_limit - t <= kLandRounding * std::max(1.0, std::abs(t))) {
+    t = t_limit;
+    return;
+  }
   PlanarFormulation& f = *sys.planarFormulation();
   f.load(t);
   const int first = f.first(), n = f.n(), m = n - first;
+  // Points the core released since the last step have no past here (only
+  // integrated points are loaded): restart with an Euler step.
+  if (first < first_prev_) have_prev_ = false;
   const Eigen::Matrix2Xd& x0 = f.x0();
   const Eigen::Matrix2Xd& v0 = f.v0();
   const Eigen::VectorXd& w0 = f.omega0();
   for (;;) {
-    double h = std::min(h_, t_limit - t);
-    const bool clipped = h < h_;
+    // No sliver before the limit: a remainder of at most kLandStretch more
+    // than the step is one step onto the limit, one of less than two steps
+    // is split into two equal ones.
+    const double rest = t_limit - t;
+    const bool clipped = rest <= (1.0 + kLandStretch) * h_;
+    const double h = clipped ? rest : (rest < 2.0 * h_ ? 0.5 * rest : h_);
     // BDF2 over the last two steps (variable-step coefficients, ratio r =
     // h / h_prev); backward Euler for the first step, after a retry, and
     // where the step grows more than twofold (variable-step BDF2 is
@@ -89,12 +104,13 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
       f.load(t);
       continue;
     }
-    // Keep this step's start as the past of the next one (all points, the
-    // carried ones too: a point released from the core has its past).
-    x_prev_.leftCols(n) = x0.leftCols(n);
-    v_prev_.leftCols(n) = v0.leftCols(n);
-    omega_prev_.head(n) = w0.head(n);
+    // Keep this step's start as the past of the next one (the integrated
+    // points; a point the core releases restarts the method above).
+    x_prev_.middleCols(first, m) = x0.middleCols(first, m);
+    v_prev_.middleCols(first, m) = v0.middleCols(first, m);
+    omega_prev_.segment(first, m) = w0.segment(first, m);
     n_prev_ = n;
+    first_prev_ = first;
     h_prev_ = h;
     have_prev_ = true;
     f.store(h, y);

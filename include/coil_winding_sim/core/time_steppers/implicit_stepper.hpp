@@ -19,6 +19,10 @@ namespace cws {
 class ImplicitStepper : public TimeStepper {
  public:
   enum class Scheme { kBackwardEuler, kBdf2 };
+  // A limit this close to t (relative to max(1 s, |t|)) counts as reached.
+  static constexpr double kLandRounding = 1e-12;
+  // A step may be this much longer to land on the limit.
+  static constexpr double kLandStretch = 0.01;
   ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme);
 
   const char* name() const override { return scheme_ == Scheme::kBdf2 ? "bdf2" : "implicit_euler"; }
@@ -42,6 +46,7 @@ class ImplicitStepper : public TimeStepper {
   Eigen::VectorXd omega_prev_, omega_hat_;
   double h_prev_ = 0.0;
   int n_prev_ = 0;
+  int first_prev_ = 0;  // the first integrated point of the last step
   bool have_prev_ = false;
 };
 
