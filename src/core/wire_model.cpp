@@ -68,7 +68,8 @@ WireModel::WireModel(const Scene& s)
       carry_(s.solver.carry_stuck_wire && s.physics.contact && s.physics.friction &&
              s.start.frame == "core"),
       carried_p_core_(carry_ ? c_.capacity : 0),
-      carried_q_core_(carry_ ? c_.capacity : 0) {
+      carried_q_core_(carry_ ? c_.capacity : 0),
+      carried_stand_off_(carry_ ? c_.capacity : 0) {
   // The core exists only for scenes that touch it, draw wire onto it or hold
   // the wire on it.
   if (needsCore(s)) {
@@ -419,6 +420,7 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
       while (r > 1 && !(contact_->stuck(r) && !contact_->stuck(r - 1))) --r;
       // Released points are integrated again from their rigid poses now.
       if (r < c_.first) placeCarriedWire(y);
+      stand_off_known_ = std::min(stand_off_known_, std::max(r, 1));
       c_.first = std::min(c_.first, r);
       return;
     }
@@ -522,13 +524,27 @@ BulgeReport WireModel::bulging() const {
   b.valid = true;
   b.wound_points = last_contact + 1;
   b.height_m = 0.0;
+  // A carried point's stand-off is fixed while the core carries it: found
+  // once (CoreSection::signedDistance is a search over directions), not at
+  // every report.
+  const int carried_end = std::min(c_.first, last_contact + 1);
   for (int i = 0; i <= last_contact; ++i) {
-    const double h = standOff(i);
+    double h;
+    if (i >= 1 && i < carried_end) {
+      if (i >= stand_off_known_) {
+        carried_stand_off_[i] =
+            section_->signedDistance(carried_p_core_[i].head<2>()) - c_.radius;
+      }
+      h = carried_stand_off_[i];
+    } else {
+      h = standOff(i);
+    }
     if (h > b.height_m || b.index < 0) {
       b.height_m = std::max(0.0, h);
       b.index = i;
     }
   }
+  stand_off_known_ = std::max(stand_off_known_, carried_end);
   b.arc_length_m = b.index * c_.segment_length;
   b.p_core = core_->pointCore(committed_time_, committed_.p_world.col(b.index));
   return b;
@@ -613,6 +629,7 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
     carried_q_core_[i] = Eigen::Map<const Eigen::Vector4d>(pose + 3);
   }
   carried_kinematics_placed_ = carried_state_placed_ = true;  // a snapshot: the whole wire
+  stand_off_known_ = 1;
 }
 
 void WireModel::setCoreSpeed(double omega) {

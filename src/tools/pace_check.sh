@@ -15,9 +15,22 @@ SECONDS_WALL=${2:-10}
 shift 2 2>/dev/null || true
 export ROS_MASTER_URI=http://localhost:11411
 OUT=$(mktemp -d)
+if rostopic list > /dev/null 2>&1; then
+  echo "pace_check: a ROS master already runs on port 11411; stop it first" >&2
+  exit 2
+fi
 roscore -p 11411 > "$OUT/roscore.log" 2>&1 &
 CORE=$!
-trap 'kill $LAUNCH $CORE 2>/dev/null; wait 2>/dev/null; rm -rf "$OUT"' EXIT
+LAUNCH=
+cleanup() {
+  [ -n "$LAUNCH" ] && kill -INT "$LAUNCH" 2>/dev/null
+  sleep 1
+  kill "$CORE" 2>/dev/null
+  pkill -f "rosmaster --core -p 11411" 2>/dev/null
+  wait 2>/dev/null
+  rm -rf "$OUT"
+}
+trap cleanup EXIT INT TERM
 for _ in $(seq 50); do rostopic list > /dev/null 2>&1 && break; sleep 0.2; done
 # Subscribers first, so the whole run is seen.
 timeout $((SECONDS_WALL + 8)) rostopic echo -p winding_metrics > "$OUT/metrics.csv" 2>/dev/null &
@@ -38,11 +51,15 @@ if len(rows) < 2:
 t = [int(r["field.header.stamp"]) * 1e-9 for r in rows]
 turns = [float(r["field.core_turns"]) for r in rows]
 rtf = sorted(float(r["field.real_time_factor"]) for r in rows)
-pace = all(r["field.keeping_pace"] in ("1", "True") for r in rows)
+behind = [float(r["field.sim_time"]) for r in rows if r["field.keeping_pace"] not in ("1", "True")]
+pace = not behind
 levels = sorted({l.split(",")[1] for l in open(out + "/diag.csv").read().split()[1:]})
 print(f"core: {2 * math.pi * (turns[-1] - turns[0]) / (t[-1] - t[0]):.3f} rad/s from stamps over "
       f"{t[-1] - t[0]:.2f} s (commanded {speed:g}); turns {turns[0]:.2f} -> {turns[-1]:.2f}; "
       f"points at the end {rows[-1]['field.points']}")
-print(f"keeping_pace always true: {pace}; node real-time factor median {rtf[len(rtf) // 2]:.3f} "
+print(f"keeping_pace always true: {pace}"
+      + (f" (false in {len(behind)} of {len(rows)} messages, simulated t = {behind[0]:.3f} to "
+         f"{behind[-1]:.3f} s)" if behind else "")
+      + f"; node real-time factor median {rtf[len(rtf) // 2]:.3f} "
       f"(min {rtf[0]:.3f}); /diagnostics levels seen: {levels} (0 OK, 1 WARN, 2 ERROR)")
 PY

@@ -27,6 +27,16 @@ cws::Scene paperCase(double turns, bool carry) {
 void runTo(cws::Simulation& sim, double t) {
   while (sim.time() < t) sim.step(t);
 }
+
+// The bulging height from every wound point's stand-off, with no cache:
+// what WireModel::bulging() keeps for carried points must agree with it.
+void expectBulgingAsRecomputed(const cws::WireModel& m) {
+  const cws::BulgeReport b = m.bulging();
+  if (!b.valid) return;
+  double height = 0.0;
+  for (int i = 0; i < b.wound_points; ++i) height = std::max(height, m.standOff(i));
+  EXPECT_NEAR(b.height_m, height, 1e-15) << m.carriedPoints() << " carried points";
+}
 }  // namespace
 
 TEST(Carry, MatchesTheFullModel) {
@@ -99,6 +109,7 @@ TEST(Carry, ReleasedWhenTheWireSlips) {
   for (double t = sim.time(); t < 0.040; t += 1e-4) {
     runTo(sim, t);
     least = std::min(least, sim.model().carriedPoints());
+    expectBulgingAsRecomputed(sim.model());  // with points released from the cache
   }
   std::printf("carry: %d carried points at 30 N, down to %d after the tension jump to 300 N\n",
               carried, least);
@@ -148,6 +159,7 @@ TEST(Carry, DeferredPlacementEqualsPlacingEveryStep) {
     EXPECT_EQ(a.q.leftCols(n), b.q.leftCols(n)) << "t = " << t;
     EXPECT_EQ(deferred.state().head(size), eager.state().head(size)) << "t = " << t;
     EXPECT_EQ(deferred.energy().kinetic, eager.energy().kinetic) << "t = " << t;
+    expectBulgingAsRecomputed(deferred.model());
   };
   // Read every 0.2 ms (each read places the deferred wire).
   for (double t = 2e-4; t < 0.0601; t += 2e-4) same(t);
