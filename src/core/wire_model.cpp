@@ -1,6 +1,7 @@
 #include "coil_winding_sim/core/wire_model.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -69,7 +70,8 @@ WireModel::WireModel(const Scene& s)
              s.start.frame == "core"),
       carried_p_core_(carry_ ? c_.capacity : 0),
       carried_q_core_(carry_ ? c_.capacity : 0),
-      carried_stand_off_(carry_ ? c_.capacity : 0) {
+      carried_stand_off_(carry_ ? c_.capacity : 0),
+      stand_off_known_(carry_ ? c_.capacity : 0, 0) {
   // The core exists only for scenes that touch it, draw wire onto it or hold
   // the wire on it.
   if (needsCore(s)) {
@@ -420,7 +422,6 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
       while (r > 1 && !(contact_->stuck(r) && !contact_->stuck(r - 1))) --r;
       // Released points are integrated again from their rigid poses now.
       if (r < c_.first) placeCarriedWire(y);
-      stand_off_known_ = std::min(stand_off_known_, std::max(r, 1));
       c_.first = std::min(c_.first, r);
       return;
     }
@@ -442,6 +443,7 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
     const Eigen::Quaterniond q_core_world = core_->quaternionWorldCore(t).conjugate();
     for (int i = c_.first; i < target; ++i) {
       carried_p_core_[i] = core_->pointCore(t, committed_.p_world.col(i));
+      stand_off_known_[i] = 0;
       const quat::Vec4 q = committed_.q.col(i);
       const Eigen::Quaterniond qc = q_core_world * Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
       carried_q_core_[i] = {qc.w(), qc.x(), qc.y(), qc.z()};
@@ -507,6 +509,16 @@ void WireModel::placeCarriedWire(Eigen::VectorXd& y) const {
 }
 
 double WireModel::standOff(int i) const {
+  // A carried point's stand-off is fixed while the core carries it: found
+  // once (CoreSection::signedDistance is a search over directions), not at
+  // every report of the whole wire.
+  if (carry_ && i >= 1 && i < c_.first) {
+    if (!stand_off_known_[i]) {
+      carried_stand_off_[i] = section_->signedDistance(carried_p_core_[i].head<2>()) - c_.radius;
+      stand_off_known_[i] = 1;
+    }
+    return carried_stand_off_[i];
+  }
   placeCarriedWire();
   const Eigen::Vector3d p_core = core_->pointCore(committed_time_, committed_.p_world.col(i));
   return section_->signedDistance(p_core.head<2>()) - c_.radius;
@@ -524,27 +536,13 @@ BulgeReport WireModel::bulging() const {
   b.valid = true;
   b.wound_points = last_contact + 1;
   b.height_m = 0.0;
-  // A carried point's stand-off is fixed while the core carries it: found
-  // once (CoreSection::signedDistance is a search over directions), not at
-  // every report.
-  const int carried_end = std::min(c_.first, last_contact + 1);
   for (int i = 0; i <= last_contact; ++i) {
-    double h;
-    if (i >= 1 && i < carried_end) {
-      if (i >= stand_off_known_) {
-        carried_stand_off_[i] =
-            section_->signedDistance(carried_p_core_[i].head<2>()) - c_.radius;
-      }
-      h = carried_stand_off_[i];
-    } else {
-      h = standOff(i);
-    }
+    const double h = standOff(i);
     if (h > b.height_m || b.index < 0) {
       b.height_m = std::max(0.0, h);
       b.index = i;
     }
   }
-  stand_off_known_ = std::max(stand_off_known_, carried_end);
   b.arc_length_m = b.index * c_.segment_length;
   b.p_core = core_->pointCore(committed_time_, committed_.p_world.col(b.index));
   return b;
@@ -629,7 +627,7 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
     carried_q_core_[i] = Eigen::Map<const Eigen::Vector4d>(pose + 3);
   }
   carried_kinematics_placed_ = carried_state_placed_ = true;  // a snapshot: the whole wire
-  stand_off_known_ = 1;
+  std::fill(stand_off_known_.begin(), stand_off_known_.end(), 0);
 }
 
 void WireModel::setCoreSpeed(double omega) {

@@ -220,10 +220,10 @@ class WireModel : public OdeSystem {
   // Pose of each carried point in the core frame: position [m] and frame.
   std::vector<Eigen::Vector3d> carried_p_core_;
   std::vector<Eigen::Vector4d> carried_q_core_;
-  // Stand-off of carried points [m], known for points 1..stand_off_known_-1
-  // (a cache of bulging()).
+  // Stand-off of carried points [m] where stand_off_known_ (a cache of
+  // standOff(): fixed while the core carries the point).
   mutable std::vector<double> carried_stand_off_;
-  mutable int stand_off_known_ = 1;
+  mutable std::vector<unsigned char> stand_off_known_;
   // The core's pose at the time of the last placeCarried() (NaN: none yet).
   double carry_frame_time_ = std::numeric_limits<double>::quiet_NaN();
   Eigen::Matrix3d carry_rot_;
