@@ -237,8 +237,7 @@ void fixedStepStable(const Scene& s) {
   const double step = *s.solver.fixed_step;
   if (step > s.solver.max_step) {
     throw SceneError("solver.fixed_step",
-                     fmt(step) +
-                         " s is above solver.max_step = " + fmt(s.solver.max_step) + " s");
+                     fmt(step) + " s is above solver.max_step = " + fmt(s.solver.max_step) + " s");
   }
   // Above the explicit stability limit symplectic Euler stays bounded but
   // wrong, with no warning (measured on the paper's case at 2 mm: three

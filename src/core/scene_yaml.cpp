@@ -257,7 +257,8 @@ struct ValueFromYaml {
 YAML::Node toYaml(const Scene& s) {
   // A map from the start: a copy of a null node would not share its children.
   YAML::Node root(YAML::NodeType::Map);
-  for (const SceneKey& k : sceneKeys()) setAt(root, k.name, std::visit(ValueToYaml{s, k}, k.access));
+  for (const SceneKey& k : sceneKeys())
+    setAt(root, k.name, std::visit(ValueToYaml{s, k}, k.access));
   return root;
 }
 

@@ -410,7 +410,8 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
   // (Found from the far end: a scan of the integrated wire, not the wound.)
   int last_start = -1, prev_start = -1;
   for (int i = c_.n - 1; i >= 1 && prev_start < 0; --i) {
-    if (contact_->stuck(i) && !contact_->stuck(i - 1)) (last_start < 0 ? last_start : prev_start) = i;
+    if (contact_->stuck(i) && !contact_->stuck(i - 1))
+      (last_start < 0 ? last_start : prev_start) = i;
   }
   const int limit = std::min(prev_start, c_.n - 2);
   // Release: wound wire before that limit slips on the core (in contact,
@@ -496,8 +497,9 @@ void WireModel::placeCarriedWire() const {
 
 void WireModel::requirePlacedState() const {
   if (!carried_state_placed_) {
-    throw std::logic_error("WireModel: the state vector's carried wire is not placed (call "
-                           "placeCarriedWire(y) first)");
+    throw std::logic_error(
+        "WireModel: the state vector's carried wire is not placed (call "
+        "placeCarriedWire(y) first)");
   }
 }
 

@@ -21,7 +21,8 @@ def main():
     out = sys.argv[1]
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
     colours = {"rkf45": "tab:blue", "symplectic_euler": "tab:orange",
-               "symplectic_euler+carry": "tab:green", "rosenbrock2": "tab:red"}
+               "symplectic_euler+carry": "tab:green", "rosenbrock2": "tab:red",
+               "implicit_euler+carry": "tab:purple", "bdf2+carry": "tab:brown"}
     markers = ["o", "s", "^", "D"]
     for k, arg in enumerate(sys.argv[2:]):
         label, d = arg.split("=", 1)

@@ -242,11 +242,11 @@ bool readResult(const std::string& path, uint64_t id, Run& r) {
   };
   if (!(field("outcome", outcome) && field("measured", x.measured) && field("finite", x.m.finite) &&
         field("energy_signed_rel", x.m.energy_signed_rel) &&
-        field("energy_scale_J", x.m.energy_scale_J) &&
-        field("residual", x.m.residual) && field("penetration_ratio", x.m.penetration_ratio) &&
-        field("steps", x.m.steps) && field("rejected", x.m.rejected) &&
-        field("mean_step_s", x.m.mean_step_s) && field("wall_s", x.wall_s) &&
-        field("sim_s", x.sim_s) && field("end_s", x.end_s) && field("step_s", x.step_s))) {
+        field("energy_scale_J", x.m.energy_scale_J) && field("residual", x.m.residual) &&
+        field("penetration_ratio", x.m.penetration_ratio) && field("steps", x.m.steps) &&
+        field("rejected", x.m.rejected) && field("mean_step_s", x.m.mean_step_s) &&
+        field("wall_s", x.wall_s) && field("sim_s", x.sim_s) && field("end_s", x.end_s) &&
+        field("step_s", x.step_s))) {
     return false;
   }
   if (!(f >> key) || key != "message") return false;
@@ -556,7 +556,8 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
   }
 
   std::ostringstream csv, md;
-  csv << "case,method,outcome,energy_error_signed_rel,max_residual,max_penetration_rel_radius,steps,"
+  csv << "case,method,outcome,energy_error_signed_rel,max_residual,max_penetration_rel_radius,"
+         "steps,"
          "rejected,mean_step_s,sim_time_s,end_time_s,wall_time_s,message\n";
   md << kPreamble
      << "Base scene: the package's default scene (the paper's case in its planar form, 30 N) "

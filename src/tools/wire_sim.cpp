@@ -246,8 +246,8 @@ int main(int argc, char** argv) {
       a.command == "study" || a.command == "work-precision" || a.command == "stability";
   const bool stability = a.command == "stability";
   bool seen_scene = false, seen_out = false, seen_jobs = false, seen_only = false,
-       seen_method = false,
-       seen_budget = false, seen_checkpoint = false, seen_fresh = false, seen_estimate = false;
+       seen_method = false, seen_budget = false, seen_checkpoint = false, seen_fresh = false,
+       seen_estimate = false;
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& opt = args[i];
     // The option's value: present and not empty (an empty --scene or --out,
@@ -300,7 +300,8 @@ int main(int argc, char** argv) {
       if (problem.empty()) problem = take("an integrator");
       if (problem.empty() && !cws::findIntegrator(value)) {
         std::string names;
-        for (const std::string& n : cws::integratorNames()) names += (names.empty() ? "" : ", ") + n;
+        for (const std::string& n : cws::integratorNames())
+          names += (names.empty() ? "" : ", ") + n;
         problem = "--method: unknown integrator '" + value + "' (available: " + names + ")";
       }
       a.stability.method = value;
@@ -333,7 +334,8 @@ int main(int argc, char** argv) {
       problem = "unknown option '" + opt + "' for " + a.command + " (it takes --scene, --set" +
                 (takes_out ? ", --out" : "") + (takes_jobs ? ", --jobs" : "") +
                 (a.command == "run" ? ", --error-estimate" : "") +
-                (stability ? ", --only, --method, --budget, --checkpoint, --fresh, --report" : "") + ")";
+                (stability ? ", --only, --method, --budget, --checkpoint, --fresh, --report" : "") +
+                ")";
     } else {
       problem = "unexpected argument '" + opt + "' (options come as --scene FILE, --set ...)";
     }

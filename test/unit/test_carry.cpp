@@ -41,7 +41,8 @@ void expectStandOffAsRecomputed(const cws::Simulation& sim) {
   for (int i = 0; i < b.wound_points; ++i) {
     const Eigen::Vector3d p_core = m.core()->pointCore(sim.time(), m.committed().p_world.col(i));
     const double h = section.signedDistance(p_core.head<2>()) - m.constants().radius;
-    EXPECT_NEAR(m.standOff(i), h, 1e-15) << "point " << i << ", " << m.carriedPoints() << " carried";
+    EXPECT_NEAR(m.standOff(i), h, 1e-15)
+        << "point " << i << ", " << m.carriedPoints() << " carried";
     height = std::max(height, h);
   }
   EXPECT_NEAR(b.height_m, height, 1e-15) << m.carriedPoints() << " carried points";
@@ -179,9 +180,10 @@ TEST(Carry, DeferredPlacementEqualsPlacingEveryStep) {
     same(t);
     fewest_points_after = std::min(fewest_points_after, deferred.model().constants().n);
   }
-  std::printf("carry (bdf2, deferred): up to %d carried points; %d points before the reversal, "
-              "down to %d after\n",
-              most, most_points, fewest_points_after);
+  std::printf(
+      "carry (bdf2, deferred): up to %d carried points; %d points before the reversal, "
+      "down to %d after\n",
+      most, most_points, fewest_points_after);
   EXPECT_GT(most, 20);
   EXPECT_LT(fewest_points_after, most_points);  // wire went back out through the port
   const cws::SimulationState a = deferred.saveState(), b = eager.saveState();

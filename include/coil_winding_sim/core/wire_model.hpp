@@ -191,7 +191,7 @@ class WireModel : public OdeSystem {
   // i at time t, written into y and the committed kinematics; and the
   // decision, after an accepted step, of how much wire the core carries.
   void placeCarried(double t, int i, Eigen::VectorXd& y);
-  void placeCarried(double t, int i);                  // the committed kinematics only
+  void placeCarried(double t, int i);                    // the committed kinematics only
   void writeCommitted(int i, Eigen::VectorXd& y) const;  // point i's committed state into y
   // Throws std::logic_error where a reader of y comes before
   // placeCarriedWire(y) (a programming error, not an input one).
