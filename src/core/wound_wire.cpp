@@ -1,0 +1,171 @@
+// The wound wire of WireModel: wire the core carries rigidly
+// (solver.carry_stuck_wire) -- its poses on the turning core, when it is
+// taken on and released, its deferred placement for the Newton-step
+// methods -- and the stand-off and bulging reports of the wound wire.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <stdexcept>
+
+#include "coil_winding_sim/core/core_geometry.hpp"
+#include "coil_winding_sim/core/external_forces/contact.hpp"
+#include "coil_winding_sim/core/quaternion.hpp"
+#include "coil_winding_sim/core/rotating_core.hpp"
+#include "coil_winding_sim/core/wire_model.hpp"
+
+namespace cws {
+
+void WireModel::placeCarried(double t, int i) {
+  // The core's pose at t, once per accepted step (a sine and cosine each).
+  if (t != carry_frame_time_) {
+    carry_frame_time_ = t;
+    carry_rot_ = core_->rotationWorldCore(t);
+    carry_q_ = core_->quaternionWorldCore(t);
+    carry_w_ = core_->omega(t) * core_->axisWorld();
+  }
+  const Eigen::Vector3d p = core_->originWorld() + carry_rot_ * carried_p_core_[i];
+  const Eigen::Quaterniond qc(carried_q_core_[i][0], carried_q_core_[i][1], carried_q_core_[i][2],
+                              carried_q_core_[i][3]);
+  const Eigen::Quaterniond qw = carry_q_ * qc;
+  const quat::Vec4 q(qw.w(), qw.x(), qw.y(), qw.z());
+  const Eigen::Vector3d& w = carry_w_;
+  committed_.p_world.col(i) = p;
+  committed_.q.col(i) = q;
+  committed_.v_world.col(i) = w.cross(p - core_->originWorld());
+  committed_.qd.col(i) = 0.5 * quat::E(q).transpose() * w;
+}
+
+void WireModel::writeCommitted(int i, Eigen::VectorXd& y) const {
+  const int o = stateOffset(i);
+  y.segment<3>(o) = committed_.p_world.col(i);
+  y.segment<4>(o + 3) = committed_.q.col(i);
+  y.segment<3>(o + 7) = committed_.v_world.col(i);
+  y.segment<4>(o + 10) = committed_.qd.col(i);
+}
+
+void WireModel::placeCarried(double t, int i, Eigen::VectorXd& y) {
+  placeCarried(t, i);
+  writeCommitted(i, y);
+}
+
+void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
+  // Stuck groups: runs of points held by static friction. The core carries
+  // wound wire at most up to the start of the last group but one; that
+  // group and the wire after it stay integrated.
+  // (Found from the far end: a scan of the integrated wire, not the wound.)
+  int last_start = -1, prev_start = -1;
+  for (int i = c_.n - 1; i >= 1 && prev_start < 0; --i) {
+    if (contact_->stuck(i) && !contact_->stuck(i - 1))
+      (last_start < 0 ? last_start : prev_start) = i;
+  }
+  const int limit = std::min(prev_start, c_.n - 2);
+  // Release: wound wire before that limit slips on the core (in contact,
+  // not stuck). The tension behind it changes, so the wire back to the
+  // stuck group before the slipping point is integrated again.
+  for (int i = c_.first; i < limit; ++i) {
+    if (contact_->inContact(i) && !contact_->stuck(i)) {
+      int r = i;
+      while (r > 1 && !(contact_->stuck(r) && !contact_->stuck(r - 1))) --r;
+      // Released points are integrated again from their rigid poses now.
+      if (r < c_.first) placeCarriedWire(y);
+      c_.first = std::min(c_.first, r);
+      return;
+    }
+  }
+  // Take on wire that has come to rest on the core: every point within the
+  // re-stick speed of the core material, so that nothing still moving is
+  // frozen. (Setting the velocity to the rigid one is a jump of at most that
+  // speed v; the boundary frame's constraint absorbs it with a residual of
+  // about v / (e nu l), 7e-5 at 1 mm/s, nu = 5000 1/s, l = 1 mm.)
+  const double settled = contact_->stickSpeed();
+  int target = c_.first;
+  while (target < limit) {
+    const Eigen::Vector3d v_rel =
+        committed_.v_world.col(target) - core_->velocityWorld(t, committed_.p_world.col(target));
+    if (v_rel.norm() >= settled) break;
+    ++target;
+  }
+  if (target > c_.first) {
+    const Eigen::Quaterniond q_core_world = core_->quaternionWorldCore(t).conjugate();
+    for (int i = c_.first; i < target; ++i) {
+      carried_p_core_[i] = core_->pointCore(t, committed_.p_world.col(i));
+      stand_off_known_[i] = 0;
+      const quat::Vec4 q = committed_.q.col(i);
+      const Eigen::Quaterniond qc = q_core_world * Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+      carried_q_core_[i] = {qc.w(), qc.x(), qc.y(), qc.z()};
+      // The kinetic energy of the remaining relative motion (below the
+      // re-stick speed) is given up: counted as dissipated.
+      const int o = stateOffset(i);
+      const double before = 0.5 * c_.point_mass * y.segment<3>(o + 7).squaredNorm() +
+                            2.0 * c_.point_inertia * y.segment<4>(o + 10).squaredNorm();
+      placeCarried(t, i, y);
+      y[1] += before - (0.5 * c_.point_mass * y.segment<3>(o + 7).squaredNorm() +
+                        2.0 * c_.point_inertia * y.segment<4>(o + 10).squaredNorm());
+    }
+  }
+  c_.first = target;
+}
+
+void WireModel::placeCarriedWire() const {
+  if (carried_kinematics_placed_) return;
+  // Only the carried poses of the committed kinematics (a cache) change.
+  WireModel& self = const_cast<WireModel&>(*this);
+  for (int i = 1; i < c_.first - 1; ++i) self.placeCarried(committed_time_, i);
+  self.carried_kinematics_placed_ = true;
+}
+
+void WireModel::requirePlacedState() const {
+  if (!carried_state_placed_) {
+    throw std::logic_error(
+        "WireModel: the state vector's carried wire is not placed (call "
+        "placeCarriedWire(y) first)");
+  }
+}
+
+void WireModel::placeCarriedWire(Eigen::VectorXd& y) const {
+  if (carried_state_placed_) return;
+  placeCarriedWire();
+  for (int i = 1; i < c_.first - 1; ++i) writeCommitted(i, y);
+  carried_state_placed_ = true;
+}
+
+double WireModel::standOff(int i) const {
+  // A carried point's stand-off is fixed while the core carries it: found
+  // once (CoreSection::signedDistance is a search over directions), not at
+  // every report of the whole wire.
+  if (carry_ && i >= 1 && i < c_.first) {
+    if (!stand_off_known_[i]) {
+      carried_stand_off_[i] = section_->signedDistance(carried_p_core_[i].head<2>()) - c_.radius;
+      stand_off_known_[i] = 1;
+    }
+    return carried_stand_off_[i];
+  }
+  placeCarriedWire();
+  const Eigen::Vector3d p_core = core_->pointCore(committed_time_, committed_.p_world.col(i));
+  return section_->signedDistance(p_core.head<2>()) - c_.radius;
+}
+
+BulgeReport WireModel::bulging() const {
+  placeCarriedWire();
+  BulgeReport b;
+  if (!contact_ || !section_) return b;
+  int last_contact = -1;
+  for (int i = 1; i < c_.n; ++i) {
+    if (contact_->inContact(i)) last_contact = i;
+  }
+  if (last_contact < 0) return b;
+  b.valid = true;
+  b.wound_points = last_contact + 1;
+  b.height_m = 0.0;
+  for (int i = 0; i <= last_contact; ++i) {
+    const double h = standOff(i);
+    if (h > b.height_m || b.index < 0) {
+      b.height_m = std::max(0.0, h);
+      b.index = i;
+    }
+  }
+  b.arc_length_m = b.index * c_.segment_length;
+  b.p_core = core_->pointCore(committed_time_, committed_.p_world.col(b.index));
+  return b;
+}
+
+}  // namespace cws
