@@ -103,10 +103,10 @@ void Simulation::step(double t_limit) {
   }
   // One pass: a sum is finite only if every term is (states never come
   // near the overflow that could make finite terms sum to infinity).
-  // (From the boundary point on: deferred carried wire is placed, not
-  // integrated.)
+  // (The energy terms, and the wire from the boundary point on: deferred
+  // carried wire is placed, not integrated.)
   const int from = WireModel::stateOffset(std::max(model_->constants().first - 1, 1));
-  if (!std::isfinite(y_.segment(from, model_->size() - from).sum())) {
+  if (!std::isfinite(y_.head(2).sum() + y_.segment(from, model_->size() - from).sum())) {
     throw IntegrationError("the state became non-finite at t = " + std::to_string(t_) + " s");
   }
   if (collapse_step_s_ > 0.0) checkCollapse(ramp);
