@@ -14,12 +14,6 @@
 namespace cws {
 
 namespace {
-constexpr int kPerPoint = 14;  // p (3), q (4), v (3), qdot (4)
-constexpr int kAux = 2;        // W_ext, E_visc
-
-// Offset of free point i (i >= 1) in the state vector.
-inline int offsetOf(int i) { return kAux + kPerPoint * (i - 1); }
-
 bool needsCore(const Scene& s) {
   return s.physics.contact || s.physics.supply || s.start.frame == "core";
 }
@@ -129,8 +123,8 @@ WireModel::WireModel(const Scene& s)
   const double spacing = supply_ ? supply_->boundaryLength() : c_.segment_length;
   y0_.setZero(capacity());
   for (int i = 1; i < c_.n; ++i) {
-    y0_.segment<3>(offsetOf(i)) = p0_world + i * spacing * dir;
-    y0_.segment<4>(offsetOf(i) + 3) = q0_world;
+    y0_.segment<3>(stateOffset(i)) = p0_world + i * spacing * dir;
+    y0_.segment<4>(stateOffset(i) + 3) = q0_world;
   }
 
   // Tolerances: positions atol [m]; quaternions atol / l (the same
@@ -141,9 +135,9 @@ WireModel::WireModel(const Scene& s)
   const double atol = s.solver.atol, l = c_.segment_length, h = s.solver.max_step;
   atol_.resize(capacity());
   rweight_.setOnes(capacity());
-  atol_.head(kAux).setConstant(inf);
+  atol_.head(kAuxStates).setConstant(inf);
   for (int i = 1; i < c_.capacity; ++i) {
-    const int o = offsetOf(i);
+    const int o = stateOffset(i);
     atol_.segment<3>(o).setConstant(atol);
     atol_.segment<4>(o + 3).setConstant(atol / l);
     atol_.segment<3>(o + 7).setConstant(atol / h);
@@ -219,7 +213,7 @@ Eigen::Vector3d WireModel::unpack(double t, ConstRef y, WireKinematics& k, int f
   k.q.col(0) = q0;
   k.qd.col(0) = qd0;
   for (int i = std::max(from, 1); i < c_.n; ++i) {
-    const int o = offsetOf(i);
+    const int o = stateOffset(i);
     k.p_world.col(i) = y.segment<3>(o);
     k.q.col(i) = y.segment<4>(o + 3);
     k.v_world.col(i) = y.segment<3>(o + 7);
@@ -270,7 +264,7 @@ void WireModel::derivative(double t, ConstRef y, Ref dydt) {
       forces_.workRate(kin_.v_world, kin_.qd, f, c_.n) + clamp_power + constraints_.portPower();
   dydt[1] = forces_.dissipationRate(kin_.v_world, kin_.qd, f, c_.n);
   for (int i = 1; i < c_.n; ++i) {
-    const int o = offsetOf(i);
+    const int o = stateOffset(i);
     dydt.segment<7>(o) = y.segment<7>(o + 7);
     Eigen::Vector3d a = acc_.col(i);
     a -= a.dot(nrm) * nrm;
@@ -288,7 +282,7 @@ bool WireModel::semiImplicitUpdate(double h, ConstRef dydt, Ref y) const {
   // 100 turns); booked at v_new, by as much the other way.
   double dw = 0.0, dd = 0.0;
   for (int i = c_.first; i < c_.n; ++i) {
-    const int o = offsetOf(i);
+    const int o = stateOffset(i);
     const auto dv = dydt.segment<3>(o + 7);
     const auto dqd = dydt.segment<4>(o + 10);
     dw += forces_.f_work_world.col(i).dot(dv) + forces_.fq_work.col(i).dot(dqd);
@@ -297,7 +291,7 @@ bool WireModel::semiImplicitUpdate(double h, ConstRef dydt, Ref y) const {
   y[0] += h * (dydt[0] + 0.5 * h * dw);
   y[1] += h * (dydt[1] + 0.5 * h * dd);
   for (int i = 1; i < c_.n; ++i) {
-    const int o = offsetOf(i);
+    const int o = stateOffset(i);
     y.segment<7>(o + 7) += h * dydt.segment<7>(o + 7);  // v, qdot
     y.segment<7>(o) += h * y.segment<7>(o + 7);         // p, q with the new rates
   }
@@ -337,7 +331,7 @@ void WireModel::appendPoint(double t, Eigen::VectorXd& y) {
   const Eigen::Vector3d zeta = quat::zeta(committed_.q.col(last)).normalized();
   // It moves as a rigid extension of the last segment, so that the
   // constraints of the new frame and of the port start at rest.
-  const int o = offsetOf(last + 1);
+  const int o = stateOffset(last + 1);
   const Eigen::Vector3d arm = supply_->boundaryLength() * zeta;
   const Eigen::Vector3d omega_world =
       2.0 * quat::E(committed_.q.col(last)) * committed_.qd.col(last);
@@ -427,7 +421,7 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
     throw std::runtime_error("snapshot has " + std::to_string(m.points) +
                              " points, the scene's wire " + std::to_string(c_.n));
   }
-  if (m.y.size() != static_cast<std::size_t>(kAux + kPerPoint * (m.points - 1))) {
+  if (m.y.size() != static_cast<std::size_t>(stateOffset(m.points))) {
     throw std::runtime_error("snapshot state vector has the wrong length");
   }
   for (double v : m.y) {

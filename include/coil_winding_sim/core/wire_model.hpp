@@ -87,8 +87,12 @@ class WireModel : public OdeSystem {
   // The scene must have passed validateScene().
   explicit WireModel(const Scene& scene);
 
-  int size() const override { return 2 + 14 * (c_.n - 1); }
-  int capacity() const override { return 2 + 14 * (c_.capacity - 1); }
+  // The state vector: kAuxStates energy terms [W_ext, E_visc], then
+  // kStatesPerPoint per free point i >= 1: p (3), q (4), v (3), qdot (4).
+  static constexpr int kAuxStates = 2;
+  static constexpr int kStatesPerPoint = 14;
+  int size() const override { return stateOffset(c_.n); }
+  int capacity() const override { return stateOffset(c_.capacity); }
   void derivative(double t, ConstRef y, Ref dydt) override;
   const Eigen::VectorXd& absoluteTolerance() const override { return atol_; }
   const Eigen::VectorXd& relativeToleranceWeight() const override { return rweight_; }
@@ -98,10 +102,10 @@ class WireModel : public OdeSystem {
   // neighbours' states and, through bending moments that the rotational
   // constraints pass on to the segments, on the next ones: radius 2 (further
   // coupling through the constraint solve falls ~100x per point).
-  ChainStructure chainStructure() const override { return {2, 14, 2}; }
+  ChainStructure chainStructure() const override { return {kAuxStates, kStatesPerPoint, 2}; }
   PlanarFormulation* planarFormulation() override { return planar_.get(); }
   // Offset of point i's block (p, q, v, qdot) in the state vector (i >= 1).
-  static int stateOffset(int i) { return 2 + 14 * (i - 1); }
+  static int stateOffset(int i) { return kAuxStates + kStatesPerPoint * (i - 1); }
   // Pose and motion at time t [s] of the prescribed point first-1 (the
   // clamp, or the last point the core carries) and of its frame.
   void prescribedPose(double t, Eigen::Vector3d& p_world, Eigen::Vector3d& v_world,
