@@ -1,8 +1,10 @@
 #include "coil_winding_sim/core/error_estimate.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
+#include "coil_winding_sim/core/input_log.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 
@@ -23,6 +25,17 @@ Scene refinedScene(const Scene& scene, std::string& refinement) {
     refinement = "solver.rtol and solver.atol / 10";
   }
   return s;
+}
+
+SimulationState refinedState(const SimulationState& start, std::string& refinement) {
+  SimulationState st = start;
+  const Scene scene = sceneFromYamlText(start.scene_yaml);
+  const Scene refined = refinedScene(scene, refinement);
+  st.scene_yaml = sceneToYamlText(refined);
+  // The step the stepper resumes with, halved too (the Newton-step methods
+  // resume with it; an explicit fixed step comes from the scene).
+  st.next_step_s *= 0.5;
+  return st;
 }
 
 namespace {
@@ -51,6 +64,20 @@ ErrorEstimate compareWithRefined(const Simulation& run, const Simulation& refine
     e.bulging_valid = true;
     e.bulging_error_rel = std::abs(a.height_m - b.height_m) / b.height_m;
   }
+  return e;
+}
+
+std::optional<ErrorEstimate> estimateFromInputs(const SimulationState& start,
+                                                const InputLog& inputs, const Simulation& finished,
+                                                const std::function<bool()>& stop) {
+  std::string refinement;
+  const auto wall0 = std::chrono::steady_clock::now();
+  std::unique_ptr<Simulation> refined = Simulation::fromState(refinedState(start, refinement));
+  if (!inputs.replay(*refined, finished.time(), stop)) return std::nullopt;
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  ErrorEstimate e = compareWithRefined(finished, *refined, refinement);
+  e.refined_wall_s = wall_s;
   return e;
 }
 

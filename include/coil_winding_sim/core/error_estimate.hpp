@@ -5,13 +5,14 @@
 // --error-estimate).
 #pragma once
 
+#include <functional>
+#include <optional>
 #include <string>
 
 #include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/simulation.hpp"
 
 namespace cws {
-
-class Simulation;
 
 struct ErrorEstimate {
   std::string refinement;  // what the second run changed, e.g. "solver.fixed_step / 2"
@@ -24,8 +25,23 @@ struct ErrorEstimate {
 
 // The scene of the refined run, and a description of the refinement.
 Scene refinedScene(const Scene& scene, std::string& refinement);
+// A run's start state with its scene refined likewise: the refined run
+// continues from the same state (a restored snapshot, or a scene's start).
+SimulationState refinedState(const SimulationState& start, std::string& refinement);
 // Compares a finished run with its refined twin.
 ErrorEstimate compareWithRefined(const Simulation& run, const Simulation& refined,
                                  const std::string& refinement);
+
+class InputLog;
+// The error of a run that received inputs while it ran (the ROS node's
+// jobs): the run again from its start state with the refined setting, given
+// the same inputs at the same simulated times up to the finished run's
+// time, and compared with it. The refined run's wall time is measured here;
+// the finished run's is the caller's to set. Returns nothing when `stop`
+// (asked before every step) said stop; throws what the refined run throws
+// (IntegrationError, an overflowed log's std::logic_error).
+std::optional<ErrorEstimate> estimateFromInputs(const SimulationState& start,
+                                                const InputLog& inputs, const Simulation& finished,
+                                                const std::function<bool()>& stop = {});
 
 }  // namespace cws

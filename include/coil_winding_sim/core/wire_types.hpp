@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace cws {
@@ -114,6 +115,16 @@ class HistoryReader {
   double next() {
     if (pos_ >= v_.size()) throw std::runtime_error("snapshot history is too short");
     return v_[pos_++];
+  }
+  // The next value as an integer in [lo, hi]; `what` names it in the error.
+  int nextInteger(int lo, int hi, const char* what) {
+    const double v = next();
+    if (!(v >= lo && v <= hi) || v != static_cast<double>(static_cast<int>(v))) {
+      throw std::runtime_error(std::string("snapshot ") + what + " " + std::to_string(v) +
+                               " is not an integer from " + std::to_string(lo) + " to " +
+                               std::to_string(hi));
+    }
+    return static_cast<int>(v);
   }
   bool atEnd() const { return pos_ == v_.size(); }
 

@@ -71,6 +71,9 @@ void PlanarFormulation::load(double t0) {
   }
   state_.x.middleCols(b, m) = x0_.middleCols(b, m);
   state_.v.middleCols(b, m) = v0_.middleCols(b, m);
+  // Newton starts from the last accepted step's port multiplier, also when
+  // a failed solve is retried (its multiplier may be far off).
+  state_.lambda_port = lambda_accepted_;
   placeBoundary(t0);
   for (ForceEffect* e : effects_) e->beginImplicitStep(state_);
 }
@@ -260,6 +263,7 @@ void PlanarFormulation::store(double h, Eigen::VectorXd& y) {
     y.segment<4>(o + 3) = q;
     y.segment<4>(o + 10) = 0.5 * quat::E(q).transpose() * (omega * pl.n_world);
   }
+  lambda_accepted_ = state_.lambda_port;
   for (ForceEffect* e : effects_) e->adoptFlags();
 }
 

@@ -15,6 +15,7 @@ RotationalSpring::RotationalSpring(const char* name, const WireConstants& c,
     upper_.assign(static_cast<std::size_t>(c_.capacity - 1) * count_, law_.initialUpper());
     x_committed_.assign(static_cast<std::size_t>(c_.capacity - 1) * count_, 0.0);
     line_.assign(static_cast<std::size_t>(c_.capacity - 1) * count_, TwoLineLaw::kElastic);
+    line_committed_ = line_;
   }
 }
 
@@ -50,6 +51,32 @@ double RotationalSpring::planarCurvature(const PlanarState& s, int j, double& si
   cos_half = std::sqrt(std::max(0.0, 0.5 * (1.0 + c)));
   sin_half = cos_half > 0.0 ? 0.5 * sn / cos_half : 1.0;
   return (2.0 / jointLength(j)) * sin_half;
+}
+
+void RotationalSpring::beginImplicitStep(const PlanarState& s0) {
+  if (!plastic_) return;
+  from_ = (s0.first - 1) * count_;
+  to_ = (s0.n - 1) * count_;
+  // Every solve of a step (a retried one too) starts from the lines of the
+  // last accepted step; a line that does not hold at the step's start (a
+  // restored snapshot) from the branch there.
+  std::copy(line_committed_.begin() + from_, line_committed_.begin() + to_, line_.begin() + from_);
+  for (int j = s0.first - 1; j + 1 < s0.n; ++j) {
+    double sin_half, cos_half;
+    const double kappa = planarCurvature(s0, j, sin_half, cos_half);
+    for (int c = 0; c < count_; ++c) {
+      const double w = s0.n_material[first_ + c];
+      const int idx = j * count_ + c;
+      if (w != 0.0 && !law_.lineHolds(kappa * w, upper_[idx], line_[idx])) {
+        line_[idx] = static_cast<signed char>(law_.branch(kappa * w, upper_[idx]));
+      }
+    }
+  }
+}
+
+void RotationalSpring::adoptFlags() {
+  if (!plastic_) return;
+  std::copy(line_.begin() + from_, line_.begin() + to_, line_committed_.begin() + from_);
 }
 
 bool RotationalSpring::recheckFlags(const PlanarState& s) {
@@ -177,7 +204,7 @@ void RotationalSpring::shrink(const WireKinematics& k) {
     const int idx = j * count_ + i;
     work_committed_ -= jointLength(j) * law_.elasticEnergy(moment(k, j, i));
     upper_[idx] = law_.initialUpper();
-    line_[idx] = TwoLineLaw::kElastic;
+    line_[idx] = line_committed_[idx] = TwoLineLaw::kElastic;
     x_committed_[idx] = 0.0;
   }
 }
@@ -200,6 +227,8 @@ void RotationalSpring::appendHistory(std::vector<double>& out) const {
   out.insert(out.end(), upper_.begin(), upper_.begin() + used);
   out.insert(out.end(), x_committed_.begin(), x_committed_.begin() + used);
   out.push_back(work_committed_);
+  // The implicit steps' lines: a continued run starts from the same ones.
+  out.insert(out.end(), line_committed_.begin(), line_committed_.begin() + used);
 }
 
 void RotationalSpring::restoreHistory(HistoryReader& in) {
@@ -207,8 +236,14 @@ void RotationalSpring::restoreHistory(HistoryReader& in) {
   const std::size_t used = static_cast<std::size_t>(c_.n - 1) * count_;
   for (std::size_t i = 0; i < used; ++i) upper_[i] = in.next();
   for (std::size_t i = 0; i < used; ++i) x_committed_[i] = in.next();
-  std::fill(line_.begin(), line_.end(), TwoLineLaw::kElastic);
   work_committed_ = in.next();
+  std::fill(line_committed_.begin(), line_committed_.end(), TwoLineLaw::kElastic);
+  const std::string what = std::string(name_) + " hysteresis line";
+  for (std::size_t i = 0; i < used; ++i) {
+    line_committed_[i] = static_cast<signed char>(
+        in.nextInteger(TwoLineLaw::kLower, TwoLineLaw::kUpper, what.c_str()));
+  }
+  line_ = line_committed_;
 }
 
 }  // namespace cws

@@ -12,6 +12,7 @@ Stretching::Stretching(const WireConstants& c, const HysteresisParams& p, bool p
     upper_.assign(c_.capacity - 1, law_.initialUpper());
     x_committed_.assign(c_.capacity - 1, 0.0);
     line_.assign(c_.capacity - 1, TwoLineLaw::kElastic);
+    line_committed_ = line_;
   }
 }
 
@@ -29,6 +30,28 @@ double Stretching::stressTangent(double x, int j, double& tangent) const {
     return tangent * x;
   }
   return law_.stressOnBranch(x, upper_[j], line_[j], tangent);
+}
+
+void Stretching::beginImplicitStep(const PlanarState& s0) {
+  if (!plastic_) return;
+  from_ = s0.first - 1;
+  to_ = s0.n - 1;
+  // Every solve of a step (a retried one too) starts from the lines of the
+  // last accepted step; a line that does not hold at the step's start (a
+  // restored snapshot) from the branch there.
+  const double l = c_.segment_length;
+  for (int j = from_; j < to_; ++j) {
+    line_[j] = line_committed_[j];
+    const double x = (s0.segment(j).norm() - l) / l;
+    if (!law_.lineHolds(x, upper_[j], line_[j])) {
+      line_[j] = static_cast<signed char>(law_.branch(x, upper_[j]));
+    }
+  }
+}
+
+void Stretching::adoptFlags() {
+  if (!plastic_) return;
+  std::copy(line_.begin() + from_, line_.begin() + to_, line_committed_.begin() + from_);
 }
 
 bool Stretching::recheckFlags(const PlanarState& s) {
@@ -127,7 +150,7 @@ void Stretching::grow(const WireKinematics& k) {
   // virgin loading curve: its yield point and committed strain follow it.
   if (!plastic_) return;
   loadVirgin(k, c_.n - 2);
-  line_[c_.n - 2] = TwoLineLaw::kElastic;
+  line_[c_.n - 2] = line_committed_[c_.n - 2] = TwoLineLaw::kElastic;
 }
 
 void Stretching::shrink(const WireKinematics& k) {
@@ -135,7 +158,7 @@ void Stretching::shrink(const WireKinematics& k) {
   const int j = c_.n - 2;
   work_committed_ -= c_.segment_length * law_.elasticEnergy(axialForce(k, j));
   upper_[j] = law_.initialUpper();
-  line_[j] = TwoLineLaw::kElastic;
+  line_[j] = line_committed_[j] = TwoLineLaw::kElastic;
   x_committed_[j] = 0.0;
 }
 
@@ -149,14 +172,21 @@ void Stretching::appendHistory(std::vector<double>& out) const {
   out.insert(out.end(), upper_.begin(), upper_.begin() + (c_.n - 1));
   out.insert(out.end(), x_committed_.begin(), x_committed_.begin() + (c_.n - 1));
   out.push_back(work_committed_);
+  // The implicit steps' lines: a continued run starts from the same ones.
+  out.insert(out.end(), line_committed_.begin(), line_committed_.begin() + (c_.n - 1));
 }
 
 void Stretching::restoreHistory(HistoryReader& in) {
   if (!plastic_) return;
   for (int j = 0; j + 1 < c_.n; ++j) upper_[j] = in.next();
   for (int j = 0; j + 1 < c_.n; ++j) x_committed_[j] = in.next();
-  std::fill(line_.begin(), line_.end(), TwoLineLaw::kElastic);
   work_committed_ = in.next();
+  std::fill(line_committed_.begin(), line_committed_.end(), TwoLineLaw::kElastic);
+  for (int j = 0; j + 1 < c_.n; ++j) {
+    line_committed_[j] = static_cast<signed char>(
+        in.nextInteger(TwoLineLaw::kLower, TwoLineLaw::kUpper, "stretching hysteresis line"));
+  }
+  line_ = line_committed_;
 }
 
 }  // namespace cws

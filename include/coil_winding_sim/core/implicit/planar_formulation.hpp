@@ -89,6 +89,7 @@ class PlanarFormulation {
   Eigen::Matrix2Xd frame_gradient_;  // d phi_i / d d_{i-1} at the step's start
   Eigen::VectorXd r_, dx_;
   double alpha_ = 0.0, kappa_ = 0.0;
+  double lambda_accepted_ = 0.0;  // port multiplier of the last accepted step [N]
   // The factorization in the assembly's matrix, and what it was made for.
   bool have_factor_ = false;
   double factored_alpha_ = 0.0, factored_kappa_ = 0.0;

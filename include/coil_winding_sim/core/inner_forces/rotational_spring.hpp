@@ -33,7 +33,9 @@ class RotationalSpring : public ForceEffect {
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
   // Implicit steps freeze the line of each law (elastic, upper or lower
   // plastic) within a Newton solve; the lines carry over between steps.
+  void beginImplicitStep(const PlanarState& s0) override;
   bool recheckFlags(const PlanarState& s) override;
+  void adoptFlags() override;
   void commit(double t, const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
   void appendHistory(std::vector<double>& out) const override;
@@ -67,7 +69,9 @@ class RotationalSpring : public ForceEffect {
   int first_, count_;
   // Per joint and component, allocated only when plastic.
   std::vector<double> upper_, x_committed_;
-  std::vector<signed char> line_;  // implicit steps' frozen line per law
+  std::vector<signed char> line_;            // implicit steps' frozen line per law
+  std::vector<signed char> line_committed_;  // the lines of the last accepted step
+  int from_ = 0, to_ = 0;                    // laws of the present implicit step
   double work_committed_ = 0.0;
 };
 

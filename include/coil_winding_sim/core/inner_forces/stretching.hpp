@@ -18,7 +18,9 @@ class Stretching : public ForceEffect {
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
   // Implicit steps freeze the line of each segment's law (elastic, upper or
   // lower plastic) within a Newton solve; the lines carry over between steps.
+  void beginImplicitStep(const PlanarState& s0) override;
   bool recheckFlags(const PlanarState& s) override;
+  void adoptFlags() override;
   void commit(double t, const WireKinematics& k) override;
   void grow(const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
@@ -51,7 +53,9 @@ class Stretching : public ForceEffect {
   // Per segment (capacity), allocated only when plastic: upper yield point,
   // strain at the last commit; work done on all segments up to it [J].
   std::vector<double> upper_, x_committed_;
-  std::vector<signed char> line_;  // implicit steps' frozen line per segment
+  std::vector<signed char> line_;            // implicit steps' frozen line per segment
+  std::vector<signed char> line_committed_;  // the lines of the last accepted step
+  int from_ = 0, to_ = 0;                    // segments of the present implicit step
   double work_committed_ = 0.0;
 };
 

@@ -1,0 +1,145 @@
+// The input log (core/input_log): a run repeated from its start with the
+// logged inputs is the run that received them by hand, step for step; a
+// refined start state halves the step of the run it continues; a log that
+// overflowed refuses to replay.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "coil_winding_sim/core/error_estimate.hpp"
+#include "coil_winding_sim/core/input_log.hpp"
+#include "coil_winding_sim/core/simulation.hpp"
+
+#ifdef CWS_SOURCE_DIR
+namespace {
+const std::string kDefault = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
+
+// The paper's case with Newton steps, 20 ms long.
+cws::Scene shortCase() {
+  return cws::loadScene(kDefault, {"solver.integrator=bdf2", "process.duration=0.02"});
+}
+
+// Steps sim to t_s [s] exactly.
+void stepTo(cws::Simulation& sim, double t_s) {
+  while (sim.time() < t_s - 1e-15) sim.step(t_s);
+}
+}  // namespace
+
+TEST(InputLog, ReplayIsTheRunThatReceivedTheInputs) {
+  const cws::Scene scene = shortCase();
+  // The run driven by hand: a faster core at 5 ms, 45 N at 8 ms, a port
+  // command given at 10 ms for 12 ms; each input logged when given.
+  cws::Simulation by_hand(scene);
+  cws::InputLog log;
+  const Eigen::Vector3d p_port(-22.5e-3, -5.0e-3, 0.0);
+  stepTo(by_hand, 0.005);
+  by_hand.setCoreSpeed(90.0);
+  log.coreSpeed(by_hand.time(), 90.0);
+  stepTo(by_hand, 0.008);
+  by_hand.setSupplyTension(45.0);
+  log.supplyTension(by_hand.time(), 45.0);
+  stepTo(by_hand, 0.010);
+  by_hand.setPortCommand(p_port, 0.012);
+  log.portCommand(by_hand.time(), p_port, 0.012);
+  stepTo(by_hand, scene.endTime());
+  ASSERT_EQ(log.size(), 3u);
+
+  cws::Simulation replayed(scene);
+  ASSERT_TRUE(log.replay(replayed, scene.endTime()));
+  EXPECT_DOUBLE_EQ(replayed.time(), by_hand.time());
+  EXPECT_EQ(replayed.model().constants().n, by_hand.model().constants().n);
+  EXPECT_EQ((replayed.state() - by_hand.state()).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(replayed.stepper().counts().accepted, by_hand.stepper().counts().accepted);
+
+  // The inputs matter: without them the run ends elsewhere (the port alone
+  // moved by 0.5 mm).
+  cws::Simulation without(scene);
+  ASSERT_TRUE(cws::InputLog().replay(without, scene.endTime()));
+  const int n = std::min(without.model().constants().n, by_hand.model().constants().n);
+  const double moved = (without.model().committed().p_world.col(n - 1) -
+                        by_hand.model().committed().p_world.col(n - 1))
+                           .norm();
+  EXPECT_GT(moved, 1e-4);
+}
+
+TEST(InputLog, StopEndsTheReplayBeforeTheEnd) {
+  const cws::Scene scene = shortCase();
+  cws::Simulation sim(scene);
+  int asked = 0;
+  EXPECT_FALSE(cws::InputLog().replay(sim, scene.endTime(), [&] { return ++asked > 10; }));
+  EXPECT_LT(sim.time(), scene.endTime());
+}
+
+TEST(InputLog, AnOverflowedLogRefusesToReplay) {
+  cws::InputLog log;
+  for (std::size_t k = 0; k <= cws::InputLog::kCapacity; ++k) log.supplyTension(1e-9 * k, 30.0);
+  EXPECT_TRUE(log.overflowed());
+  EXPECT_EQ(log.size(), cws::InputLog::kCapacity);
+  cws::Simulation sim(shortCase());
+  try {
+    log.replay(sim, 0.02);
+    FAIL() << "an overflowed log was replayed";
+  } catch (const std::logic_error& e) {
+    EXPECT_NE(std::string(e.what()).find("overflowed"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(sim.time(), 0.0);
+  log.clear();
+  EXPECT_FALSE(log.overflowed());
+  EXPECT_EQ(log.size(), 0u);
+}
+
+TEST(InputLog, RefinedStateContinuesAtHalfTheStep) {
+  const cws::Scene scene = shortCase();
+  cws::Simulation sim(scene);
+  stepTo(sim, 0.004);
+  std::string what;
+  const cws::SimulationState start = sim.saveState();
+  auto refined = cws::Simulation::fromState(cws::refinedState(start, what));
+  EXPECT_EQ(what, "solver.implicit_step / 2");
+  EXPECT_DOUBLE_EQ(refined->scene().solver.implicit_step, 0.5 * scene.solver.implicit_step);
+  EXPECT_DOUBLE_EQ(refined->time(), 0.004);
+  EXPECT_EQ((refined->state() - sim.state()).cwiseAbs().maxCoeff(), 0.0);
+  // It resumes with half the step the run would have taken next (which
+  // may be below solver.implicit_step after a retried step).
+  EXPECT_DOUBLE_EQ(refined->stepper().nextStep(), 0.5 * sim.stepper().nextStep());
+  const double h = sim.stepper().nextStep();
+  refined->step(1.0);
+  EXPECT_NEAR(refined->time() - 0.004, 0.5 * h, 1e-15);
+}
+#endif
+
+#ifdef CWS_SOURCE_DIR
+TEST(InputLog, EstimateFromInputsIsTheRefinedRunWithTheSameInputs) {
+  const cws::Scene scene = shortCase();
+  // The job: a tension step at 6 ms, given by hand and logged.
+  cws::Simulation job(scene);
+  const cws::SimulationState start = job.saveState();
+  cws::InputLog log;
+  stepTo(job, 0.006);
+  job.setSupplyTension(60.0);
+  log.supplyTension(job.time(), 60.0);
+  stepTo(job, scene.endTime());
+  const std::optional<cws::ErrorEstimate> e = cws::estimateFromInputs(start, log, job);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->refinement, "solver.implicit_step / 2");
+  EXPECT_GT(e->refined_wall_s, 0.0);
+
+  // Independently: the refined scene run by hand with the same step.
+  std::string what;
+  cws::Simulation refined(cws::refinedScene(scene, what));
+  stepTo(refined, 0.006);
+  refined.setSupplyTension(60.0);
+  stepTo(refined, scene.endTime());
+  const cws::ErrorEstimate by_hand = cws::compareWithRefined(job, refined, what);
+  EXPECT_EQ(e->shape_error_rel_diameter, by_hand.shape_error_rel_diameter);
+  EXPECT_EQ(e->bulging_error_rel, by_hand.bulging_error_rel);
+  EXPECT_GT(e->shape_error_rel_diameter, 0.0);
+  EXPECT_LT(e->shape_error_rel_diameter, 0.05);
+
+  // Without the tension step the refined run is another job: far off.
+  const std::optional<cws::ErrorEstimate> wrong =
+      cws::estimateFromInputs(start, cws::InputLog(), job);
+  ASSERT_TRUE(wrong.has_value());
+  EXPECT_GT(wrong->shape_error_rel_diameter, 10.0 * e->shape_error_rel_diameter);
+}
+#endif
