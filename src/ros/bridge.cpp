@@ -256,6 +256,24 @@ bool portTransform(const cws::Simulation& sim, const ros::Time& stamp, const Fra
   return true;
 }
 
+coil_winding_sim::ErrorEstimate toErrorEstimateMsg(const cws::ErrorEstimate& e, double sim_time_s,
+                                                   int inputs, const std::string& failure,
+                                                   const ros::Time& stamp) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  coil_winding_sim::ErrorEstimate m;
+  m.header.stamp = stamp;
+  m.sim_time = sim_time_s;
+  m.inputs = inputs;
+  m.failure = failure;
+  const bool ok = failure.empty();
+  m.refinement = e.refinement;
+  m.shape_error = ok ? e.shape_error_rel_diameter : nan;
+  m.bulging_error = ok && e.bulging_valid ? e.bulging_error_rel : nan;
+  m.compute_time = ok ? e.wall_s : nan;
+  m.refined_compute_time = ok ? e.refined_wall_s : nan;
+  return m;
+}
+
 sensor_msgs::JointState toSpindleCommand(const cws::Simulation& sim, const ros::Time& stamp) {
   sensor_msgs::JointState msg;
   msg.header.stamp = stamp;

@@ -40,6 +40,7 @@
 #include "coil_winding_sim/Snapshot.h"
 #include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/ros/bridge.hpp"
+#include "coil_winding_sim/ros/job_error_estimate.hpp"
 
 #ifndef CWS_DEFAULT_SCENE
 #define CWS_DEFAULT_SCENE ""
@@ -81,6 +82,7 @@ class WindingCell {
     pnh_.param("replay_lag", replay_lag_, 0.05);
     pnh_.param("machine_inputs", machine_inputs_, false);
     pnh_.param("wait_for_subscribers", wait_subscribers_s_, 0.0);
+    pnh_.param("error_estimate", error_estimate_, false);
     node_start_ = Clock::now();
     if (!(spindle_rate_ > 0.0) || !(profile_rate_ > 0.0) || !std::isfinite(spindle_rate_) ||
         !std::isfinite(profile_rate_)) {
@@ -120,6 +122,16 @@ class WindingCell {
     }
     setScene(cws::loadScene(scene_path_, overrides_));
     sim_ = std::make_unique<cws::Simulation>(scene_);
+    if (error_estimate_) {
+      if (follow_clock_ || !stop_at_end_) {
+        ROS_WARN(
+            "winding_cell: ~error_estimate needs jobs that end: not with ~follow_clock or "
+            "without ~stop_at_end; no estimates");
+      } else {
+        estimator_ = std::make_unique<cws_ros::JobErrorEstimator>(nh_);
+        estimator_->startJob(sim_->saveState());
+      }
+    }
     speed_setpoint_ = rpmToRadPerS(scene_.process.core_speed_rpm);
     tension_setpoint_ = scene_.process.tension;
 
@@ -187,6 +199,8 @@ class WindingCell {
         }
         done = paused_ || failed_ || finished();
         clock_s_ = stamp().toSec();
+        // The job's end: its refined twin runs on the estimator's worker.
+        if (estimator_ && finished()) estimator_->finishJob(*sim_, compute_s_, stamp());
       }
       const auto now = Clock::now();
       if (publish_clock_ && now >= next_clock) {
@@ -259,7 +273,9 @@ class WindingCell {
       while (sim_->time() < t_limit && aheadOfPace() < 0.0 &&
              Clock::now() - start < std::chrono::milliseconds(10)) {
         feedPort();
+        const auto step_start = Clock::now();
         sim_->step(std::min(t_limit, nextPublishTime()));
+        compute_s_ += seconds(Clock::now() - step_start);
         publishDue();
       }
     } catch (const std::exception& e) {
@@ -406,9 +422,11 @@ class WindingCell {
       if (in.tension) {
         tension_setpoint_ = in.value;
         sim_->setSupplyTension(in.value);
+        if (estimator_) estimator_->inputs().supplyTension(t, in.value);
       } else {
         speed_setpoint_ = in.value;
         sim_->setCoreSpeed(in.value);
+        if (estimator_) estimator_->inputs().coreSpeed(t, in.value);
       }
       pending_.erase(pending_.begin());
     }
@@ -421,6 +439,7 @@ class WindingCell {
       const double t_s = std::isnan(s.t_s) ? sim_->time() + port_move_time_ : s.t_s;
       try {
         sim_->setPortCommand(s.p_world, t_s);
+        if (estimator_) estimator_->inputs().portCommand(sim_->time(), s.p_world, t_s);
       } catch (const std::invalid_argument& e) {
         warn(port_gate_.value_warning, "refused " + s.topic + ": " + e.what());
       }
@@ -526,6 +545,7 @@ class WindingCell {
     stat.add("step size [s]", sim_->stepper().lastStep());
     stat.add("max constraint residual", sim_->model().maxConstraintResidual());
     stat.add("points", sim_->model().constants().n);
+    if (estimator_) estimator_->diagnose(stat);
     if (failed_) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "stopped: " + failure_);
     } else if (paused_) {
@@ -735,8 +755,13 @@ class WindingCell {
 
   void applySetpoints() {
     if (!setpoints_changed_.exchange(false)) return;
-    sim_->setCoreSpeed(speed_setpoint_);
-    sim_->setSupplyTension(tension_setpoint_);
+    const double speed = speed_setpoint_, tension = tension_setpoint_;
+    sim_->setCoreSpeed(speed);
+    sim_->setSupplyTension(tension);
+    if (estimator_) {
+      estimator_->inputs().coreSpeed(sim_->time(), speed);
+      estimator_->inputs().supplyTension(sim_->time(), tension);
+    }
   }
 
   // ---- services ----------------------------------------------------------------
@@ -869,6 +894,8 @@ class WindingCell {
     port_queue_.clear();
     restartPublishGrid();
     restartPace();
+    compute_s_ = 0.0;
+    if (estimator_) estimator_->startJob(sim_->saveState());
   }
 
   ros::NodeHandle nh_, pnh_;
@@ -884,6 +911,9 @@ class WindingCell {
   std::unique_ptr<cws::Simulation> sim_;
   bool paused_ = false, failed_ = false, keeping_pace_ = true, send_delete_all_ = false;
   std::optional<double> run_until_;  // pause when the simulated time reaches it [s]
+  double compute_s_ = 0.0;           // wall time in the present job's steps [s]
+  bool error_estimate_ = false;
+  std::unique_ptr<cws_ros::JobErrorEstimator> estimator_;  // with ~error_estimate
   std::string failure_;
   double clock_offset_ = 0.0;
   Clock::time_point pace_wall0_, rtf_wall_;

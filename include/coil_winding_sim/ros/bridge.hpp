@@ -11,11 +11,13 @@
 
 #include <string>
 
+#include "coil_winding_sim/ErrorEstimate.h"
 #include "coil_winding_sim/SimulationSnapshot.h"
 #include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/WindingMetrics.h"
 #include "coil_winding_sim/WireState.h"
 #include "coil_winding_sim/WireTension.h"
+#include "coil_winding_sim/core/error_estimate.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 
 namespace cws_ros {
@@ -59,6 +61,13 @@ bool portTransform(const cws::Simulation& sim, const ros::Time& stamp, const Fra
 // Spindle (joint `spindle`): command = the core's commanded angular velocity
 // [rad/s]; state = its angle since the start [rad] and angular velocity.
 extern const char* const kSpindleJoint;
+// A finished job's error estimate at its end time sim_time_s [s]; with an
+// empty `failure`, from `e` (bulging_error NaN when nothing was wound), else
+// NaN figures and the failure.
+coil_winding_sim::ErrorEstimate toErrorEstimateMsg(const cws::ErrorEstimate& e, double sim_time_s,
+                                                   int inputs, const std::string& failure,
+                                                   const ros::Time& stamp);
+
 sensor_msgs::JointState toSpindleCommand(const cws::Simulation& sim, const ros::Time& stamp);
 sensor_msgs::JointState toSpindleState(const cws::Simulation& sim, const ros::Time& stamp);
 // Tension: command = the supply tension [N]; measured = the wire's axial

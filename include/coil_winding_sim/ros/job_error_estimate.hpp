@@ -1,0 +1,55 @@
+// The node's ~error_estimate: every job's start state and the inputs it
+// received (cws::InputLog); at the job's end, the job run again with the
+// refined setting on a worker thread (cws::estimateFromInputs), the result
+// published latched on `error_estimate` (coil_winding_sim/ErrorEstimate) and
+// shown in /diagnostics. The node's own steps never wait for it.
+#pragma once
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <ros/ros.h>
+
+#include <atomic>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "coil_winding_sim/core/input_log.hpp"
+#include "coil_winding_sim/core/simulation.hpp"
+
+namespace cws_ros {
+
+class JobErrorEstimator {
+ public:
+  explicit JobErrorEstimator(ros::NodeHandle nh);
+  // Stops a refined run under way and waits for it.
+  ~JobErrorEstimator();
+  JobErrorEstimator(const JobErrorEstimator&) = delete;
+  JobErrorEstimator& operator=(const JobErrorEstimator&) = delete;
+
+  // A new job from `start` (the scene's start, a reset, a restored
+  // snapshot): its inputs are logged from here on.
+  void startJob(const cws::SimulationState& start);
+  // The inputs the job receives, logged by the caller when given.
+  cws::InputLog& inputs() { return log_; }
+  // The job ended at finished.time() after compute_s [s] of wall time in its
+  // steps: its refined twin runs on the worker (a refined run of an earlier
+  // job still under way is stopped first). Once per job.
+  void finishJob(const cws::Simulation& finished, double compute_s, const ros::Time& stamp);
+  // Adds the estimate's state to the node's diagnostics.
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) const;
+
+ private:
+  void stopWorker();
+  void setStatus(const std::string& status);
+
+  ros::Publisher pub_;
+  cws::SimulationState start_;
+  cws::InputLog log_;
+  bool finished_ = false;  // finishJob called for the present job
+  std::thread worker_;
+  std::atomic<bool> stop_{false};
+  mutable std::mutex status_mutex_;
+  std::string status_ = "the job has not ended yet";
+};
+
+}  // namespace cws_ros
