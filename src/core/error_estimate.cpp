@@ -16,7 +16,7 @@ Scene refinedScene(const Scene& scene, std::string& refinement) {
   if (info && info->explicit_fixed_step) {
     s.solver.fixed_step = 0.5 * fixedStep(scene);
     refinement = "solver.fixed_step / 2";
-  } else if (info && info->planar_only) {
+  } else if (info && info->newton_steps) {
     s.solver.implicit_step *= 0.5;
     refinement = "solver.implicit_step / 2";
   } else {

@@ -207,15 +207,6 @@ void supplyStorage(const Scene& s) {
 
 // ---------------------------------------------------------------------------
 // The solver.
-void implicitNeedsPlanar(const Scene& s) {
-  const IntegratorInfo* info = findIntegrator(s.solver.integrator);
-  if (info && info->planar_only && !s.physics.planar) {
-    throw SceneError("solver.integrator",
-                     s.solver.integrator +
-                         " integrates planar scenes (physics.planar: true) only; use "
-                         "symplectic_euler or rkf45 for a 3-D scene");
-  }
-}
 
 // The fixed step is compared for any finite value; its sign is the table's
 // check.
@@ -293,7 +284,6 @@ const CrossRule kCrossRules[] = {
     {"process.max_tension", setpointsWithinLimits},
     {"process.duration", runEnds},
     {"process.duration", supplyStorage},
-    {"solver.integrator", implicitNeedsPlanar},
     {"solver.fixed_step", fixedStepStable},
     {"solver.initial_step", stepBoundsOrdered},
 };

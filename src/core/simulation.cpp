@@ -24,7 +24,7 @@ Simulation::Simulation(const Scene& scene) : scene_(validated(scene)) {
   // The Newton-step methods read only the integrated wire: the carried wire
   // is placed when it is read, not at every step.
   const IntegratorInfo* info = findIntegrator(scene_.solver.integrator);
-  model_->setCarriedDeferred(info && info->planar_only);
+  model_->setCarriedDeferred(info && info->newton_steps);
   y_ = model_->initialState();
   t_end_ = scene_.endTime();
   collapse_step_s_ = stepper_->collapseRatio() * explicitStepLimit(scene_);
@@ -121,7 +121,7 @@ void Simulation::step(double t_limit) {
       msg << "validation checks only l / c; a stiffer contact or load needs a smaller step): "
              "lower solver.fixed_step, or use rkf45, which tells an unstable step from a "
              "motion that itself diverges";
-    } else if (info && info->planar_only) {
+    } else if (info && info->newton_steps) {
       // The Newton-step methods hold the frames on their segments exactly:
       // what diverged are the positions.
       msg << "solver.implicit_step = " << scene_.solver.implicit_step

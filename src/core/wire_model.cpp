@@ -10,6 +10,7 @@
 #include "coil_winding_sim/core/external_forces/damping.hpp"
 #include "coil_winding_sim/core/external_forces/end_load.hpp"
 #include "coil_winding_sim/core/external_forces/gravity.hpp"
+#include "coil_winding_sim/core/time_steppers/integrators.hpp"
 
 namespace cws {
 
@@ -151,7 +152,12 @@ WireModel::WireModel(const Scene& s)
   acc_.resize(3, c_.capacity);
   qdd_.resize(4, c_.capacity);
   unpack(0.0, y0_, committed_);
-  if (s.physics.planar) planar_ = std::make_unique<PlanarFormulation>(*this, s);
+  if (s.physics.planar) {
+    planar_ = std::make_unique<PlanarFormulation>(*this, s);
+  } else if (const IntegratorInfo* info = findIntegrator(s.solver.integrator);
+             info && info->newton_steps) {
+    spatial_ = std::make_unique<SpatialFormulation>(*this, s);
+  }
   if (supply_) {
     // The stretched start is work done on the wire before t = 0.
     for (int j = 0; j + 1 < c_.n; ++j) {
@@ -470,6 +476,11 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
   }
   carried_kinematics_placed_ = carried_state_placed_ = true;  // a snapshot: the whole wire
   std::fill(stand_off_known_.begin(), stand_off_known_.end(), 0);
+}
+
+NewtonFormulation* WireModel::newtonFormulation() {
+  if (planar_) return planar_.get();
+  return spatial_.get();
 }
 
 void WireModel::setCoreSpeed(double omega) {

@@ -120,10 +120,10 @@ int runWorkPrecision(const std::string& scene_path, const std::vector<std::strin
         make("rosenbrock2", std::string("atol") + tol,
              {"solver.rtol=1e-3", std::string("solver.atol=") + tol, "solver.min_step=5e-9"}));
   }
-  // The Newton-step methods of planar scenes over steps from 1e-6 to 1e-3 s,
+  // The Newton-step methods over steps from 1e-6 to 1e-3 s,
   // with the wound wire carried (their intended use).
   for (const cws::IntegratorInfo& info : cws::integrators()) {
-    if (!info.planar_only || !scene.physics.planar) continue;
+    if (!info.newton_steps) continue;
     for (const char* h : {"1e-3", "3e-4", "1e-4", "3e-5", "1e-5", "3e-6", "1e-6"}) {
       Run r = make(info.name, std::string("h") + h,
                    {std::string("solver.implicit_step=") + h, "solver.carry_stuck_wire=true"});

@@ -32,9 +32,9 @@ namespace {
 // and a growing wire (the supply appends points during the counted steps).
 // With `command_port` the port follows commanded samples queued ahead of
 // the counted steps (a velocity kink every 20 us).
-void expectStepsAllocateNothing(const std::string& integrator, int steps,
-                                bool command_port = false) {
-  const std::string path = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
+void expectStepsAllocateNothing(const std::string& integrator, int steps, bool command_port = false,
+                                const char* scene = "default.yaml") {
+  const std::string path = std::string(CWS_SOURCE_DIR) + "/config/scenes/" + scene;
   cws::Simulation sim(cws::loadScene(
       path, {"process.turns=0.2", "solver.integrator=" + integrator, "solver.atol=1e-8"}));
   // Under way: let the first steps settle the step size.
@@ -80,5 +80,7 @@ TEST(Allocation, ImplicitStepsAllocateNothing) { expectStepsAllocateNothing("ros
 TEST(Allocation, NewtonStepsAllocateNothing) {
   expectStepsAllocateNothing("implicit_euler", 300);
   expectStepsAllocateNothing("bdf2", 300);
+  // The 3-D formulation (the spiral, with torsion).
+  expectStepsAllocateNothing("bdf2", 300, false, "paper_case_3d.yaml");
 }
 #endif

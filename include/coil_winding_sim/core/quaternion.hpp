@@ -77,6 +77,33 @@ inline Mat34 etaJacobian(const Vec4& q) {
   return 2.0 * m;
 }
 
+// Derivatives of the bilinear forms: d f(q, q) / d q (3x4) and
+// d^2 (w . f(q, q)) / d q^2 (4x4, constant in q) for f = xiBilinear,
+// etaBilinear or zetaBilinear.
+template <class Bilinear>
+Mat34 bilinearJacobian(Bilinear f, const Vec4& q) {
+  Mat34 m;
+  for (int k = 0; k < 4; ++k) m.col(k) = 2.0 * f(q, Vec4::Unit(k));
+  return m;
+}
+template <class Bilinear>
+Eigen::Matrix4d bilinearHessian(Bilinear f, const Eigen::Vector3d& w) {
+  Eigen::Matrix4d h;
+  for (int k = 0; k < 4; ++k) {
+    for (int l = 0; l < 4; ++l) h(k, l) = 2.0 * w.dot(f(Vec4::Unit(k), Vec4::Unit(l)));
+  }
+  return h;
+}
+inline Mat34 zetaJacobian(const Vec4& q) { return bilinearJacobian(zetaBilinear, q); }
+
+// G(q)^T m as a linear function of q: the 4x4 matrix whose column k is
+// G(e_k)^T m.
+inline Eigen::Matrix4d gTransposeTimes(const Eigen::Vector3d& m) {
+  Eigen::Matrix4d r;
+  for (int k = 0; k < 4; ++k) r.col(k) = G(Vec4::Unit(k)).transpose() * m;
+  return r;
+}
+
 // Quaternion whose zeta axis is `dir` (need not be unit); deterministic choice
 // of xi (the world axis least parallel to dir, projected).
 inline Vec4 fromZetaDirection(const Eigen::Vector3d& dir) {

@@ -20,6 +20,7 @@
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/external_forces/supply.hpp"
 #include "coil_winding_sim/core/implicit/planar_formulation.hpp"
+#include "coil_winding_sim/core/implicit/spatial_formulation.hpp"
 #include "coil_winding_sim/core/inner_forces/bending.hpp"
 #include "coil_winding_sim/core/inner_forces/stretching.hpp"
 #include "coil_winding_sim/core/inner_forces/twisting.hpp"
@@ -104,6 +105,7 @@ class WireModel : public OdeSystem {
   // coupling through the constraint solve falls ~100x per point).
   ChainStructure chainStructure() const override { return {kAuxStates, kStatesPerPoint, 2}; }
   PlanarFormulation* planarFormulation() override { return planar_.get(); }
+  NewtonFormulation* newtonFormulation() override;
   // Offset of point i's block (p, q, v, qdot) in the state vector (i >= 1).
   static int stateOffset(int i) { return kAuxStates + kStatesPerPoint * (i - 1); }
   // Pose and motion at time t [s] of the prescribed point first-1 (the
@@ -238,7 +240,8 @@ class WireModel : public OdeSystem {
   bool carried_kinematics_placed_ = true;
   mutable bool carried_state_placed_ = true;
 
-  std::unique_ptr<PlanarFormulation> planar_;  // planar scenes only
+  std::unique_ptr<PlanarFormulation> planar_;    // planar scenes only
+  std::unique_ptr<SpatialFormulation> spatial_;  // 3-D scenes with Newton steps
   Eigen::VectorXd y0_, atol_, rweight_;
   WireKinematics kin_, committed_;
   WireForces forces_;

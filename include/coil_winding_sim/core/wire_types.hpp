@@ -17,6 +17,8 @@ namespace cws {
 
 struct PlanarState;
 class PlanarAssembly;
+struct SpatialState;
+class SpatialAssembly;
 
 // Constants of one wire, derived from the scene once; only n changes, when a
 // supply draws wire in.
@@ -157,6 +159,12 @@ class ForceEffect {
   virtual void beginImplicitStep(const PlanarState& /*s0*/) {}
   virtual bool recheckFlags(const PlanarState& /*s*/) { return false; }
   virtual void adoptFlags() {}
+  // The 3-D implicit formulation (docs/MODEL.md, "Implicit integration of
+  // 3-D scenes"): the same, with the explicit model's generalized forces on
+  // positions and quaternions and their derivatives; flags as above.
+  virtual void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const = 0;
+  virtual void beginSpatialStep(const SpatialState& /*s0*/) {}
+  virtual bool recheckSpatialFlags(const SpatialState& /*s*/) { return false; }
   // Commits history state (yield points, stick) after an accepted step at t [s].
   virtual void commit(double /*t*/, const WireKinematics& /*k*/) {}
   // Point n-1 was just appended (a wire supply drew it in): initialize the

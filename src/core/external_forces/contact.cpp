@@ -34,6 +34,7 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
   trial_stuck_.assign(c_.capacity, 0);
   trial_anchor_core_.assign(c_.capacity, Eigen::Vector3d::Zero());
   trial_sign_.assign(c_.capacity, 1);
+  trial_slip_world_.assign(c_.capacity, Eigen::Vector3d::Zero());
 }
 
 void Contact::placeSurfaces(double t) const {

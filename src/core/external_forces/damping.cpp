@@ -1,6 +1,7 @@
 #include "coil_winding_sim/core/external_forces/damping.hpp"
 
 #include "coil_winding_sim/core/implicit/planar_assembly.hpp"
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/quaternion.hpp"
 
 namespace cws {
@@ -54,6 +55,35 @@ void Damping::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
         a.addStiffness(pts[r], pts[c], sgn[r] * sgn[c] * dx);
       }
     }
+  }
+}
+
+void Damping::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
+  // As addForces: -c v on the points, and the moment -c omega_world as the
+  // generalized force -4 c E(q)^T E(q) qdot on the quaternions (E is
+  // linear in q: column k of d(E(q) x)/dq is E(e_k) x).
+  const double c_lin = p_.translational * c_.point_length;  // [N s/m]
+  const double c_rot = p_.rotational * c_.point_length;     // [N m s]
+  const Eigen::Matrix3d id = Eigen::Matrix3d::Identity();
+  for (int i = s.first; i < s.n; ++i) {
+    const Eigen::Vector3d f = -c_lin * s.v.col(i);
+    a.addForce(i, f);
+    a.f_dissipative.col(i) += f;
+    a.addDampingPP(i, i, -c_lin * id);
+    if (c_rot <= 0.0) continue;
+    const quat::Vec4 q = s.q.col(i), qd = s.qd.col(i);
+    const quat::Mat34 e = quat::E(q);
+    const Eigen::Vector3d u = e * qd;  // omega_world / 2
+    const Eigen::Vector4d fq = -4.0 * c_rot * e.transpose() * u;
+    a.addQForce(i, fq);
+    a.fq_dissipative.col(i) += fq;
+    Eigen::Matrix4d dq;  // d (E^T u) / dq at fixed qd
+    for (int k = 0; k < 4; ++k) {
+      const quat::Vec4 ek = quat::Vec4::Unit(k);
+      dq.col(k) = quat::E(ek).transpose() * u + e.transpose() * (quat::E(ek) * qd);
+    }
+    a.addStiffnessQQ(i, i, -4.0 * c_rot * dq);
+    a.addDampingQQ(i, i, -4.0 * c_rot * e.transpose() * e);
   }
 }
 

@@ -1,6 +1,7 @@
 #include "coil_winding_sim/core/external_forces/end_load.hpp"
 
 #include "coil_winding_sim/core/implicit/planar_assembly.hpp"
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/quaternion.hpp"
 
 namespace cws {
@@ -60,6 +61,24 @@ void EndLoad::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
   a.addStiffness(tip, tip - 1, -h);
   a.addStiffness(tip - 1, tip, -h);
   a.addStiffness(tip - 1, tip - 1, h);
+}
+
+void EndLoad::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
+  Eigen::Vector3d force_world, moment_world;
+  loadAt(s.t, force_world, moment_world);
+  const int tip = s.n - 1;
+  a.addForce(tip, force_world);
+  a.f_work.col(tip) += force_world;
+  if (moment_world.isZero()) return;
+  // The moment as 2 E(q)^T m on the tip's quaternion (linear in q).
+  const Eigen::Vector4d fq = 2.0 * quat::E(s.q.col(tip)).transpose() * moment_world;
+  a.addQForce(tip, fq);
+  a.fq_work.col(tip) += fq;
+  Eigen::Matrix4d dq;
+  for (int k = 0; k < 4; ++k) {
+    dq.col(k) = 2.0 * quat::E(quat::Vec4::Unit(k)).transpose() * moment_world;
+  }
+  a.addStiffnessQQ(tip, tip, dq);
 }
 
 }  // namespace cws

@@ -1,6 +1,7 @@
 #include "coil_winding_sim/core/external_forces/gravity.hpp"
 
 #include "coil_winding_sim/core/implicit/planar_assembly.hpp"
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 
 namespace cws {
 
@@ -19,6 +20,14 @@ void Gravity::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
   for (int i = s.first; i < s.n; ++i) {
     a.addForce(i, w);
     a.f_work.col(i) += w;
+  }
+}
+
+void Gravity::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
+  const Eigen::Vector3d w_world = c_.point_mass * g_world_;
+  for (int i = s.first; i < s.n; ++i) {
+    a.addForce(i, w_world);
+    a.f_work.col(i) += w_world;
   }
 }
 

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "coil_winding_sim/core/implicit/planar_assembly.hpp"
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/quaternion.hpp"
 
 namespace cws {
@@ -126,6 +127,42 @@ void Supply::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
   a.addStiffness(last, last - 1, lambda * (-h_dd - h_ed));
   a.addStiffness(last - 1, last, lambda * (-h_dd - h_ed.transpose()));
   a.addStiffness(last - 1, last - 1, lambda * h_dd);
+}
+
+void Supply::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
+  // The boundary segment's tension along the last frame's zeta, as
+  // addForces does; the port constraint (eq. 22): the port lies on the line
+  // of that frame's zeta through the last point, g = e . (xi, eta) = 0 with
+  // e = p_L - p_s, held by the multipliers lambda_port.
+  const int last = s.n - 1;
+  const quat::Vec4 q = s.q.col(last);
+  const Eigen::Vector3d pull = tension_ * quat::zeta(q);
+  a.addForce(last, pull);
+  a.f_work.col(last) += pull;
+  const PortMotion pm = port(s.t);
+  const Eigen::Vector3d e = s.p.col(last) - pm.p_world;
+  const Eigen::Vector3d axis[2] = {quat::xi(q), quat::eta(q)};
+  const quat::Mat34 jac[2] = {quat::xiJacobian(q), quat::etaJacobian(q)};
+  const double scale = stretch_.elastic_rigidity / c_.segment_length;
+  for (int r = 0; r < 2; ++r) {
+    const double lambda = s.lambda_port[r];
+    a.addForce(last, lambda * axis[r]);
+    a.addQForce(last, lambda * jac[r].transpose() * e);
+    // The moving port works on the wire through the constraint force.
+    a.power_external += lambda * axis[r].dot(pm.v_world);
+    const int row = a.portRow() + r;
+    a.setConstraint(row, e.dot(axis[r]), scale);
+    if (!a.wantsJacobian()) continue;
+    a.addConstraintGradientP(row, last, axis[r]);
+    a.addConstraintGradientQ(row, last, jac[r].transpose() * e);
+    a.addStiffnessPQ(last, last, lambda * jac[r]);
+    a.addStiffnessQP(last, last, lambda * jac[r].transpose());
+  }
+  if (!a.wantsJacobian()) return;
+  a.addStiffnessPQ(last, last, tension_ * quat::zetaJacobian(q));
+  a.addStiffnessQQ(last, last,
+                   s.lambda_port[0] * quat::bilinearHessian(quat::xiBilinear, e) +
+                       s.lambda_port[1] * quat::bilinearHessian(quat::etaBilinear, e));
 }
 
 }  // namespace cws

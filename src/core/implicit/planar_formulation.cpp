@@ -45,6 +45,11 @@ PlanarFormulation::PlanarFormulation(WireModel& model, const Scene& scene)
   x_try_.setZero(2, cap);
   omega0_.setZero(cap);
   omega_hat_.setZero(cap);
+  x0_steps_.setZero(2, cap);
+  v0_steps_.setZero(3, cap);
+  x_hat_in_.setZero(2, cap);
+  v_hat_in_.setZero(2, cap);
+  guess_in_.setZero(2, cap);
   frame_gradient_.setZero(2, cap);
   r_.setZero(2 * cap + 1);
   dx_.setZero(2 * cap + 1);
@@ -71,6 +76,9 @@ void PlanarFormulation::load(double t0) {
   }
   state_.x.middleCols(b, m) = x0_.middleCols(b, m);
   state_.v.middleCols(b, m) = v0_.middleCols(b, m);
+  x0_steps_.middleCols(b, m) = x0_.middleCols(b, m);
+  v0_steps_.block(0, b, 2, m) = v0_.middleCols(b, m);
+  v0_steps_.block(2, b, 1, m) = omega0_.segment(b, m).transpose();
   // Newton starts from the last accepted step's port multiplier, also when
   // a failed solve is retried (its multiplier may be far off).
   state_.lambda_port = lambda_accepted_;
@@ -143,6 +151,17 @@ double PlanarFormulation::residual(bool jacobian) {
     }
   }
   return r_.head(unknowns).lpNorm<Eigen::Infinity>();
+}
+
+NewtonStats PlanarFormulation::solve(double t1, double alpha, double kappa,
+                                     const Eigen::MatrixXd& x_hat, const Eigen::MatrixXd& v_hat,
+                                     const Eigen::MatrixXd& x_guess) {
+  const int f = state_.first, m = state_.n - f;
+  x_hat_in_.middleCols(f, m) = x_hat.middleCols(f, m);
+  v_hat_in_.middleCols(f, m) = v_hat.block(0, f, 2, m);
+  omega_hat_.segment(f, m) = v_hat.block(2, f, 1, m).transpose();
+  guess_in_.middleCols(f, m) = x_guess.middleCols(f, m);
+  return solve(t1, alpha, kappa, x_hat_in_, v_hat_in_, omega_hat_, guess_in_);
 }
 
 NewtonStats PlanarFormulation::solve(double t1, double alpha, double kappa,

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "coil_winding_sim/core/implicit/planar_assembly.hpp"
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/quaternion.hpp"
 
 namespace cws {
@@ -53,49 +54,76 @@ double RotationalSpring::planarCurvature(const PlanarState& s, int j, double& si
   return (2.0 / jointLength(j)) * sin_half;
 }
 
-void RotationalSpring::beginImplicitStep(const PlanarState& s0) {
+template <class Argument>
+void RotationalSpring::beginLines(int first, int n, Argument argument) {
   if (!plastic_) return;
-  from_ = (s0.first - 1) * count_;
-  to_ = (s0.n - 1) * count_;
+  from_ = (first - 1) * count_;
+  to_ = (n - 1) * count_;
   // Every solve of a step (a retried one too) starts from the lines of the
   // last accepted step; a line that does not hold at the step's start (a
   // restored snapshot) from the branch there.
   std::copy(line_committed_.begin() + from_, line_committed_.begin() + to_, line_.begin() + from_);
-  for (int j = s0.first - 1; j + 1 < s0.n; ++j) {
-    double sin_half, cos_half;
-    const double kappa = planarCurvature(s0, j, sin_half, cos_half);
-    for (int c = 0; c < count_; ++c) {
-      const double w = s0.n_material[first_ + c];
-      const int idx = j * count_ + c;
-      if (w != 0.0 && !law_.lineHolds(kappa * w, upper_[idx], line_[idx])) {
-        line_[idx] = static_cast<signed char>(law_.branch(kappa * w, upper_[idx]));
-      }
-    }
-  }
+  recheckLines(first, n, argument);
 }
 
-void RotationalSpring::adoptFlags() {
-  if (!plastic_) return;
-  std::copy(line_.begin() + from_, line_.begin() + to_, line_committed_.begin() + from_);
-}
-
-bool RotationalSpring::recheckFlags(const PlanarState& s) {
+template <class Argument>
+bool RotationalSpring::recheckLines(int first, int n, Argument argument) {
   if (!plastic_) return false;
   bool changed = false;
-  for (int j = s.first - 1; j + 1 < s.n; ++j) {
-    double sin_half, cos_half;
-    const double kappa = planarCurvature(s, j, sin_half, cos_half);
+  for (int j = first - 1; j + 1 < n; ++j) {
     for (int c = 0; c < count_; ++c) {
-      const double w = s.n_material[first_ + c];
-      if (w == 0.0) continue;
+      double x;
+      if (!argument(j, c, x)) continue;
       const int idx = j * count_ + c;
-      if (!law_.lineHolds(kappa * w, upper_[idx], line_[idx])) {
-        line_[idx] = static_cast<signed char>(law_.branch(kappa * w, upper_[idx]));
+      if (!law_.lineHolds(x, upper_[idx], line_[idx])) {
+        line_[idx] = static_cast<signed char>(law_.branch(x, upper_[idx]));
         changed = true;
       }
     }
   }
   return changed;
+}
+
+Eigen::Vector3d RotationalSpring::darboux(const SpatialState& s, int j) const {
+  return (2.0 / jointLength(j)) * (quat::G(s.q.col(j)) * s.q.col(j + 1));
+}
+
+// The laws' arguments: in the plane, kappa n_material[c] (none for a
+// component with no part about n); in 3-D, the Darboux vector's components.
+void RotationalSpring::beginImplicitStep(const PlanarState& s0) {
+  beginLines(s0.first, s0.n, [&](int j, int c, double& x) { return planarArgument(s0, j, c, x); });
+}
+
+bool RotationalSpring::recheckFlags(const PlanarState& s) {
+  return recheckLines(s.first, s.n,
+                      [&](int j, int c, double& x) { return planarArgument(s, j, c, x); });
+}
+
+bool RotationalSpring::planarArgument(const PlanarState& s, int j, int c, double& x) const {
+  const double w = s.n_material[first_ + c];
+  if (w == 0.0) return false;
+  double sin_half, cos_half;
+  x = planarCurvature(s, j, sin_half, cos_half) * w;
+  return true;
+}
+
+void RotationalSpring::beginSpatialStep(const SpatialState& s0) {
+  beginLines(s0.first, s0.n, [&](int j, int c, double& x) {
+    x = darboux(s0, j)[first_ + c];
+    return true;
+  });
+}
+
+bool RotationalSpring::recheckSpatialFlags(const SpatialState& s) {
+  return recheckLines(s.first, s.n, [&](int j, int c, double& x) {
+    x = darboux(s, j)[first_ + c];
+    return true;
+  });
+}
+
+void RotationalSpring::adoptFlags() {
+  if (!plastic_) return;
+  std::copy(line_.begin() + from_, line_.begin() + to_, line_committed_.begin() + from_);
 }
 
 double RotationalSpring::moment(const WireKinematics& k, int j, int m) const {
@@ -194,6 +222,38 @@ void RotationalSpring::commit(double, const WireKinematics& k) {
       upper_[idx] = law_.movedUpper(x, upper_[idx]);
       x_committed_[idx] = x;
     }
+  }
+}
+
+void RotationalSpring::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
+  // The explicit model's generalized forces (addForces) on q_j and q_j+1,
+  // f_a = 2 G(q_b)^T m and f_b = -2 G(q_a)^T m, with m(Omega) the laws'
+  // moments and Omega = (2 / lambda) G(q_a) q_b, whose derivatives are
+  // -(2 / lambda) G(q_b) and (2 / lambda) G(q_a). G(q)^T m is linear in q
+  // (quat::gTransposeTimes).
+  for (int j = s.first - 1; j + 1 < s.n; ++j) {
+    const quat::Vec4 qa = s.q.col(j);
+    const quat::Vec4 qb = s.q.col(j + 1);
+    const double lambda = jointLength(j);
+    const quat::Mat34 ga = quat::G(qa), gb = quat::G(qb);
+    const Eigen::Vector3d omega = (2.0 / lambda) * (ga * qb);
+    Eigen::Vector3d m = Eigen::Vector3d::Zero(), dm = Eigen::Vector3d::Zero();
+    for (int i = 0; i < count_; ++i) {
+      double k;
+      m[first_ + i] = stressTangent(omega[first_ + i], j * count_ + i, k);
+      dm[first_ + i] = k;
+    }
+    a.addQForce(j, 2.0 * gb.transpose() * m);
+    a.addQForce(j + 1, -2.0 * ga.transpose() * m);
+    if (!a.wantsJacobian()) continue;
+    const Eigen::Matrix4d gm = quat::gTransposeTimes(m);
+    const Eigen::Matrix<double, 4, 3> gad = ga.transpose() * dm.asDiagonal();
+    const Eigen::Matrix<double, 4, 3> gbd = gb.transpose() * dm.asDiagonal();
+    const double s2 = 4.0 / lambda;
+    a.addStiffnessQQ(j, j, -s2 * gbd * gb);
+    a.addStiffnessQQ(j, j + 1, 2.0 * gm + s2 * gbd * ga);
+    a.addStiffnessQQ(j + 1, j, -2.0 * gm + s2 * gad * gb);
+    a.addStiffnessQQ(j + 1, j + 1, -s2 * gad * ga);
   }
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "coil_winding_sim/core/implicit/planar_assembly.hpp"
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 
 namespace cws {
 
@@ -32,7 +33,8 @@ double Stretching::stressTangent(double x, int j, double& tangent) const {
   return law_.stressOnBranch(x, upper_[j], line_[j], tangent);
 }
 
-void Stretching::beginImplicitStep(const PlanarState& s0) {
+template <class State>
+void Stretching::beginLines(const State& s0) {
   if (!plastic_) return;
   from_ = s0.first - 1;
   to_ = s0.n - 1;
@@ -49,12 +51,8 @@ void Stretching::beginImplicitStep(const PlanarState& s0) {
   }
 }
 
-void Stretching::adoptFlags() {
-  if (!plastic_) return;
-  std::copy(line_.begin() + from_, line_.begin() + to_, line_committed_.begin() + from_);
-}
-
-bool Stretching::recheckFlags(const PlanarState& s) {
+template <class State>
+bool Stretching::recheckLines(const State& s) {
   if (!plastic_) return false;
   bool changed = false;
   const double l = c_.segment_length;
@@ -66,6 +64,16 @@ bool Stretching::recheckFlags(const PlanarState& s) {
     }
   }
   return changed;
+}
+
+void Stretching::beginImplicitStep(const PlanarState& s0) { beginLines(s0); }
+void Stretching::beginSpatialStep(const SpatialState& s0) { beginLines(s0); }
+bool Stretching::recheckFlags(const PlanarState& s) { return recheckLines(s); }
+bool Stretching::recheckSpatialFlags(const SpatialState& s) { return recheckLines(s); }
+
+void Stretching::adoptFlags() {
+  if (!plastic_) return;
+  std::copy(line_.begin() + from_, line_.begin() + to_, line_committed_.begin() + from_);
 }
 
 double Stretching::axialForce(const WireKinematics& k, int j) const {
@@ -109,6 +117,27 @@ void Stretching::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const 
     a.addStiffness(j + 1, j, kb);
     a.addStiffness(j, j, -kb);
     a.addStiffness(j, j + 1, kb);
+  }
+}
+
+void Stretching::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
+  // As addPlanarForces, in world coordinates.
+  const double l = c_.segment_length;
+  for (int j = s.first - 1; j + 1 < s.n; ++j) {
+    const Eigen::Vector3d d = s.segment(j);
+    const double len = d.norm();
+    double k;
+    const double tension = stressTangent((len - l) / l, j, k);
+    const Eigen::Vector3d t = d / len;
+    a.addForce(j, tension * t);
+    a.addForce(j + 1, -tension * t);
+    if (!a.wantsJacobian()) continue;
+    const Eigen::Matrix3d tt = t * t.transpose();
+    const Eigen::Matrix3d kb = (k / l) * tt + (tension / len) * (Eigen::Matrix3d::Identity() - tt);
+    a.addStiffnessPP(j + 1, j + 1, -kb);
+    a.addStiffnessPP(j + 1, j, kb);
+    a.addStiffnessPP(j, j, -kb);
+    a.addStiffnessPP(j, j + 1, kb);
   }
 }
 

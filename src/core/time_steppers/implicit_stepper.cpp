@@ -8,18 +8,17 @@ namespace cws {
 
 ImplicitStepper::ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme)
     : p_(p), scheme_(scheme), h_(p.implicit_step) {
-  if (!sys.planarFormulation()) {
-    throw std::invalid_argument(std::string(name()) + " needs a planar scene (physics.planar)");
-  }
+  const NewtonFormulation* f = sys.newtonFormulation();
+  if (!f)
+    throw std::invalid_argument(std::string(name()) + ": the scene has no Newton formulation");
   const int cap = sys.capacity();  // more than enough columns
   const int points = (cap - 2) / 14 + 1;
-  x_prev_.setZero(2, points);
-  v_prev_.setZero(2, points);
-  x_hat_.setZero(2, points);
-  v_hat_.setZero(2, points);
-  guess_.setZero(2, points);
-  omega_prev_.setZero(points);
-  omega_hat_.setZero(points);
+  const int xr = f->configRows(), vr = f->rateRows();
+  x_prev_.setZero(xr, points);
+  v_prev_.setZero(vr, points);
+  x_hat_.setZero(xr, points);
+  v_hat_.setZero(vr, points);
+  guess_.setZero(xr, points);
 }
 
 void ImplicitStepper::restore(double next_step, double last_step, const StepCounts& counts) {
@@ -38,15 +37,15 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     t = t_limit;
     return;
   }
-  PlanarFormulation& f = *sys.planarFormulation();
+  NewtonFormulation& f = *sys.newtonFormulation();
   f.load(t);
   const int first = f.first(), n = f.n(), m = n - first;
+  const int xr = f.configRows();
   // Points the core released since the last step have no past here (only
   // integrated points are loaded): restart with an Euler step.
   if (first < first_prev_) have_prev_ = false;
-  const Eigen::Matrix2Xd& x0 = f.x0();
-  const Eigen::Matrix2Xd& v0 = f.v0();
-  const Eigen::VectorXd& w0 = f.omega0();
+  const Eigen::MatrixXd& x0 = f.committedX();
+  const Eigen::MatrixXd& v0 = f.committedV();
   for (;;) {
     // No sliver before the limit: a remainder of at most kLandStretch more
     // than the step is one step onto the limit, one of less than two steps
@@ -67,22 +66,19 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
       alpha = (1.0 + 2.0 * r) / ((1.0 + r) * h);
       // Points drawn in since the last step have no past: extrapolate back.
       for (int i = n_prev_; i < n; ++i) {
-        x_prev_.col(i) = x0.col(i) - h_prev_ * v0.col(i);
+        x_prev_.col(i) = x0.col(i) - h_prev_ * v0.col(i).head(xr);
         v_prev_.col(i) = v0.col(i);
-        omega_prev_[i] = w0[i];
       }
       x_hat_.middleCols(first, m) =
           c0 * x0.middleCols(first, m) - c1 * x_prev_.middleCols(first, m);
       v_hat_.middleCols(first, m) =
           c0 * v0.middleCols(first, m) - c1 * v_prev_.middleCols(first, m);
-      omega_hat_.segment(first, m) = c0 * w0.segment(first, m) - c1 * omega_prev_.segment(first, m);
     } else {
       x_hat_.middleCols(first, m) = x0.middleCols(first, m);
       v_hat_.middleCols(first, m) = v0.middleCols(first, m);
-      omega_hat_.segment(first, m) = w0.segment(first, m);
     }
-    guess_.middleCols(first, m) = x0.middleCols(first, m) + h * v0.middleCols(first, m);
-    const NewtonStats st = f.solve(t + h, alpha, alpha, x_hat_, v_hat_, omega_hat_, guess_);
+    guess_.middleCols(first, m) = x0.middleCols(first, m) + h * v0.block(0, first, xr, m);
+    const NewtonStats st = f.solve(t + h, alpha, alpha, x_hat_, v_hat_, guess_);
     newton_.iterations += st.iterations;
     newton_.flag_rounds += st.flag_rounds;
     newton_.line_searches += st.line_searches;
@@ -108,7 +104,6 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     // points; a point the core releases restarts the method above).
     x_prev_.middleCols(first, m) = x0.middleCols(first, m);
     v_prev_.middleCols(first, m) = v0.middleCols(first, m);
-    omega_prev_.segment(first, m) = w0.segment(first, m);
     n_prev_ = n;
     first_prev_ = first;
     h_prev_ = h;

@@ -51,7 +51,7 @@ std::vector<IntegratorInfo> registry() {
                false,
                makeRosenbrock2});
   r.push_back({"implicit_euler",
-               "backward Euler with Newton steps in reduced coordinates (planar scenes)",
+               "backward Euler with Newton steps (first order, L-stable)",
                {"implicit_step", "newton_tol", "newton_max_iterations", "flag_rounds", "min_step"},
                false,
                false,
@@ -59,7 +59,7 @@ std::vector<IntegratorInfo> registry() {
                true,
                makeImplicitEuler});
   r.push_back({"bdf2",
-               "variable-step BDF2 with Newton steps in reduced coordinates (planar scenes)",
+               "variable-step BDF2 with Newton steps (second order, L-stable)",
                {"implicit_step", "newton_tol", "newton_max_iterations", "flag_rounds", "min_step"},
                false,
                false,

@@ -43,6 +43,17 @@
 
 namespace cws {
 
+struct SpatialState;
+class SpatialAssembly;
+
+// The 3-D implicit formulation's frame constraints for frames first..n-1,
+// held exactly by the multipliers s.mu (frame_constraints_spatial.cpp):
+// (4) |q_i|^2 - 1 = 0 and (5) (p_i - p_{i-1}) . (xi_i, eta_i) = 0, rows
+// scaled by scale_unit [N] and scale_direction [N/m]; their forces
+// mu . dc/dx and the derivatives of those.
+void addSpatialFrameConstraints(const SpatialState& s, double scale_unit, double scale_direction,
+                                SpatialAssembly& a);
+
 // Motion of the supply port [m], [m/s], [m/s^2], world frame.
 struct PortMotion {
   Eigen::Vector3d p_world = Eigen::Vector3d::Zero();

@@ -40,6 +40,13 @@ class Contact : public ForceEffect {
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
   void beginImplicitStep(const PlanarState& s0) override;
   bool recheckFlags(const PlanarState& s) override;
+  // The same in 3-D (contact_spatial.cpp): a slipping point keeps the
+  // world direction it slides in within a solve, and the step is solved
+  // again when its sliding turned by more than kSlipTurn.
+  static constexpr double kSlipTurn = 0.05;  // [rad]
+  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
+  void beginSpatialStep(const SpatialState& s0) override;
+  bool recheckSpatialFlags(const SpatialState& s) override;
   void adoptFlags() override;
   void commit(double t, const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
@@ -51,6 +58,9 @@ class Contact : public ForceEffect {
   // At the last commit: is point i touching the core, is it stuck.
   bool inContact(int i) const { return cylinder_[i] >= 0; }
   bool stuck(int i) const { return friction_ && stuck_[i] != 0; }
+  // The present implicit step's trial flags (tests).
+  int trialSurface(int i) const { return trial_surface_[i]; }
+  bool trialStuck(int i) const { return friction_ && trial_stuck_[i] != 0; }
   double stickSpeed() const { return p_.stick_speed; }  // [m/s]
   // Friction force on point i at the last commit [N], world frame.
   const Eigen::Vector3d& frictionForce(int i) const { return friction_force_[i]; }
@@ -77,6 +87,9 @@ class Contact : public ForceEffect {
                      Eigen::Vector2d& normal, double& depth, Eigen::Matrix2d& dnormal) const;
   // Velocity of the core material at plane point x [m/s].
   Eigen::Vector2d planarSurfaceVelocity(const PlanarState& s, const Eigen::Vector2d& x) const;
+  // The same in 3-D: outward normal, penetration [m], d normal / dp [1/m].
+  bool spatialSurface(int surface, const Eigen::Vector3d& p_world, Eigen::Vector3d& normal_world,
+                      double& depth, Eigen::Matrix3d& dnormal) const;
 
   const WireConstants& c_;  // the model's: n grows with a supply
   ContactParams p_;
@@ -105,6 +118,8 @@ class Contact : public ForceEffect {
   std::vector<char> trial_stuck_;
   std::vector<Eigen::Vector3d> trial_anchor_core_;
   std::vector<signed char> trial_sign_;
+  // 3-D: the world direction a slipping point slides in (unit).
+  std::vector<Eigen::Vector3d> trial_slip_world_;
 };
 
 }  // namespace cws

@@ -13,6 +13,7 @@ class Damping : public ForceEffect {
   const char* name() const override { return "damping"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
+  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
 
  private:
   const WireConstants& c_;  // the model's: n grows with a supply

@@ -16,6 +16,7 @@ class EndLoad : public ForceEffect {
   const char* name() const override { return "end_load"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
+  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
 
   // Interpolated force [N] and moment [N m] in the world frame at time t [s].
   void loadAt(double t, Eigen::Vector3d& force_world, Eigen::Vector3d& moment_world) const;

@@ -11,6 +11,7 @@ class Gravity : public ForceEffect {
   const char* name() const override { return "gravity"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
+  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
 
  private:
   const WireConstants& c_;   // the model's: n grows with a supply

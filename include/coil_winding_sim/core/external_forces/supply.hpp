@@ -28,6 +28,7 @@ class Supply : public ForceEffect {
   const char* name() const override { return "supply"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
+  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
 
   void commit(double t, const WireKinematics& k) override;
 

@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "coil_winding_sim/core/implicit/newton_formulation.hpp"
 #include "coil_winding_sim/core/implicit/planar_assembly.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 
@@ -23,23 +24,24 @@ namespace cws {
 class WireModel;
 class ForceEffect;
 
-struct NewtonStats {
-  bool converged = false;
-  int iterations = 0;   // Newton iterations, all flag rounds
-  int flag_rounds = 0;  // solves repeated after a flag changed
-  int line_searches = 0;
-  int factorizations = 0;
-};
-
-class PlanarFormulation {
+class PlanarFormulation : public NewtonFormulation {
  public:
   PlanarFormulation(WireModel& model, const Scene& scene);
 
+  // x: plane coordinates (2 rows); v: their rates and the frame's angular
+  // velocity (3 rows), for the steppers.
+  int configRows() const override { return 2; }
+  int rateRows() const override { return 3; }
+  const Eigen::MatrixXd& committedX() const override { return x0_steps_; }
+  const Eigen::MatrixXd& committedV() const override { return v0_steps_; }
+  NewtonStats solve(double t1, double alpha, double kappa, const Eigen::MatrixXd& x_hat,
+                    const Eigen::MatrixXd& v_hat, const Eigen::MatrixXd& x_guess) override;
+
   // Reads the committed state of the model at time t0 [s]: positions,
-  // velocities and frame rates of every point (carried ones too).
-  void load(double t0);
-  int first() const { return state_.first; }
-  int n() const { return state_.n; }
+  // velocities and frame rates of the integrated points and the boundary.
+  void load(double t0) override;
+  int first() const override { return state_.first; }
+  int n() const override { return state_.n; }
   const Eigen::Matrix2Xd& x0() const { return x0_; }
   const Eigen::Matrix2Xd& v0() const { return v0_; }
   // Angular velocity of frame i (segment i-1) at the committed state [rad/s].
@@ -58,7 +60,7 @@ class PlanarFormulation {
   // velocities, frames and their rates) and books the work and dissipation
   // of the step of h [s] from the converged solve's last evaluation (call
   // it right after solve()); the caller then accepts the step (acceptStep).
-  void store(double h, Eigen::VectorXd& y);
+  void store(double h, Eigen::VectorXd& y) override;
 
   // The assembly at the present trial state (tests: Jacobians against
   // finite differences).
@@ -86,6 +88,10 @@ class PlanarFormulation {
   // Committed state and the present step's scheme data (capacity columns).
   Eigen::Matrix2Xd x0_, v0_, x_hat_, v_hat_, x_try_;
   Eigen::VectorXd omega0_, omega_hat_;
+  // The same for the steppers: x0 (2 rows), v0 and omega0 (3 rows); and
+  // the scheme data they pass in, split.
+  Eigen::MatrixXd x0_steps_, v0_steps_;
+  Eigen::Matrix2Xd x_hat_in_, v_hat_in_, guess_in_;
   Eigen::Matrix2Xd frame_gradient_;  // d phi_i / d d_{i-1} at the step's start
   Eigen::VectorXd r_, dx_;
   double alpha_ = 0.0, kappa_ = 0.0;

@@ -31,11 +31,14 @@ class RotationalSpring : public ForceEffect {
   const char* name() const override { return name_; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
+  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
   // Implicit steps freeze the line of each law (elastic, upper or lower
   // plastic) within a Newton solve; the lines carry over between steps.
   void beginImplicitStep(const PlanarState& s0) override;
   bool recheckFlags(const PlanarState& s) override;
   void adoptFlags() override;
+  void beginSpatialStep(const SpatialState& s0) override;
+  bool recheckSpatialFlags(const SpatialState& s) override;
   void commit(double t, const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
   void appendHistory(std::vector<double>& out) const override;
@@ -61,6 +64,17 @@ class RotationalSpring : public ForceEffect {
   // Planar curvature of joint j [1/m], with the sine and cosine of half its
   // turn angle.
   double planarCurvature(const PlanarState& s, int j, double& sin_half, double& cos_half) const;
+  // The argument x of law (j, c) in the plane; false for a component with
+  // no part about the plane normal.
+  bool planarArgument(const PlanarState& s, int j, int c, double& x) const;
+  // Darboux vector of joint j at a 3-D trial state [1/m].
+  Eigen::Vector3d darboux(const SpatialState& s, int j) const;
+  // The implicit steps' lines at a step's start, and their recheck, given
+  // each law's argument: argument(j, c, x) sets x, false to skip the law.
+  template <class Argument>
+  void beginLines(int first, int n, Argument argument);
+  template <class Argument>
+  bool recheckLines(int first, int n, Argument argument);
 
   const char* name_;
   const WireConstants& c_;  // the model's: n grows with a supply

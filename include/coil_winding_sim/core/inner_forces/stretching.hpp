@@ -16,11 +16,14 @@ class Stretching : public ForceEffect {
   const char* name() const override { return "stretching"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
+  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
   // Implicit steps freeze the line of each segment's law (elastic, upper or
   // lower plastic) within a Newton solve; the lines carry over between steps.
   void beginImplicitStep(const PlanarState& s0) override;
   bool recheckFlags(const PlanarState& s) override;
   void adoptFlags() override;
+  void beginSpatialStep(const SpatialState& s0) override;
+  bool recheckSpatialFlags(const SpatialState& s) override;
   void commit(double t, const WireKinematics& k) override;
   void grow(const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
@@ -44,6 +47,12 @@ class Stretching : public ForceEffect {
   double stressOf(double x, int j) const;
   // Stress [N] and consistent tangent [N] at strain x of segment j.
   double stressTangent(double x, int j, double& tangent) const;
+  // The implicit steps' lines at a step's start, and their recheck, in
+  // either formulation.
+  template <class State>
+  void beginLines(const State& s0);
+  template <class State>
+  bool recheckLines(const State& s);
   // Commits segment j as loaded from virgin to its present strain.
   void loadVirgin(const WireKinematics& k, int j);
 

@@ -1,4 +1,5 @@
-// Implicit steps for the planar wire (PlanarFormulation): backward Euler
+// Implicit steps over a NewtonFormulation (the planar wire's reduced
+// coordinates, or the 3-D wire with its frame constraints): backward Euler
 // (implicit_euler), first order and L-stable, and the variable-step BDF2
 // (bdf2), second order and L-stable. Both solve
 //   v = alpha (x - x_hat),   alpha M (v - v_hat) = F(x, v)
@@ -11,7 +12,7 @@
 
 #include <Eigen/Core>
 
-#include "coil_winding_sim/core/implicit/planar_formulation.hpp"
+#include "coil_winding_sim/core/implicit/newton_formulation.hpp"
 #include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
 
 namespace cws {
@@ -40,10 +41,10 @@ class ImplicitStepper : public TimeStepper {
   double h_, h_last_ = 0.0;
   StepCounts counts_;
   NewtonCounts newton_;
-  // The step before the present one (BDF2): positions, velocities and frame
-  // rates of every point, its size, and whether it can be used.
-  Eigen::Matrix2Xd x_prev_, v_prev_, x_hat_, v_hat_, guess_;
-  Eigen::VectorXd omega_prev_, omega_hat_;
+  // The step before the present one (BDF2): configuration and rates of
+  // every point (the formulation's rows), its size, and whether it can be
+  // used; the present step's scheme data.
+  Eigen::MatrixXd x_prev_, v_prev_, x_hat_, v_hat_, guess_;
   double h_prev_ = 0.0;
   int n_prev_ = 0;
   int first_prev_ = 0;  // the first integrated point of the last step

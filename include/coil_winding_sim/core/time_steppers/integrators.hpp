@@ -25,8 +25,9 @@ struct IntegratorInfo {
   bool explicit_fixed_step = false;
   // Error-controlled (solver.rtol, solver.atol).
   bool error_controlled = false;
-  // Reduced coordinates of a planar scene only (physics.planar).
-  bool planar_only = false;
+  // Newton steps of solver.implicit_step over a NewtonFormulation (planar
+  // scenes in reduced coordinates, 3-D scenes with the frame constraints).
+  bool newton_steps = false;
   // L-stable: it removes the energy of motion its step does not resolve.
   // That numerical dissipation is reported as its own term; the energy
   // balance then bounds only energy the method creates.

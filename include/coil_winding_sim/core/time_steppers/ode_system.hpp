@@ -13,6 +13,7 @@
 namespace cws {
 
 class PlanarFormulation;
+class NewtonFormulation;
 
 // Sparsity of a chain: `lead` leading components that nothing depends on
 // (integrated quantities such as work done), then blocks of `block`
@@ -52,6 +53,9 @@ class OdeSystem {
   // Reduced coordinates for implicit steppers (planar scenes); null when
   // the system has none.
   virtual PlanarFormulation* planarFormulation() { return nullptr; }
+  // The formulation implicit steppers solve (the planar one, or the 3-D one
+  // when the scene's integrator takes Newton steps); null when none.
+  virtual NewtonFormulation* newtonFormulation() { return nullptr; }
   // Sparsity for integrators that build a banded Jacobian.
   virtual ChainStructure chainStructure() const { return {}; }
   // Called once per accepted step with the new time and state (capacity()

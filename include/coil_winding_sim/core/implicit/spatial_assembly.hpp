@@ -1,0 +1,118 @@
+// The 3-D implicit formulation's view of the wire (its trial state) and the
+// Newton system every effect adds its forces and Jacobian blocks to.
+//
+// A 3-D wire keeps the explicit model's coordinates: per integrated point i
+// its position p_i and the quaternion q_i of frame i, with the constraints
+// (4) |q_i|^2 = 1 and (5) zeta_i along segment i-1 held exactly by three
+// Lagrange multipliers mu_i per frame, and with a supply the port
+// constraint's two. The effects' generalized forces are the explicit
+// model's (forces on p, generalized forces on q); they add the derivatives
+// too. docs/MODEL.md ("Implicit integration of 3-D scenes") derives the
+// system.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "coil_winding_sim/core/linear_algebra/banded_lu.hpp"
+
+namespace cws {
+
+// Trial state at the end of an implicit step (capacity columns; point
+// first-1 is prescribed: the clamp, or the boundary of the carried wire).
+struct SpatialState {
+  double t = 0.0;      // time at the step's end [s]
+  double alpha = 0.0;  // d v / d x of the scheme [1/s]: v = alpha (x - x_hat)
+  int first = 1;       // integrated points first..n-1
+  int n = 0;
+  Eigen::Matrix3Xd p, v;   // positions [m], velocities [m/s], world frame
+  Eigen::Matrix4Xd q, qd;  // frames (scalar first) and their rates [1/s]
+  Eigen::Matrix3Xd mu;     // frame constraint multipliers, per frame i >= first
+  Eigen::Vector2d lambda_port = Eigen::Vector2d::Zero();  // port constraint multipliers [N]
+
+  Eigen::Vector3d segment(int j) const { return p.col(j + 1) - p.col(j); }
+};
+
+// The Newton system over the integrated points' unknowns, in blocks of
+// kPerPoint per point: the frame's three multipliers first (their rows
+// touch p_{i-1}, p_i and q_i: ordered so, the band stays narrow), then p_i,
+// then q_i; with a supply the port's two multipliers last. The matrix holds
+//   -(d F / d x + alpha d F / d v)
+// to which the formulation adds the inertia; a constraint row holds
+// -scale g and -scale dg/dx, and the multiplier's column -dg/dx (the
+// constraint's force mu dg/dx is added by whoever owns the constraint).
+class SpatialAssembly {
+ public:
+  static constexpr int kPerPoint = 10;
+  static constexpr int kP = 3, kQ = 6;  // offsets of p and q in a point's block
+  // Storage for up to `capacity_points` points (once, before a run).
+  void resize(int capacity_points);
+  // Starts the system of points first..n-1 (with the port's multipliers if
+  // asked); `jacobian` false: forces only.
+  void begin(int first, int n, bool port, bool jacobian, double alpha);
+
+  bool wantsJacobian() const { return jacobian_; }
+  int unknowns() const { return unknowns_; }
+  int first() const { return first_; }
+  int muRow(int i) const { return kPerPoint * (i - first_); }
+  int pRow(int i) const { return muRow(i) + kP; }
+  int qRow(int i) const { return muRow(i) + kQ; }
+  int portRow() const { return unknowns_ - 2; }
+
+  // Force on point i [N] and generalized force on its quaternion [N m]; on
+  // the prescribed point first-1 they are booked as what the wire does to
+  // the clamp.
+  void addForce(int i, const Eigen::Vector3d& f);
+  void addQForce(int i, const Eigen::Vector4d& f);
+  // d f_i / d x_j (x: p or q of point j) and d f_i / d xdot_j.
+  void addStiffnessPP(int i, int j, const Eigen::Matrix3d& k) { block(i, kP, j, kP, -k); }
+  void addStiffnessPQ(int i, int j, const Eigen::Matrix<double, 3, 4>& k) {
+    block(i, kP, j, kQ, -k);
+  }
+  void addStiffnessQP(int i, int j, const Eigen::Matrix<double, 4, 3>& k) {
+    block(i, kQ, j, kP, -k);
+  }
+  void addStiffnessQQ(int i, int j, const Eigen::Matrix4d& k) { block(i, kQ, j, kQ, -k); }
+  void addDampingPP(int i, int j, const Eigen::Matrix3d& d) { block(i, kP, j, kP, -alpha_ * d); }
+  void addDampingQQ(int i, int j, const Eigen::Matrix4d& d) { block(i, kQ, j, kQ, -alpha_ * d); }
+
+  // Constraint row `row` (a frame's or the port's): its scaled residual.
+  void setConstraint(int row, double g, double scale);
+  // Its gradient with respect to p_i or q_i (nothing for the prescribed point).
+  void addConstraintGradientP(int row, int i, const Eigen::Vector3d& grad);
+  void addConstraintGradientQ(int row, int i, const Eigen::Vector4d& grad);
+
+  Eigen::VectorXd& forces() { return force_; }
+  const Eigen::VectorXd& forces() const { return force_; }
+  BandedLu& matrix() { return matrix_; }
+
+  // Bookkeeping at the trial state, as WireForces does for the explicit
+  // model: rates not paired with the wire's velocities, and the forces that
+  // are (applied loads do work, friction and damping dissipate).
+  double power_external = 0.0;               // [W]
+  double power_dissipated = 0.0;             // [W]
+  Eigen::Matrix3Xd f_work, f_dissipative;    // per point [N] (capacity)
+  Eigen::Matrix4Xd fq_work, fq_dissipative;  // per frame [N m]
+  // What the effects do to the prescribed point and its frame.
+  Eigen::Vector3d boundary_force = Eigen::Vector3d::Zero();
+  Eigen::Vector4d boundary_fq = Eigen::Vector4d::Zero();
+
+ private:
+  // Adds b at the rows of point i from offset `row` and the columns of
+  // point j from offset `col`; nothing for the prescribed point.
+  template <class Derived>
+  void block(int i, int row, int j, int col, const Eigen::MatrixBase<Derived>& b) {
+    if (!jacobian_ || i < first_ || j < first_) return;
+    const int r0 = muRow(i) + row, c0 = muRow(j) + col;
+    for (int c = 0; c < b.cols(); ++c) {
+      for (int r = 0; r < b.rows(); ++r) matrix_.at(r0 + r, c0 + c) += b(r, c);
+    }
+  }
+
+  int first_ = 1, n_ = 0, unknowns_ = 0;
+  bool jacobian_ = false;
+  double alpha_ = 0.0;
+  Eigen::VectorXd force_, scale_;  // scale_: each constraint row's
+  BandedLu matrix_;
+};
+
+}  // namespace cws

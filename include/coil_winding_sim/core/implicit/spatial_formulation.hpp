@@ -1,0 +1,75 @@
+// The 3-D wire for implicit time steppers: the explicit model's coordinates
+// (positions and frame quaternions of the integrated points) with the frame
+// constraints (4), (5) and the port constraint (22) held exactly by Lagrange
+// multipliers at the step's end. One step of a one-leg scheme is solved by
+// Newton's method with a line search over the banded system of
+// SpatialAssembly; the quaternions' inertia is the explicit model's, 4 I per
+// component. Contact, stick, slip and hysteresis-line flags stay frozen
+// within one Newton solve and are rechecked after it, as in the planar
+// formulation.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "coil_winding_sim/core/implicit/newton_formulation.hpp"
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
+#include "coil_winding_sim/core/scene.hpp"
+
+namespace cws {
+
+class WireModel;
+class ForceEffect;
+
+class SpatialFormulation : public NewtonFormulation {
+ public:
+  SpatialFormulation(WireModel& model, const Scene& scene);
+
+  // x: p (rows 0-2), q (rows 3-6); v: their rates.
+  int configRows() const override { return 7; }
+  int rateRows() const override { return 7; }
+  void load(double t0) override;
+  int first() const override { return state_.first; }
+  int n() const override { return state_.n; }
+  const Eigen::MatrixXd& committedX() const override { return x0_; }
+  const Eigen::MatrixXd& committedV() const override { return v0_; }
+  NewtonStats solve(double t1, double alpha, double kappa, const Eigen::MatrixXd& x_hat,
+                    const Eigen::MatrixXd& v_hat, const Eigen::MatrixXd& x_guess) override;
+  void store(double h, Eigen::VectorXd& y) override;
+
+  // The trial state and its assembly (tests: Jacobians against finite
+  // differences).
+  SpatialState& trialState() { return state_; }
+  const SpatialAssembly& assemble(bool jacobian);
+
+ private:
+  void placeBoundary(double t);
+  // The trial velocities and rates from the configuration: alpha (x - x_hat).
+  void updateRates();
+  // Residual r = inertia - F (force rows), the scaled constraints; its
+  // weighted max norm [N]. With jacobian, the Newton matrix too.
+  double residual(bool jacobian);
+
+  WireModel& model_;
+  std::vector<ForceEffect*> effects_;
+  bool port_;                      // a supply port constraint
+  double point_mass_, quat_mass_;  // [kg], 4 I [kg m^2]
+  double segment_length_;
+  double scale_unit_, scale_direction_;  // constraint row scales [N], [N/m]
+  double newton_tol_;
+  int newton_max_iterations_, flag_rounds_;
+  SpatialState state_;
+  SpatialAssembly assembly_;
+  // Committed state and the present step's scheme data (capacity columns).
+  Eigen::MatrixXd x0_, v0_, x_hat_, v_hat_, x_try_;
+  Eigen::Matrix3Xd mu_try_, mu_accepted_;
+  Eigen::Vector2d lambda_accepted_ = Eigen::Vector2d::Zero();
+  Eigen::VectorXd r_, dx_;
+  double alpha_ = 0.0, kappa_ = 0.0;
+  // The factorization in the assembly's matrix, and what it was made for.
+  bool have_factor_ = false;
+  double factored_alpha_ = 0.0, factored_kappa_ = 0.0;
+  int factored_first_ = -1, factored_n_ = -1;
+};
+
+}  // namespace cws

@@ -1,0 +1,51 @@
+// The frame constraints (4) and (5) as rows of the 3-D implicit Newton
+// system: unlike the explicit model (frame_constraints.cpp), which keeps
+// them at acceleration level with Baumgarte's stabilization, an implicit
+// step holds them exactly at its end.
+#include "coil_winding_sim/core/constraints/frame_constraints.hpp"
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
+
+namespace cws {
+
+void addSpatialFrameConstraints(const SpatialState& s, double scale_unit, double scale_direction,
+                                SpatialAssembly& a) {
+  for (int i = s.first; i < s.n; ++i) {
+    const quat::Vec4 q = s.q.col(i);
+    const Eigen::Vector3d d = s.segment(i - 1);
+    const Eigen::Vector3d mu = s.mu.col(i);
+    const int row = a.muRow(i);
+    // (4): |q|^2 - 1, gradient 2 q, Hessian 2 I.
+    a.addQForce(i, mu[0] * 2.0 * q);
+    a.setConstraint(row, q.squaredNorm() - 1.0, scale_unit);
+    if (a.wantsJacobian()) {
+      a.addConstraintGradientQ(row, i, 2.0 * q);
+      a.addStiffnessQQ(i, i, 2.0 * mu[0] * Eigen::Matrix4d::Identity());
+    }
+    // (5): d . xi and d . eta, d = p_i - p_{i-1}.
+    const Eigen::Vector3d axis[2] = {quat::xi(q), quat::eta(q)};
+    const quat::Mat34 jac[2] = {quat::xiJacobian(q), quat::etaJacobian(q)};
+    for (int r = 0; r < 2; ++r) {
+      const double m = mu[1 + r];
+      const Eigen::Vector4d grad_q = jac[r].transpose() * d;
+      a.addForce(i, m * axis[r]);
+      a.addForce(i - 1, -m * axis[r]);
+      a.addQForce(i, m * grad_q);
+      a.setConstraint(row + 1 + r, d.dot(axis[r]), scale_direction);
+      if (!a.wantsJacobian()) continue;
+      a.addConstraintGradientP(row + 1 + r, i, axis[r]);
+      a.addConstraintGradientP(row + 1 + r, i - 1, -axis[r]);
+      a.addConstraintGradientQ(row + 1 + r, i, grad_q);
+      a.addStiffnessPQ(i, i, m * jac[r]);
+      a.addStiffnessPQ(i - 1, i, -m * jac[r]);
+      a.addStiffnessQP(i, i, m * jac[r].transpose());
+      a.addStiffnessQP(i, i - 1, -m * jac[r].transpose());
+    }
+    if (a.wantsJacobian()) {
+      a.addStiffnessQQ(i, i,
+                       mu[1] * quat::bilinearHessian(quat::xiBilinear, d) +
+                           mu[2] * quat::bilinearHessian(quat::etaBilinear, d));
+    }
+  }
+}
+
+}  // namespace cws

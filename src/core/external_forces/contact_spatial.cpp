@@ -1,0 +1,167 @@
+// Contact and friction in the 3-D implicit formulation: the same penalty
+// springs, stick spring and static/kinetic friction as contact.cpp, with
+// their Jacobian blocks, and the flags an implicit step freezes within one
+// Newton solve and rechecks after it, as contact_planar.cpp does in the
+// plane. A slipping point keeps a world direction of sliding within a
+// solve (projected onto the surface's tangent plane); the step is solved
+// again when the sliding at its end turned by more than kSlipTurn.
+#include <cmath>
+
+#include "coil_winding_sim/core/external_forces/contact.hpp"
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
+
+namespace cws {
+
+bool Contact::spatialSurface(int surface, const Eigen::Vector3d& p_world,
+                             Eigen::Vector3d& normal_world, double& depth,
+                             Eigen::Matrix3d& dnormal) const {
+  const int cylinders = static_cast<int>(radii_.size());
+  if (surface < cylinders) {
+    // Distance from the cylinder's axis (the core axis through its centre).
+    const Eigen::Vector3d& a = core_.axisWorld();
+    const Eigen::Vector3d d = p_world - centers_world_[surface];
+    const Eigen::Vector3d d_perp = d - d.dot(a) * a;
+    const double dist = d_perp.norm();
+    if (dist == 0.0) return false;
+    normal_world = d_perp / dist;
+    depth = radii_[surface] + c_.radius - dist;
+    dnormal = (Eigen::Matrix3d::Identity() - a * a.transpose() -
+               normal_world * normal_world.transpose()) /
+              dist;
+    return true;
+  }
+  const int f = surface - cylinders;
+  normal_world = face_normal_world_[f];
+  depth = c_.radius - (p_world - face_from_world_[f]).dot(normal_world);
+  dnormal.setZero();
+  return true;
+}
+
+void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
+  placeSurfaces(s.t);
+  const double k = p_.stiffness;
+  const Eigen::Matrix3d id = Eigen::Matrix3d::Identity();
+  for (int i = s.first; i < s.n; ++i) {
+    const int surface = trial_surface_[i];
+    if (surface < 0) continue;
+    const Eigen::Vector3d p = s.p.col(i);
+    Eigen::Vector3d nrm;
+    double h;
+    Eigen::Matrix3d dn;
+    if (!spatialSurface(surface, p, nrm, h, dn)) continue;
+    // Normal spring k h n, kept linear while the contact is active.
+    const double normal = k * h;
+    Eigen::Vector3d f = normal * nrm;
+    Eigen::Matrix3d kp = -k * nrm * nrm.transpose() + normal * dn;
+    const Eigen::Vector3d u = core_.velocityWorld(s.t, p);
+    if (friction_) {
+      Eigen::Vector3d ft = Eigen::Vector3d::Zero();
+      if (trial_stuck_[i]) {
+        // Stick: the spring to the anchor, its tangential part.
+        const Eigen::Vector3d delta =
+            p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[i]);
+        const double dnn = delta.dot(nrm);
+        ft = -p_.stick_stiffness * (delta - dnn * nrm);
+        kp += -p_.stick_stiffness *
+              (id - nrm * (nrm.transpose() + delta.transpose() * dn) - dnn * dn);
+      } else {
+        // Slip: mu_d N against the frozen direction, in the tangent plane.
+        const Eigen::Vector3d& s0 = trial_slip_world_[i];
+        const double s0n = s0.dot(nrm);
+        const Eigen::Vector3d w = s0 - s0n * nrm;
+        const double len = w.norm();
+        if (len > 0.0) {
+          const Eigen::Vector3d dir = w / len;
+          ft = -p_.kinetic_friction * normal * dir;
+          const Eigen::Matrix3d dw = -(nrm * (s0.transpose() * dn) + s0n * dn);
+          const Eigen::Matrix3d ddir = (id - dir * dir.transpose()) * dw / len;
+          kp += -p_.kinetic_friction * (-k * dir * nrm.transpose() + normal * ddir);
+        }
+      }
+      f += ft;
+      a.f_dissipative.col(i) += ft;
+      a.power_dissipated += ft.dot(u);
+    }
+    a.addForce(i, f);
+    a.addStiffnessPP(i, i, kp);
+    // The moving surface does work on the wire.
+    a.power_external += f.dot(u);
+  }
+}
+
+void Contact::beginSpatialStep(const SpatialState& s0) {
+  placeSurfaces(s0.t);
+  for (int i = s0.first; i < s0.n; ++i) {
+    trial_surface_[i] = cylinder_[i];
+    if (!friction_) continue;
+    trial_stuck_[i] = stuck_[i];
+    trial_anchor_core_[i] = anchor_core_[i];
+    // A slipping point keeps the direction it slides in.
+    trial_slip_world_[i].setZero();
+    Eigen::Vector3d nrm;
+    double h;
+    Eigen::Matrix3d dn;
+    const Eigen::Vector3d p = s0.p.col(i);
+    if (cylinder_[i] >= 0 && spatialSurface(cylinder_[i], p, nrm, h, dn)) {
+      const Eigen::Vector3d v_rel = s0.v.col(i) - core_.velocityWorld(s0.t, p);
+      const Eigen::Vector3d vh = v_rel - v_rel.dot(nrm) * nrm;
+      if (vh.norm() > 0.0) trial_slip_world_[i] = vh.normalized();
+    }
+  }
+}
+
+bool Contact::recheckSpatialFlags(const SpatialState& s) {
+  placeSurfaces(s.t);
+  bool changed = false;
+  const double cos_turn = std::cos(kSlipTurn);
+  for (int i = s.first; i < s.n; ++i) {
+    const Eigen::Vector3d p = s.p.col(i);
+    double h_touch;
+    Eigen::Vector3d n_touch;
+    const int surface = touch(p, h_touch, n_touch);
+    Eigen::Vector3d nrm;
+    double h = 0.0;
+    Eigen::Matrix3d dn;
+    const bool on = surface >= 0 && spatialSurface(surface, p, nrm, h, dn);
+    const bool fresh = surface != trial_surface_[i];
+    if (fresh) {
+      trial_surface_[i] = surface;
+      trial_stuck_[i] = 0;
+      changed = true;
+    }
+    if (!on || !friction_) continue;
+    const Eigen::Vector3d v_rel = s.v.col(i) - core_.velocityWorld(s.t, p);
+    const Eigen::Vector3d vh = v_rel - v_rel.dot(nrm) * nrm;
+    const double speed = vh.norm();
+    if (trial_stuck_[i]) {
+      // Stick holds while the spring stays within mu_s N.
+      const Eigen::Vector3d delta =
+          p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[i]);
+      const Eigen::Vector3d dt = delta - delta.dot(nrm) * nrm;
+      if (p_.stick_stiffness * dt.norm() > p_.static_friction * p_.stiffness * h) {
+        trial_stuck_[i] = 0;
+        trial_slip_world_[i] = dt.normalized();
+        changed = true;
+      }
+      continue;
+    }
+    const Eigen::Vector3d& dir = trial_slip_world_[i];
+    const double along = vh.dot(dir);
+    if (p_.static_friction > 0.0 &&
+        (fresh || dir.squaredNorm() == 0.0 ? speed < p_.stick_speed : along < p_.stick_speed)) {
+      // Slow enough, or the sliding would have reversed within the step:
+      // stick where it is (as a commit of contact.cpp does).
+      trial_stuck_[i] = 1;
+      trial_anchor_core_[i] = rot_world_core_.transpose() * (p - core_.originWorld());
+      changed = true;
+    } else if (speed > 0.0 && (fresh || along < cos_turn * speed)) {
+      // A new contact slides as it moves; a sliding that turned is solved
+      // again in its new direction.
+      trial_slip_world_[i] = vh / speed;
+      changed = true;
+    }
+  }
+  return changed;
+}
+
+}  // namespace cws

@@ -1,0 +1,77 @@
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
+
+namespace cws {
+
+void SpatialAssembly::resize(int capacity_points) {
+  const int unknowns = kPerPoint * capacity_points + 2;
+  force_.setZero(unknowns);
+  scale_.setOnes(unknowns);
+  f_work.setZero(3, capacity_points);
+  f_dissipative.setZero(3, capacity_points);
+  fq_work.setZero(4, capacity_points);
+  fq_dissipative.setZero(4, capacity_points);
+  // The widest coupling: frame i's constraint forces tie q_i (rows 6..9 of
+  // block i) to p_{i-1} (rows 3..5 of block i-1): 16 either way (bending's
+  // q_j to q_j+1 reaches 13, stretching's p_j to p_j+1 12).
+  matrix_.resize(unknowns, 16, 16);
+}
+
+void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double alpha) {
+  first_ = first;
+  n_ = n;
+  unknowns_ = kPerPoint * (n - first) + (port ? 2 : 0);
+  jacobian_ = jacobian;
+  alpha_ = alpha;
+  force_.head(unknowns_).setZero();
+  const int from = std::max(0, first - 1);
+  f_work.middleCols(from, n - from).setZero();
+  f_dissipative.middleCols(from, n - from).setZero();
+  fq_work.middleCols(from, n - from).setZero();
+  fq_dissipative.middleCols(from, n - from).setZero();
+  power_external = 0.0;
+  power_dissipated = 0.0;
+  boundary_force.setZero();
+  boundary_fq.setZero();
+  if (jacobian_) matrix_.setZero(unknowns_);
+}
+
+void SpatialAssembly::addForce(int i, const Eigen::Vector3d& f) {
+  if (i >= first_) {
+    force_.segment<3>(pRow(i)) += f;
+  } else if (i == first_ - 1) {
+    boundary_force += f;
+  }
+}
+
+void SpatialAssembly::addQForce(int i, const Eigen::Vector4d& f) {
+  if (i >= first_) {
+    force_.segment<4>(qRow(i)) += f;
+  } else if (i == first_ - 1) {
+    boundary_fq += f;
+  }
+}
+
+void SpatialAssembly::setConstraint(int row, double g, double scale) {
+  scale_[row] = scale;
+  force_[row] = -scale * g;
+}
+
+void SpatialAssembly::addConstraintGradientP(int row, int i, const Eigen::Vector3d& grad) {
+  if (!jacobian_ || i < first_) return;
+  const int c = pRow(i);
+  for (int a = 0; a < 3; ++a) {
+    matrix_.at(row, c + a) += -scale_[row] * grad[a];
+    matrix_.at(c + a, row) += -grad[a];
+  }
+}
+
+void SpatialAssembly::addConstraintGradientQ(int row, int i, const Eigen::Vector4d& grad) {
+  if (!jacobian_ || i < first_) return;
+  const int c = qRow(i);
+  for (int a = 0; a < 4; ++a) {
+    matrix_.at(row, c + a) += -scale_[row] * grad[a];
+    matrix_.at(c + a, row) += -grad[a];
+  }
+}
+
+}  // namespace cws

@@ -1,0 +1,248 @@
+#include "coil_winding_sim/core/implicit/spatial_formulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "coil_winding_sim/core/constraints/frame_constraints.hpp"
+#include "coil_winding_sim/core/wire_model.hpp"
+
+namespace cws {
+
+SpatialFormulation::SpatialFormulation(WireModel& model, const Scene& scene)
+    : model_(model),
+      port_(scene.physics.supply),
+      point_mass_(model.constants().point_mass),
+      quat_mass_(4.0 * model.constants().point_inertia),
+      segment_length_(model.constants().segment_length),
+      newton_tol_(scene.solver.newton_tol),
+      newton_max_iterations_(scene.solver.newton_max_iterations),
+      flag_rounds_(scene.solver.flag_rounds) {
+  const int cap = model.constants().capacity;
+  for (ForceEffect* e : model.effectList()) effects_.push_back(e);
+  // Constraint rows in the force rows' unit: the axial rigidity EA [N]
+  // for the unit quaternion, the axial stiffness EA / l [N/m] for a
+  // direction (as the planar port constraint).
+  scale_unit_ = scene.wire.stretch.elastic_rigidity;
+  scale_direction_ = scene.wire.stretch.elastic_rigidity / segment_length_;
+  state_.p.setZero(3, cap);
+  state_.v.setZero(3, cap);
+  state_.q.setZero(4, cap);
+  state_.qd.setZero(4, cap);
+  state_.mu.setZero(3, cap);
+  assembly_.resize(cap);
+  x0_.setZero(7, cap);
+  v0_.setZero(7, cap);
+  x_hat_.setZero(7, cap);
+  v_hat_.setZero(7, cap);
+  x_try_.setZero(7, cap);
+  mu_try_.setZero(3, cap);
+  mu_accepted_.setZero(3, cap);
+  r_.setZero(SpatialAssembly::kPerPoint * cap + 2);
+  dx_.setZero(SpatialAssembly::kPerPoint * cap + 2);
+}
+
+void SpatialFormulation::load(double t0) {
+  const WireKinematics& k = model_.integratedKinematics();
+  const WireConstants& c = model_.constants();
+  state_.first = c.first;
+  state_.n = c.n;
+  state_.t = t0;
+  // The integrated points and the boundary one before them; carried wire
+  // is not read (WireModel::setCarriedDeferred).
+  const int b = c.first - 1, m = c.n - b;
+  x0_.block(0, b, 3, m) = k.p_world.middleCols(b, m);
+  x0_.block(3, b, 4, m) = k.q.middleCols(b, m);
+  v0_.block(0, b, 3, m) = k.v_world.middleCols(b, m);
+  v0_.block(3, b, 4, m) = k.qd.middleCols(b, m);
+  state_.p.middleCols(b, m) = k.p_world.middleCols(b, m);
+  state_.q.middleCols(b, m) = k.q.middleCols(b, m);
+  state_.v.middleCols(b, m) = k.v_world.middleCols(b, m);
+  state_.qd.middleCols(b, m) = k.qd.middleCols(b, m);
+  // Newton starts from the last accepted step's multipliers, also when a
+  // failed solve is retried.
+  state_.mu.middleCols(c.first, c.n - c.first) = mu_accepted_.middleCols(c.first, c.n - c.first);
+  state_.lambda_port = lambda_accepted_;
+  placeBoundary(t0);
+  for (ForceEffect* e : effects_) e->beginSpatialStep(state_);
+}
+
+void SpatialFormulation::placeBoundary(double t) {
+  Eigen::Vector3d p, v;
+  Eigen::Vector4d q, qd;
+  model_.prescribedPose(t, p, v, q, qd);
+  const int b = state_.first - 1;
+  state_.p.col(b) = p;
+  state_.v.col(b) = v;
+  state_.q.col(b) = q;
+  state_.qd.col(b) = qd;
+}
+
+void SpatialFormulation::updateRates() {
+  const int f = state_.first, m = state_.n - f;
+  state_.v.middleCols(f, m) = alpha_ * (state_.p.middleCols(f, m) - x_hat_.block(0, f, 3, m));
+  state_.qd.middleCols(f, m) = alpha_ * (state_.q.middleCols(f, m) - x_hat_.block(3, f, 4, m));
+}
+
+const SpatialAssembly& SpatialFormulation::assemble(bool jacobian) {
+  if (jacobian) have_factor_ = false;  // the matrix is overwritten
+  assembly_.begin(state_.first, state_.n, port_, jacobian, state_.alpha);
+  for (const ForceEffect* e : effects_) e->addSpatialForces(state_, assembly_);
+  addSpatialFrameConstraints(state_, scale_unit_, scale_direction_, assembly_);
+  return assembly_;
+}
+
+double SpatialFormulation::residual(bool jacobian) {
+  assemble(jacobian);
+  const int f = state_.first, n = state_.n;
+  const Eigen::VectorXd& force = assembly_.forces();
+  const int unknowns = assembly_.unknowns();
+  double norm = 0.0;
+  // Inertia kappa M (v - v_hat) minus the forces; the constraint rows as
+  // assembled. The norm weighs a quaternion row [N m] by 1 / l.
+  for (int i = f; i < n; ++i) {
+    const int mu = assembly_.muRow(i), p = assembly_.pRow(i), q = assembly_.qRow(i);
+    r_.segment<3>(mu) = force.segment<3>(mu);
+    r_.segment<3>(p) =
+        kappa_ * point_mass_ * (state_.v.col(i) - v_hat_.block<3, 1>(0, i)) - force.segment<3>(p);
+    r_.segment<4>(q) =
+        kappa_ * quat_mass_ * (state_.qd.col(i) - v_hat_.block<4, 1>(3, i)) - force.segment<4>(q);
+    norm = std::max({norm, r_.segment<6>(mu).lpNorm<Eigen::Infinity>(),
+                     r_.segment<4>(q).lpNorm<Eigen::Infinity>() / segment_length_});
+  }
+  if (port_) {
+    r_.segment<2>(unknowns - 2) = force.segment<2>(unknowns - 2);
+    norm = std::max(norm, r_.segment<2>(unknowns - 2).lpNorm<Eigen::Infinity>());
+  }
+  if (jacobian) {
+    BandedLu& m = assembly_.matrix();
+    const double mp = kappa_ * alpha_ * point_mass_, mq = kappa_ * alpha_ * quat_mass_;
+    for (int i = f; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) m.at(assembly_.pRow(i) + a, assembly_.pRow(i) + a) += mp;
+      for (int a = 0; a < 4; ++a) m.at(assembly_.qRow(i) + a, assembly_.qRow(i) + a) += mq;
+    }
+  }
+  return norm;
+}
+
+NewtonStats SpatialFormulation::solve(double t1, double alpha, double kappa,
+                                      const Eigen::MatrixXd& x_hat, const Eigen::MatrixXd& v_hat,
+                                      const Eigen::MatrixXd& x_guess) {
+  NewtonStats st;
+  const int f = state_.first, n = state_.n, m = n - f;
+  alpha_ = alpha;
+  kappa_ = kappa;
+  state_.alpha = alpha;
+  state_.t = t1;
+  x_hat_.middleCols(f, m) = x_hat.middleCols(f, m);
+  v_hat_.middleCols(f, m) = v_hat.middleCols(f, m);
+  placeBoundary(t1);
+  state_.p.middleCols(f, m) = x_guess.block(0, f, 3, m);
+  state_.q.middleCols(f, m) = x_guess.block(3, f, 4, m);
+  updateRates();
+  if (factored_alpha_ != alpha || factored_kappa_ != kappa || factored_first_ != f ||
+      factored_n_ != n) {
+    have_factor_ = false;
+  }
+  const double l = segment_length_;
+  for (int round = 0; round <= flag_rounds_; ++round) {
+    bool converged = false;
+    double norm = residual(false);
+    double previous = std::numeric_limits<double>::infinity();
+    bool fresh = false;
+    for (int it = 0; it < newton_max_iterations_; ++it) {
+      ++st.iterations;
+      const int unknowns = assembly_.unknowns();
+      if (!have_factor_) {
+        residual(true);
+        if (!assembly_.matrix().factor()) return st;
+        have_factor_ = fresh = true;
+        factored_alpha_ = alpha;
+        factored_kappa_ = kappa;
+        factored_first_ = f;
+        factored_n_ = n;
+        ++st.factorizations;
+      }
+      dx_.head(unknowns) = -r_.head(unknowns);
+      assembly_.matrix().solve(dx_.head(unknowns));
+      // The step's size in metres: positions, and quaternions times l.
+      double step = 0.0;
+      for (int i = f; i < n; ++i) {
+        step = std::max({step, dx_.segment<3>(assembly_.pRow(i)).lpNorm<Eigen::Infinity>(),
+                         l * dx_.segment<4>(assembly_.qRow(i)).lpNorm<Eigen::Infinity>()});
+      }
+      // An old factorization that does not contract: refactor here.
+      if (!fresh && !(step < 0.5 * previous)) {
+        have_factor_ = false;
+        continue;
+      }
+      if (!std::isfinite(step)) return st;
+      // Line search on the residual's weighted max norm.
+      x_try_.block(0, f, 3, m) = state_.p.middleCols(f, m);
+      x_try_.block(3, f, 4, m) = state_.q.middleCols(f, m);
+      mu_try_.middleCols(f, m) = state_.mu.middleCols(f, m);
+      const Eigen::Vector2d lambda0 = state_.lambda_port;
+      double s = 1.0, trial = 0.0;
+      int ls = 0;
+      for (;; ++ls) {
+        for (int i = f; i < n; ++i) {
+          state_.mu.col(i) = mu_try_.col(i) + s * dx_.segment<3>(assembly_.muRow(i));
+          state_.p.col(i) = x_try_.block<3, 1>(0, i) + s * dx_.segment<3>(assembly_.pRow(i));
+          state_.q.col(i) = x_try_.block<4, 1>(3, i) + s * dx_.segment<4>(assembly_.qRow(i));
+        }
+        if (port_) state_.lambda_port = lambda0 + s * dx_.segment<2>(unknowns - 2);
+        updateRates();
+        trial = residual(false);
+        if (trial < norm || ls >= 5 || s * step < newton_tol_) break;
+        s *= 0.5;
+        ++st.line_searches;
+      }
+      norm = trial;
+      if (s * step < newton_tol_) {
+        converged = true;
+        break;
+      }
+      if (ls > 0) have_factor_ = false;
+      previous = s * step;
+      fresh = false;
+    }
+    if (!converged) return st;
+    bool changed = false;
+    for (ForceEffect* e : effects_) changed = e->recheckSpatialFlags(state_) || changed;
+    if (!changed) {
+      st.converged = true;
+      return st;
+    }
+    if (round < flag_rounds_) ++st.flag_rounds;
+  }
+  return st;
+}
+
+void SpatialFormulation::store(double h, Eigen::VectorXd& y) {
+  const int f = state_.first, n = state_.n;
+  // Bookkeeping at the end state (the converged solve's last evaluation).
+  double work = assembly_.power_external, dissipated = assembly_.power_dissipated;
+  for (int i = f; i < n; ++i) {
+    work += assembly_.f_work.col(i).dot(state_.v.col(i)) +
+            assembly_.fq_work.col(i).dot(state_.qd.col(i));
+    dissipated -= assembly_.f_dissipative.col(i).dot(state_.v.col(i)) +
+                  assembly_.fq_dissipative.col(i).dot(state_.qd.col(i));
+  }
+  // The clamp (or the carried wire) works on the integrated wire.
+  work -= assembly_.boundary_force.dot(state_.v.col(f - 1)) +
+          assembly_.boundary_fq.dot(state_.qd.col(f - 1));
+  y[0] += h * work;
+  y[1] += h * dissipated;
+  for (int i = f; i < n; ++i) {
+    const int o = WireModel::stateOffset(i);
+    y.segment<3>(o) = state_.p.col(i);
+    y.segment<4>(o + 3) = state_.q.col(i);
+    y.segment<3>(o + 7) = state_.v.col(i);
+    y.segment<4>(o + 10) = state_.qd.col(i);
+  }
+  mu_accepted_.middleCols(f, n - f) = state_.mu.middleCols(f, n - f);
+  lambda_accepted_ = state_.lambda_port;
+  for (ForceEffect* e : effects_) e->adoptFlags();
+}
+
+}  // namespace cws

@@ -1,0 +1,201 @@
+// Each effect's analytic Jacobian in the 3-D implicit formulation, and the
+// frame constraints', against central finite differences of its own forces,
+// on states of the paper's 3-D case wound part of the way: elastic and
+// yielded springs (stretch, bend, torsion), points sticking, slipping and
+// just touching the core, the supply port's constraint. Every unknown is
+// perturbed: positions, quaternions (off the unit sphere too: the forces
+// are defined there) and the multipliers.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "coil_winding_sim/core/constraints/frame_constraints.hpp"
+#include "coil_winding_sim/core/external_forces/contact.hpp"
+#include "coil_winding_sim/core/implicit/spatial_formulation.hpp"
+#include "coil_winding_sim/core/simulation.hpp"
+
+#ifdef CWS_SOURCE_DIR
+namespace {
+
+const std::string k3d = std::string(CWS_SOURCE_DIR) + "/config/scenes/paper_case_3d.yaml";
+
+// What is checked: one effect, or the frame constraints (effect null).
+void assembleOne(const cws::ForceEffect* effect, cws::SpatialState& s, cws::SpatialAssembly& a,
+                 bool port, bool jacobian) {
+  a.begin(s.first, s.n, port, jacobian, s.alpha);
+  if (effect) {
+    effect->addSpatialForces(s, a);
+  } else {
+    cws::addSpatialFrameConstraints(s, 3.0, 7.0, a);
+  }
+}
+
+// The Newton matrix (d r / d u, r = -F on force rows and F on constraint
+// rows) against central differences, column by column.
+void checkOne(cws::SpatialState& s, const cws::ForceEffect* effect, int capacity, bool port,
+              const char* name, double& worst) {
+  cws::SpatialAssembly a, ap, am;
+  a.resize(capacity);
+  ap.resize(capacity);
+  am.resize(capacity);
+  assembleOne(effect, s, a, port, true);
+  const int unknowns = a.unknowns();
+  Eigen::MatrixXd analytic = Eigen::MatrixXd::Zero(unknowns, unknowns);
+  for (int r = 0; r < unknowns; ++r) {
+    for (int c = 0; c < unknowns; ++c) {
+      if (a.matrix().inBand(r, c)) analytic(r, c) = a.matrix().at(r, c);
+    }
+  }
+  const double global = analytic.cwiseAbs().maxCoeff();
+  if (global == 0.0) return;
+  // Which rows are constraint rows.
+  std::vector<bool> constraint(unknowns, false);
+  for (int i = s.first; i < s.n; ++i) {
+    for (int k = 0; k < 3; ++k) constraint[a.muRow(i) + k] = true;
+  }
+  if (port) constraint[unknowns - 2] = constraint[unknowns - 1] = true;
+  for (int c = 0; c < unknowns; ++c) {
+    // The unknown behind column c and its perturbation.
+    double* u = nullptr;
+    double* rate = nullptr;
+    double eps = 1e-9;
+    if (port && c >= unknowns - 2) {
+      u = &s.lambda_port[c - (unknowns - 2)];
+      eps = 1e-4;
+    } else {
+      const int i = s.first + c / cws::SpatialAssembly::kPerPoint;
+      const int k = c % cws::SpatialAssembly::kPerPoint;
+      if (k < 3) {
+        u = &s.mu(k, i);
+        eps = 1e-4;
+      } else if (k < 6) {
+        u = &s.p(k - 3, i);
+        rate = &s.v(k - 3, i);
+      } else {
+        u = &s.q(k - 6, i);
+        rate = &s.qd(k - 6, i);
+        eps = 1e-7;
+      }
+    }
+    auto eval = [&](double sign, cws::SpatialAssembly& out) {
+      *u += sign * eps;
+      if (rate) *rate += sign * s.alpha * eps;
+      assembleOne(effect, s, out, port, false);
+      *u -= sign * eps;
+      if (rate) *rate -= sign * s.alpha * eps;
+    };
+    eval(1.0, ap);
+    eval(-1.0, am);
+    Eigen::VectorXd fd(unknowns);
+    for (int r = 0; r < unknowns; ++r) {
+      const double d = (ap.forces()[r] - am.forces()[r]) / (2.0 * eps);
+      fd[r] = constraint[r] ? d : -d;
+    }
+    const double scale =
+        std::max({analytic.col(c).cwiseAbs().maxCoeff(), fd.cwiseAbs().maxCoeff(), 1e-9 * global});
+    for (int r = 0; r < unknowns; ++r) {
+      const double err = std::abs(fd[r] - analytic(r, c)) / scale;
+      worst = std::max(worst, err);
+      EXPECT_LT(err, 1e-4) << name << " row " << r << " col " << c << ": fd " << fd[r]
+                           << " analytic " << analytic(r, c);
+    }
+  }
+}
+
+// Points touching the core, stuck among them, and yielded segments and
+// joints at the committed state.
+struct Coverage {
+  int touching = 0, stuck = 0, yielded_segments = 0, yielded_joints = 0;
+};
+
+// Makes every other stuck point slip: moved 50 um along the core's turning
+// direction, its stick spring exceeds mu_s N and the recheck lets it slip
+// in that direction; then it is put back.
+void slipEveryOther(cws::SpatialState& s, cws::Contact& contact, const cws::RotatingCore& core) {
+  Eigen::Matrix3Xd saved = s.p;
+  int k = 0;
+  for (int i = s.first; i < s.n; ++i) {
+    if (contact.trialSurface(i) < 0 || !contact.trialStuck(i) || k++ % 2 != 0) continue;
+    const Eigen::Vector3d r = s.p.col(i) - core.originWorld();
+    s.p.col(i) += 50e-6 * core.axisWorld().cross(r).normalized();
+  }
+  contact.recheckSpatialFlags(s);
+  s.p = saved;
+}
+
+Coverage checkAllAt(double t_s, unsigned seed, const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> overrides = {"solver.carry_stuck_wire=false", "physics.damping=true",
+                                        "damping.translational=0.5", "damping.rotational=1e-6",
+                                        "process.duration=" + std::to_string(t_s)};
+  overrides.insert(overrides.end(), extra.begin(), extra.end());
+  const cws::Scene scene = cws::loadScene(k3d, overrides);
+  cws::Simulation sim(scene);
+  sim.run();
+  cws::WireModel& model = sim.model();
+  cws::SpatialFormulation form(model, scene);
+  form.load(sim.time());
+  cws::SpatialState& s = form.trialState();
+  s.alpha = 1.0 / 1e-4;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  s.lambda_port = Eigen::Vector2d(3.0, -2.0);  // [N]
+  for (int i = s.first; i < s.n; ++i) {
+    s.p.col(i) += 1e-6 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    s.v.col(i) += 1e-2 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    s.q.col(i) += 1e-4 * Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng));
+    s.qd.col(i) += 1.0 * Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng));
+    s.mu.col(i) = Eigen::Vector3d(u(rng), u(rng), u(rng));
+  }
+  for (cws::ForceEffect* e : model.effectList()) e->beginSpatialStep(s);
+  for (cws::ForceEffect* e : model.effectList()) {
+    if (auto* contact = dynamic_cast<cws::Contact*>(e)) slipEveryOther(s, *contact, *model.core());
+  }
+  Coverage cover;
+  for (int i = s.first; i < s.n; ++i) {
+    if (model.contact() && model.contact()->trialSurface(i) >= 0) {
+      ++cover.touching;
+      cover.stuck += model.contact()->trialStuck(i);
+    }
+    if (i + 1 < s.n && model.stretching().plasticStrain(i) != 0.0) ++cover.yielded_segments;
+    if (i + 1 < s.n &&
+        (model.bending().plasticValue(i, 0) != 0.0 || model.bending().plasticValue(i, 1) != 0.0)) {
+      ++cover.yielded_joints;
+    }
+  }
+  const int capacity = model.constants().capacity;
+  const bool port = scene.physics.supply;
+  for (cws::ForceEffect* e : model.effectList()) {
+    double worst = 0.0;
+    checkOne(s, e, capacity, port, e->name(), worst);
+    ::testing::Test::RecordProperty(std::string(e->name()) + "_worst_relative",
+                                    std::to_string(worst));
+  }
+  double worst = 0.0;
+  checkOne(s, nullptr, capacity, port, "frame constraints", worst);
+  ::testing::Test::RecordProperty("frame_constraints_worst_relative", std::to_string(worst));
+  return cover;
+}
+
+}  // namespace
+
+TEST(SpatialJacobian, EveryEffectMatchesFiniteDifferencesWhileWinding) {
+  const Coverage c = checkAllAt(0.02, 1, {"process.core_speed_rpm=1200"});
+  // The state covers what the laws switch between (stuck points made to
+  // slip: slipEveryOther).
+  EXPECT_GT(c.stuck, 0);
+  EXPECT_GT(c.touching - c.stuck, 0) << "no slipping point";
+  EXPECT_GT(c.yielded_segments, 0);
+  EXPECT_GT(c.yielded_joints, 0);
+  std::printf("touching %d, stuck %d, yielded segments %d, joints %d\n", c.touching, c.stuck,
+              c.yielded_segments, c.yielded_joints);
+}
+
+TEST(SpatialJacobian, EveryEffectMatchesFiniteDifferencesAtStart) { checkAllAt(1e-4, 2); }
+
+TEST(SpatialJacobian, EndLoadWithAMoment) {
+  // A wire without supply whose tip carries a force and a moment.
+  checkAllAt(1e-3, 3,
+             {"physics.supply=false", "physics.contact=false", "physics.friction=false",
+              "end.load=[{time: 0.0, force: [0.1, 0.2, 0.3], moment: [1e-3, -2e-3, 3e-3]}]"});
+}
+#endif
