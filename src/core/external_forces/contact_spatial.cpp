@@ -2,13 +2,15 @@
 // springs, stick spring and static/kinetic friction as contact.cpp, with
 // their Jacobian blocks, and the flags an implicit step freezes within one
 // Newton solve and rechecks after it, as contact_planar.cpp does in the
-// plane. A slipping point keeps a world direction of sliding within a
-// solve (projected onto the surface's tangent plane); the step is solved
-// again when the sliding at its end turned by more than kSlipTurn.
+// plane. Kinetic friction opposes the trial sliding velocity, as in the
+// explicit model (its direction is not frozen: in 3-D it turns); the
+// direction a point slid in at the step's start tells when the sliding
+// reversed within the step (then the point sticks).
 #include <cmath>
 
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
+#include "coil_winding_sim/core/quaternion.hpp"
 
 namespace cws {
 
@@ -65,17 +67,28 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
         kp += -p_.stick_stiffness *
               (id - nrm * (nrm.transpose() + delta.transpose() * dn) - dnn * dn);
       } else {
-        // Slip: mu_d N against the frozen direction, in the tangent plane.
-        const Eigen::Vector3d& s0 = trial_slip_world_[i];
-        const double s0n = s0.dot(nrm);
-        const Eigen::Vector3d w = s0 - s0n * nrm;
-        const double len = w.norm();
-        if (len > 0.0) {
-          const Eigen::Vector3d dir = w / len;
+        // Slip: mu_d N against the sliding velocity vh = P_n (v - u),
+        // u = omega a x (p - o) the core's; with its derivatives in p
+        // (through N, n and u) and v.
+        const Eigen::Vector3d r = s.v.col(i) - u;
+        const double rn = r.dot(nrm);
+        const Eigen::Vector3d vh = r - rn * nrm;
+        const double speed = vh.norm();
+        if (speed > kTinySlidingSpeed) {
+          const Eigen::Vector3d dir = vh / speed;
           ft = -p_.kinetic_friction * normal * dir;
-          const Eigen::Matrix3d dw = -(nrm * (s0.transpose() * dn) + s0n * dn);
-          const Eigen::Matrix3d ddir = (id - dir * dir.transpose()) * dw / len;
-          kp += -p_.kinetic_friction * (-k * dir * nrm.transpose() + normal * ddir);
+          const Eigen::Matrix3d pn = id - nrm * nrm.transpose();
+          const Eigen::Matrix3d du = core_.omega(s.t) * quat::skew(core_.axisWorld());
+          const Eigen::Matrix3d dvh_dp = -pn * du - (nrm * (r.transpose() * dn) + rn * dn);
+          const Eigen::Matrix3d proj = (id - dir * dir.transpose()) / speed;
+          kp += -p_.kinetic_friction * (-k * dir * nrm.transpose() + normal * proj * dvh_dp);
+          a.addDampingPP(i, i, -p_.kinetic_friction * normal * proj * pn);
+        } else {
+          // At rest on the surface within rounding: against the direction
+          // it slid in.
+          const Eigen::Vector3d& s0 = trial_slip_world_[i];
+          ft = -p_.kinetic_friction * normal * (s0 - s0.dot(nrm) * nrm);
+          kp += p_.kinetic_friction * k * (s0 - s0.dot(nrm) * nrm) * nrm.transpose();
         }
       }
       f += ft;
@@ -113,7 +126,6 @@ void Contact::beginSpatialStep(const SpatialState& s0) {
 bool Contact::recheckSpatialFlags(const SpatialState& s) {
   placeSurfaces(s.t);
   bool changed = false;
-  const double cos_turn = std::cos(kSlipTurn);
   for (int i = s.first; i < s.n; ++i) {
     const Eigen::Vector3d p = s.p.col(i);
     double h_touch;
@@ -145,20 +157,18 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
       }
       continue;
     }
+    // Slow enough, or the sliding reversed against the direction it had at
+    // the step's start (kinetic friction stops a point, it does not push it
+    // back): stick where it is (as a commit of contact.cpp does).
     const Eigen::Vector3d& dir = trial_slip_world_[i];
-    const double along = vh.dot(dir);
+    const bool known = !fresh && dir.squaredNorm() > 0.0;
     if (p_.static_friction > 0.0 &&
-        (fresh || dir.squaredNorm() == 0.0 ? speed < p_.stick_speed : along < p_.stick_speed)) {
-      // Slow enough, or the sliding would have reversed within the step:
-      // stick where it is (as a commit of contact.cpp does).
+        (speed < p_.stick_speed || (known && vh.dot(dir) < p_.stick_speed))) {
       trial_stuck_[i] = 1;
       trial_anchor_core_[i] = rot_world_core_.transpose() * (p - core_.originWorld());
       changed = true;
-    } else if (speed > 0.0 && (fresh || along < cos_turn * speed)) {
-      // A new contact slides as it moves; a sliding that turned is solved
-      // again in its new direction.
+    } else if (!known && speed > 0.0) {
       trial_slip_world_[i] = vh / speed;
-      changed = true;
     }
   }
   return changed;

@@ -40,10 +40,10 @@ class Contact : public ForceEffect {
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
   void beginImplicitStep(const PlanarState& s0) override;
   bool recheckFlags(const PlanarState& s) override;
-  // The same in 3-D (contact_spatial.cpp): a slipping point keeps the
-  // world direction it slides in within a solve, and the step is solved
-  // again when its sliding turned by more than kSlipTurn.
-  static constexpr double kSlipTurn = 0.05;  // [rad]
+  // The same in 3-D (contact_spatial.cpp). Kinetic friction follows the
+  // trial sliding velocity; below this speed [m/s] (rounding) it keeps the
+  // direction the point slid in at the step's start.
+  static constexpr double kTinySlidingSpeed = 1e-12;
   void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
   void beginSpatialStep(const SpatialState& s0) override;
   bool recheckSpatialFlags(const SpatialState& s) override;
