@@ -65,15 +65,16 @@ void checkOne(cws::SpatialState& s, const cws::ForceEffect* effect, int capacity
     } else {
       const int i = s.first + c / cws::SpatialAssembly::kPerPoint;
       const int k = c % cws::SpatialAssembly::kPerPoint;
-      if (k < 3) {
-        u = &s.mu(k, i);
+      using A = cws::SpatialAssembly;
+      if (k >= A::kMu && k < A::kMu + 3) {
+        u = &s.mu(k - A::kMu, i);
         eps = 1e-4;
-      } else if (k < 6) {
-        u = &s.p(k - 3, i);
-        rate = &s.v(k - 3, i);
+      } else if (k >= A::kP) {
+        u = &s.p(k - A::kP, i);
+        rate = &s.v(k - A::kP, i);
       } else {
-        u = &s.q(k - 6, i);
-        rate = &s.qd(k - 6, i);
+        u = &s.q(k - A::kQ, i);
+        rate = &s.qd(k - A::kQ, i);
         eps = 1e-7;
       }
     }

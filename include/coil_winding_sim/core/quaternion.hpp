@@ -96,6 +96,27 @@ Eigen::Matrix4d bilinearHessian(Bilinear f, const Eigen::Vector3d& w) {
 }
 inline Mat34 zetaJacobian(const Vec4& q) { return bilinearJacobian(zetaBilinear, q); }
 
+// The same Hessians from tables made once: d^2 (w . f(q, q)) / d q^2 =
+// sum_c w_c T_c with T_c(k, l) = 2 f(e_k, e_l)_c.
+struct BilinearTensor {
+  Eigen::Matrix4d t[3];
+  template <class Bilinear>
+  explicit BilinearTensor(Bilinear f) {
+    for (int c = 0; c < 3; ++c) t[c] = bilinearHessian(f, Eigen::Vector3d::Unit(c));
+  }
+  Eigen::Matrix4d operator()(const Eigen::Vector3d& w) const {
+    return w[0] * t[0] + w[1] * t[1] + w[2] * t[2];
+  }
+};
+inline Eigen::Matrix4d xiHessian(const Eigen::Vector3d& w) {
+  static const BilinearTensor tensor(xiBilinear);
+  return tensor(w);
+}
+inline Eigen::Matrix4d etaHessian(const Eigen::Vector3d& w) {
+  static const BilinearTensor tensor(etaBilinear);
+  return tensor(w);
+}
+
 // G(q)^T m as a linear function of q: the 4x4 matrix whose column k is
 // G(e_k)^T m.
 inline Eigen::Matrix4d gTransposeTimes(const Eigen::Vector3d& m) {

@@ -41,9 +41,7 @@ void addSpatialFrameConstraints(const SpatialState& s, double scale_unit, double
       a.addStiffnessQP(i, i - 1, -m * jac[r].transpose());
     }
     if (a.wantsJacobian()) {
-      a.addStiffnessQQ(i, i,
-                       mu[1] * quat::bilinearHessian(quat::xiBilinear, d) +
-                           mu[2] * quat::bilinearHessian(quat::etaBilinear, d));
+      a.addStiffnessQQ(i, i, mu[1] * quat::xiHessian(d) + mu[2] * quat::etaHessian(d));
     }
   }
 }

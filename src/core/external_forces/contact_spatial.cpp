@@ -6,6 +6,7 @@
 // explicit model (its direction is not frozen: in 3-D it turns); the
 // direction a point slid in at the step's start tells when the sliding
 // reversed within the step (then the point sticks).
+#include <algorithm>
 #include <cmath>
 
 #include "coil_winding_sim/core/external_forces/contact.hpp"
@@ -69,27 +70,24 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
       } else {
         // Slip: mu_d N against the sliding velocity vh = P_n (v - u),
         // u = omega a x (p - o) the core's; with its derivatives in p
-        // (through N, n and u) and v.
+        // (through N, n and u) and v. Below the stick speed the direction
+        // vh / |vh| is replaced by vh / stick_speed: a converged solve with
+        // a point sliding that slowly sticks it (recheckSpatialFlags), so
+        // no accepted step uses that part, and Newton does not chase the
+        // kink of vh / |vh| at rest.
         const Eigen::Vector3d r = s.v.col(i) - u;
         const double rn = r.dot(nrm);
         const Eigen::Vector3d vh = r - rn * nrm;
         const double speed = vh.norm();
-        if (speed > kTinySlidingSpeed) {
-          const Eigen::Vector3d dir = vh / speed;
-          ft = -p_.kinetic_friction * normal * dir;
-          const Eigen::Matrix3d pn = id - nrm * nrm.transpose();
-          const Eigen::Matrix3d du = core_.omega(s.t) * quat::skew(core_.axisWorld());
-          const Eigen::Matrix3d dvh_dp = -pn * du - (nrm * (r.transpose() * dn) + rn * dn);
-          const Eigen::Matrix3d proj = (id - dir * dir.transpose()) / speed;
-          kp += -p_.kinetic_friction * (-k * dir * nrm.transpose() + normal * proj * dvh_dp);
-          a.addDampingPP(i, i, -p_.kinetic_friction * normal * proj * pn);
-        } else {
-          // At rest on the surface within rounding: against the direction
-          // it slid in.
-          const Eigen::Vector3d& s0 = trial_slip_world_[i];
-          ft = -p_.kinetic_friction * normal * (s0 - s0.dot(nrm) * nrm);
-          kp += p_.kinetic_friction * k * (s0 - s0.dot(nrm) * nrm) * nrm.transpose();
-        }
+        const double scale = std::max({speed, p_.stick_speed, kTinySlidingSpeed});
+        const Eigen::Vector3d dir = vh / scale;
+        ft = -p_.kinetic_friction * normal * dir;
+        const Eigen::Matrix3d pn = id - nrm * nrm.transpose();
+        const Eigen::Matrix3d du = core_.omega(s.t) * quat::skew(core_.axisWorld());
+        const Eigen::Matrix3d dvh_dp = -pn * du - (nrm * (r.transpose() * dn) + rn * dn);
+        const Eigen::Matrix3d proj = (speed >= scale ? id - dir * dir.transpose() : id) / scale;
+        kp += -p_.kinetic_friction * (-k * dir * nrm.transpose() + normal * proj * dvh_dp);
+        a.addDampingPP(i, i, -p_.kinetic_friction * normal * proj * pn);
       }
       f += ft;
       a.f_dissipative.col(i) += ft;

@@ -161,8 +161,7 @@ void Supply::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
   if (!a.wantsJacobian()) return;
   a.addStiffnessPQ(last, last, tension_ * quat::zetaJacobian(q));
   a.addStiffnessQQ(last, last,
-                   s.lambda_port[0] * quat::bilinearHessian(quat::xiBilinear, e) +
-                       s.lambda_port[1] * quat::bilinearHessian(quat::etaBilinear, e));
+                   s.lambda_port[0] * quat::xiHessian(e) + s.lambda_port[1] * quat::etaHessian(e));
 }
 
 }  // namespace cws

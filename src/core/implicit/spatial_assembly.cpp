@@ -10,10 +10,10 @@ void SpatialAssembly::resize(int capacity_points) {
   f_dissipative.setZero(3, capacity_points);
   fq_work.setZero(4, capacity_points);
   fq_dissipative.setZero(4, capacity_points);
-  // The widest coupling: frame i's constraint forces tie q_i (rows 6..9 of
-  // block i) to p_{i-1} (rows 3..5 of block i-1): 16 either way (bending's
-  // q_j to q_j+1 reaches 13, stretching's p_j to p_j+1 12).
-  matrix_.resize(unknowns, 16, 16);
+  // The widest coupling: bending's q_j (rows 0..3 of block j) to q_j+1
+  // (rows 10..13 on): 13 either way; stretching's p_j to p_j+1 spans 12,
+  // the port's rows reach back 11 to q_L, a frame's rows 9 to p_i-1.
+  matrix_.resize(unknowns, 13, 13);
 }
 
 void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double alpha) {
@@ -33,22 +33,6 @@ void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double a
   boundary_force.setZero();
   boundary_fq.setZero();
   if (jacobian_) matrix_.setZero(unknowns_);
-}
-
-void SpatialAssembly::addForce(int i, const Eigen::Vector3d& f) {
-  if (i >= first_) {
-    force_.segment<3>(pRow(i)) += f;
-  } else if (i == first_ - 1) {
-    boundary_force += f;
-  }
-}
-
-void SpatialAssembly::addQForce(int i, const Eigen::Vector4d& f) {
-  if (i >= first_) {
-    force_.segment<4>(qRow(i)) += f;
-  } else if (i == first_ - 1) {
-    boundary_fq += f;
-  }
 }
 
 void SpatialAssembly::setConstraint(int row, double g, double scale) {

@@ -41,12 +41,14 @@ bool BandedLu::factor() {
       for (int c = j; c <= ju; ++c) std::swap(ab_(kv + j - c, c), ab_(kv + j + jp - c, c));
     }
     // Multipliers, then the rank-one update of the trailing band.
+    // (Column segments: contiguous in the band layout, so Eigen vectorizes
+    // them; each entry sees the same operations as a scalar loop.)
     const double inv = 1.0 / ab_(kv, j);
-    for (int r = 1; r <= km; ++r) ab_(kv + r, j) *= inv;
+    ab_.col(j).segment(kv + 1, km) *= inv;
     for (int c = j + 1; c <= ju; ++c) {
       const double u = ab_(kv + j - c, c);
       if (u == 0.0) continue;
-      for (int r = 1; r <= km; ++r) ab_(kv + j + r - c, c) -= ab_(kv + r, j) * u;
+      ab_.col(c).segment(kv + j + 1 - c, km) -= u * ab_.col(j).segment(kv + 1, km);
     }
   }
   return true;
@@ -60,14 +62,15 @@ void BandedLu::solve(Eigen::Ref<Eigen::VectorXd> b) const {
     if (pivot_[j] != j) std::swap(b[j], b[pivot_[j]]);
     const double bj = b[j];
     if (bj == 0.0) continue;
-    for (int r = 1; r <= km; ++r) b[j + r] -= ab_(kv + r, j) * bj;
+    b.segment(j + 1, km) -= bj * ab_.col(j).segment(kv + 1, km);
   }
   // U x = y; U has kl + ku super-diagonals.
   for (int j = n_ - 1; j >= 0; --j) {
     b[j] /= ab_(kv, j);
     const double bj = b[j];
     if (bj == 0.0) continue;
-    for (int r = std::max(0, j - kv); r < j; ++r) b[r] -= ab_(kv + r - j, j) * bj;
+    const int r0 = std::max(0, j - kv);
+    b.segment(r0, j - r0) -= bj * ab_.col(j).segment(kv + r0 - j, j - r0);
   }
 }
 

@@ -41,8 +41,8 @@ class Contact : public ForceEffect {
   void beginImplicitStep(const PlanarState& s0) override;
   bool recheckFlags(const PlanarState& s) override;
   // The same in 3-D (contact_spatial.cpp). Kinetic friction follows the
-  // trial sliding velocity; below this speed [m/s] (rounding) it keeps the
-  // direction the point slid in at the step's start.
+  // trial sliding velocity (a floor of the speed it is divided by, for a
+  // scene with no stick speed [m/s]).
   static constexpr double kTinySlidingSpeed = 1e-12;
   void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
   void beginSpatialStep(const SpatialState& s0) override;

@@ -33,9 +33,9 @@ struct SpatialState {
 };
 
 // The Newton system over the integrated points' unknowns, in blocks of
-// kPerPoint per point: the frame's three multipliers first (their rows
-// touch p_{i-1}, p_i and q_i: ordered so, the band stays narrow), then p_i,
-// then q_i; with a supply the port's two multipliers last. The matrix holds
+// kPerPoint per point: q_i, then the frame's three multipliers, then p_i
+// (so ordered, the widest coupling, bending's q_j to q_j+1, spans 13
+// unknowns); with a supply the port's two multipliers last. The matrix holds
 //   -(d F / d x + alpha d F / d v)
 // to which the formulation adds the inertia; a constraint row holds
 // -scale g and -scale dg/dx, and the multiplier's column -dg/dx (the
@@ -43,7 +43,7 @@ struct SpatialState {
 class SpatialAssembly {
  public:
   static constexpr int kPerPoint = 10;
-  static constexpr int kP = 3, kQ = 6;  // offsets of p and q in a point's block
+  static constexpr int kQ = 0, kMu = 4, kP = 7;  // offsets in a point's block
   // Storage for up to `capacity_points` points (once, before a run).
   void resize(int capacity_points);
   // Starts the system of points first..n-1 (with the port's multipliers if
@@ -53,16 +53,29 @@ class SpatialAssembly {
   bool wantsJacobian() const { return jacobian_; }
   int unknowns() const { return unknowns_; }
   int first() const { return first_; }
-  int muRow(int i) const { return kPerPoint * (i - first_); }
-  int pRow(int i) const { return muRow(i) + kP; }
-  int qRow(int i) const { return muRow(i) + kQ; }
+  int blockRow(int i) const { return kPerPoint * (i - first_); }
+  int muRow(int i) const { return blockRow(i) + kMu; }
+  int pRow(int i) const { return blockRow(i) + kP; }
+  int qRow(int i) const { return blockRow(i) + kQ; }
   int portRow() const { return unknowns_ - 2; }
 
   // Force on point i [N] and generalized force on its quaternion [N m]; on
   // the prescribed point first-1 they are booked as what the wire does to
   // the clamp.
-  void addForce(int i, const Eigen::Vector3d& f);
-  void addQForce(int i, const Eigen::Vector4d& f);
+  void addForce(int i, const Eigen::Vector3d& f) {
+    if (i >= first_) {
+      force_.segment<3>(pRow(i)) += f;
+    } else if (i == first_ - 1) {
+      boundary_force += f;
+    }
+  }
+  void addQForce(int i, const Eigen::Vector4d& f) {
+    if (i >= first_) {
+      force_.segment<4>(qRow(i)) += f;
+    } else if (i == first_ - 1) {
+      boundary_fq += f;
+    }
+  }
   // d f_i / d x_j (x: p or q of point j) and d f_i / d xdot_j.
   void addStiffnessPP(int i, int j, const Eigen::Matrix3d& k) { block(i, kP, j, kP, -k); }
   void addStiffnessPQ(int i, int j, const Eigen::Matrix<double, 3, 4>& k) {
@@ -102,7 +115,7 @@ class SpatialAssembly {
   template <class Derived>
   void block(int i, int row, int j, int col, const Eigen::MatrixBase<Derived>& b) {
     if (!jacobian_ || i < first_ || j < first_) return;
-    const int r0 = muRow(i) + row, c0 = muRow(j) + col;
+    const int r0 = blockRow(i) + row, c0 = blockRow(j) + col;
     for (int c = 0; c < b.cols(); ++c) {
       for (int r = 0; r < b.rows(); ++r) matrix_.at(r0 + r, c0 + c) += b(r, c);
     }
