@@ -121,7 +121,10 @@ inline Eigen::Matrix4d etaHessian(const Eigen::Vector3d& w) {
 // G(e_k)^T m.
 inline Eigen::Matrix4d gTransposeTimes(const Eigen::Vector3d& m) {
   Eigen::Matrix4d r;
-  for (int k = 0; k < 4; ++k) r.col(k) = G(Vec4::Unit(k)).transpose() * m;
+  r << 0.0, -m[0], -m[1], -m[2],  //
+      m[0], 0.0, m[2], -m[1],     //
+      m[1], -m[2], 0.0, m[0],     //
+      m[2], m[1], -m[0], 0.0;
   return r;
 }
 

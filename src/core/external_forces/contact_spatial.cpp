@@ -79,7 +79,9 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
         const double rn = r.dot(nrm);
         const Eigen::Vector3d vh = r - rn * nrm;
         const double speed = vh.norm();
-        const double scale = std::max({speed, p_.stick_speed, kTinySlidingSpeed});
+        // (Without static friction nothing sticks: the law is kept whole.)
+        const double floor = p_.static_friction > 0.0 ? p_.stick_speed : 0.0;
+        const double scale = std::max({speed, floor, kTinySlidingSpeed});
         const Eigen::Vector3d dir = vh / scale;
         ft = -p_.kinetic_friction * normal * dir;
         const Eigen::Matrix3d pn = id - nrm * nrm.transpose();
