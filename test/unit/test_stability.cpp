@@ -259,9 +259,10 @@ TEST(Stability, StiffWireExtremeTensionsAndFineSegments) {
                         "0.2 mm segments"));
 }
 
-// The Newton-step methods (planar only) on the extreme cases of the
-// matrix, shortened: a speed step 0 -> 1200 rpm in one instant, 0 -> 20,000
-// rpm in one instant, every rigidity x100, 300 N, 0 N and 0.2 mm segments.
+// The Newton-step methods on the extreme cases of the matrix, shortened: a
+// speed step 0 -> 1200 rpm in one instant, 0 -> 20,000 rpm in one instant,
+// every rigidity x100, 300 N, 0 N and 0.2 mm segments; in the plane and as
+// the 3-D spiral with torsion (the frame constraints in the Newton system).
 // Each either meets the criteria (energy balance, frame residual,
 // penetration) or stops with an IntegrationError that names
 // solver.implicit_step, the setting that helps; none may end in a wrong
@@ -276,21 +277,28 @@ TEST(Stability, NewtonStepMethodsOnTheExtremeCases) {
       {"rigidities x100",
        {"wire.stretch.elastic_rigidity=4.89e6", "wire.stretch.plastic_rigidity=1.10e5",
         "wire.bend.elastic_rigidity=0.306", "wire.bend.plastic_rigidity=1.13e-2",
+        "wire.torsion.elastic_rigidity=0.432", "wire.torsion.plastic_rigidity=9.0e-3",
         "process.turns=0.5"}},
       {"300 N", {"process.tension=300", "process.turns=0.5"}},
       {"0 N", {"process.tension=0", "process.turns=0.5"}},
       {"0.2 mm segments", {"wire.segment_length=2e-4", "process.turns=0.1"}},
   };
+  const std::vector<std::string> spiral = {"physics.planar=false", "physics.torsion=true",
+                                           "process.traverse_pitch=1e-3"};
   for (const char* method : {"implicit_euler", "bdf2"}) {
-    for (const auto& [label, overrides] : cases) {
-      const std::string what = std::string(method) + ", " + label;
-      SCOPED_TRACE(what);
-      try {
-        expectStable(runToEnd(overrides, method, what.c_str()));
-      } catch (const cws::IntegrationError& e) {
-        const std::string msg = e.what();
-        std::printf("%s: stopped: %s\n", what.c_str(), msg.c_str());
-        EXPECT_NE(msg.find("solver.implicit_step"), std::string::npos) << what << ": " << msg;
+    for (const auto& [label, plane_overrides] : cases) {
+      for (bool three_d : {false, true}) {
+        std::vector<std::string> overrides = plane_overrides;
+        if (three_d) overrides.insert(overrides.end(), spiral.begin(), spiral.end());
+        const std::string what = std::string(method) + ", " + label + (three_d ? ", 3-D" : "");
+        SCOPED_TRACE(what);
+        try {
+          expectStable(runToEnd(overrides, method, what.c_str()));
+        } catch (const cws::IntegrationError& e) {
+          const std::string msg = e.what();
+          std::printf("%s: stopped: %s\n", what.c_str(), msg.c_str());
+          EXPECT_NE(msg.find("solver.implicit_step"), std::string::npos) << what << ": " << msg;
+        }
       }
     }
   }
