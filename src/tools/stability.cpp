@@ -521,7 +521,7 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
   std::vector<Run> runs;
   for (const Case& c : cases) {
     if (!opt.only.empty() && c.name.find(opt.only) == std::string::npos) continue;
-    // Every registered integrator; the Newton-step ones refuse 3-D cases.
+    // Every registered integrator.
     for (const cws::IntegratorInfo& m : cws::integrators()) {
       if (!opt.method.empty() && opt.method != m.name) continue;
       Run r;
@@ -565,8 +565,8 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
         "process.core_speed_rpm=1200`), carried wire on. Each case changes what its column "
         "says. symplectic_euler steps at a quarter of the case's l / c; rkf45 and rosenbrock2 "
         "use the scene's tolerances (rtol 1e-6, atol 1e-11); implicit_euler and bdf2 take "
-        "Newton steps of solver.implicit_step (1e-4 s) and refuse 3-D cases (they integrate "
-        "planar scenes only). Wall-time budget per run: "
+        "Newton steps of solver.implicit_step (1e-4 s), the first ones smaller (a run starts "
+        "at 1/64 of it). Wall-time budget per run: "
      << opt.budget_s << " s. Machine: " << machine() << "; " << opt.jobs
      << " runs in parallel.\n\n"
         "| case | method | outcome | energy error | max residual | max penetration / r | "

@@ -54,16 +54,13 @@ double RotationalSpring::planarCurvature(const PlanarState& s, int j, double& si
   return (2.0 / jointLength(j)) * sin_half;
 }
 
-template <class Argument>
-void RotationalSpring::beginLines(int first, int n, Argument argument) {
+void RotationalSpring::beginLines(int first, int n) {
   if (!plastic_) return;
   from_ = (first - 1) * count_;
   to_ = (n - 1) * count_;
   // Every solve of a step (a retried one too) starts from the lines of the
-  // last accepted step; a line that does not hold at the step's start (a
-  // restored snapshot) from the branch there.
+  // last accepted step (a snapshot carries them); see Stretching::beginLines.
   std::copy(line_committed_.begin() + from_, line_committed_.begin() + to_, line_.begin() + from_);
-  recheckLines(first, n, argument);
 }
 
 template <class Argument>
@@ -91,7 +88,7 @@ Eigen::Vector3d RotationalSpring::darboux(const SpatialState& s, int j) const {
 // The laws' arguments: in the plane, kappa n_material[c] (none for a
 // component with no part about n); in 3-D, the Darboux vector's components.
 void RotationalSpring::beginImplicitStep(const PlanarState& s0) {
-  beginLines(s0.first, s0.n, [&](int j, int c, double& x) { return planarArgument(s0, j, c, x); });
+  beginLines(s0.first, s0.n);
 }
 
 bool RotationalSpring::recheckFlags(const PlanarState& s) {
@@ -107,12 +104,7 @@ bool RotationalSpring::planarArgument(const PlanarState& s, int j, int c, double
   return true;
 }
 
-void RotationalSpring::beginSpatialStep(const SpatialState& s0) {
-  beginLines(s0.first, s0.n, [&](int j, int c, double& x) {
-    x = darboux(s0, j)[first_ + c];
-    return true;
-  });
-}
+void RotationalSpring::beginSpatialStep(const SpatialState& s0) { beginLines(s0.first, s0.n); }
 
 bool RotationalSpring::recheckSpatialFlags(const SpatialState& s) {
   return recheckLines(s.first, s.n, [&](int j, int c, double& x) {

@@ -39,16 +39,10 @@ void Stretching::beginLines(const State& s0) {
   from_ = s0.first - 1;
   to_ = s0.n - 1;
   // Every solve of a step (a retried one too) starts from the lines of the
-  // last accepted step; a line that does not hold at the step's start (a
-  // restored snapshot) from the branch there.
-  const double l = c_.segment_length;
-  for (int j = from_; j < to_; ++j) {
-    line_[j] = line_committed_[j];
-    const double x = (s0.segment(j).norm() - l) / l;
-    if (!law_.lineHolds(x, upper_[j], line_[j])) {
-      line_[j] = static_cast<signed char>(law_.branch(x, upper_[j]));
-    }
-  }
+  // last accepted step (a snapshot carries them); a line the commit left
+  // not holding is switched by the recheck after the first solve
+  // (docs/MODEL.md, "What is frozen within one Newton solve").
+  std::copy(line_committed_.begin() + from_, line_committed_.begin() + to_, line_.begin() + from_);
 }
 
 template <class State>

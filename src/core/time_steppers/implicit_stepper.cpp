@@ -7,7 +7,7 @@
 namespace cws {
 
 ImplicitStepper::ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme)
-    : p_(p), scheme_(scheme), h_(p.implicit_step) {
+    : p_(p), scheme_(scheme), h_(kStartFraction * p.implicit_step) {
   const NewtonFormulation* f = sys.newtonFormulation();
   if (!f)
     throw std::invalid_argument(std::string(name()) + ": the scene has no Newton formulation");

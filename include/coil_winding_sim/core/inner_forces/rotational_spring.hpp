@@ -69,10 +69,10 @@ class RotationalSpring : public ForceEffect {
   bool planarArgument(const PlanarState& s, int j, int c, double& x) const;
   // Darboux vector of joint j at a 3-D trial state [1/m].
   Eigen::Vector3d darboux(const SpatialState& s, int j) const;
-  // The implicit steps' lines at a step's start, and their recheck, given
-  // each law's argument: argument(j, c, x) sets x, false to skip the law.
-  template <class Argument>
-  void beginLines(int first, int n, Argument argument);
+  // The implicit steps' lines at a step's start (the committed ones), and
+  // their recheck given each law's argument: argument(j, c, x) sets x,
+  // false to skip the law.
+  void beginLines(int first, int n);
   template <class Argument>
   bool recheckLines(int first, int n, Argument argument);
 
