@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "coil_winding_sim/core/implicit/newton_iteration.hpp"
 #include "coil_winding_sim/core/quaternion.hpp"
 #include "coil_winding_sim/core/wire_model.hpp"
 
@@ -24,9 +25,8 @@ PlanarFormulation::PlanarFormulation(WireModel& model, const Scene& scene)
       multiplier_(scene.physics.supply),
       point_mass_(model.constants().point_mass),
       point_inertia_(model.constants().point_inertia),
-      newton_tol_(scene.solver.newton_tol),
-      newton_max_iterations_(scene.solver.newton_max_iterations),
-      flag_rounds_(scene.solver.flag_rounds) {
+      newton_{scene.solver.newton_tol, scene.solver.newton_max_iterations,
+              scene.solver.flag_rounds} {
   const int cap = model.constants().capacity;
   for (ForceEffect* e : model.effectList()) effects_.push_back(e);
   const WireKinematics& k = model.integratedKinematics();
@@ -168,7 +168,6 @@ NewtonStats PlanarFormulation::solve(double t1, double alpha, double kappa,
                                      const Eigen::Matrix2Xd& x_hat, const Eigen::Matrix2Xd& v_hat,
                                      const Eigen::VectorXd& omega_hat,
                                      const Eigen::Matrix2Xd& x_guess) {
-  NewtonStats st;
   const int f = state_.first, n = state_.n, m = n - f;
   alpha_ = alpha;
   kappa_ = kappa;
@@ -180,77 +179,41 @@ NewtonStats PlanarFormulation::solve(double t1, double alpha, double kappa,
   placeBoundary(t1);
   state_.x.middleCols(f, m) = x_guess.middleCols(f, m);
   updateVelocities();
-  // A factorization from an earlier solve of the same system size and
-  // scheme coefficient serves as a start (modified Newton).
-  if (factored_alpha_ != alpha || factored_kappa_ != kappa || factored_first_ != f ||
-      factored_n_ != n) {
-    have_factor_ = false;
+  if (!(factored_ == FactorKey{alpha, kappa, f, n})) have_factor_ = false;
+  return newtonSolve(*this, newton_, have_factor_);
+}
+
+bool PlanarFormulation::factor() {
+  if (!assembly_.matrix().factor()) return false;
+  factored_ = {alpha_, kappa_, state_.first, state_.n};
+  return true;
+}
+
+double PlanarFormulation::direction() {
+  const int unknowns = assembly_.unknowns();
+  dx_.head(unknowns) = -r_.head(unknowns);
+  assembly_.matrix().solve(dx_.head(unknowns));
+  return dx_.head(2 * (state_.n - state_.first)).lpNorm<Eigen::Infinity>();
+}
+
+void PlanarFormulation::keepStart() {
+  const int f = state_.first, m = state_.n - f;
+  x_try_.middleCols(f, m) = state_.x.middleCols(f, m);
+  lambda_try_ = state_.lambda_port;
+}
+
+void PlanarFormulation::moveAlong(double s) {
+  for (int i = state_.first; i < state_.n; ++i) {
+    state_.x.col(i) = x_try_.col(i) + s * dx_.segment<2>(assembly_.dof(i));
   }
-  for (int round = 0; round <= flag_rounds_; ++round) {
-    bool converged = false;
-    double norm = residual(false);
-    double previous = std::numeric_limits<double>::infinity();
-    bool fresh = false;
-    for (int it = 0; it < newton_max_iterations_; ++it) {
-      ++st.iterations;
-      const int unknowns = assembly_.unknowns();
-      if (!have_factor_) {
-        residual(true);
-        if (!assembly_.matrix().factor()) return st;
-        have_factor_ = fresh = true;
-        factored_alpha_ = alpha;
-        factored_kappa_ = kappa;
-        factored_first_ = f;
-        factored_n_ = n;
-        ++st.factorizations;
-      }
-      dx_.head(unknowns) = -r_.head(unknowns);
-      assembly_.matrix().solve(dx_.head(unknowns));
-      const double step = dx_.head(2 * m).lpNorm<Eigen::Infinity>();
-      // An old factorization that does not contract: refactor here.
-      if (!fresh && !(step < 0.5 * previous)) {
-        have_factor_ = false;
-        continue;
-      }
-      if (!std::isfinite(step)) return st;
-      // Line search on the residual's max norm: halve the step while the
-      // residual does not fall.
-      x_try_.middleCols(f, m) = state_.x.middleCols(f, m);
-      const double lambda0 = state_.lambda_port;
-      double s = 1.0, trial = 0.0;
-      int ls = 0;
-      for (;; ++ls) {
-        for (int i = f; i < n; ++i) {
-          state_.x.col(i) = x_try_.col(i) + s * dx_.segment<2>(assembly_.dof(i));
-        }
-        if (multiplier_) state_.lambda_port = lambda0 + s * dx_[unknowns - 1];
-        updateVelocities();
-        trial = residual(false);
-        if (trial < norm || ls >= 5 || s * step < newton_tol_) break;
-        s *= 0.5;
-        ++st.line_searches;
-      }
-      norm = trial;
-      if (s * step < newton_tol_) {
-        converged = true;
-        break;
-      }
-      // A halved step: the Jacobian is refreshed for the next iteration.
-      if (ls > 0) have_factor_ = false;
-      previous = s * step;
-      fresh = false;
-    }
-    if (!converged) return st;
-    bool changed = false;
-    for (ForceEffect* e : effects_) changed = e->recheckFlags(state_) || changed;
-    if (!changed) {
-      st.converged = true;
-      return st;
-    }
-    if (round < flag_rounds_) ++st.flag_rounds;
-  }
-  // Flags still changing after the last round: the step is retried smaller.
-  return st;
+  if (multiplier_) state_.lambda_port = lambda_try_ + s * dx_[assembly_.unknowns() - 1];
+  updateVelocities();
+}
+
+bool PlanarFormulation::recheckFlags() {
+  bool changed = false;
+  for (ForceEffect* e : effects_) changed = e->recheckFlags(state_) || changed;
+  return changed;
 }
 
 void PlanarFormulation::store(double h, Eigen::VectorXd& y) {

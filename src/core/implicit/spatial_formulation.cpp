@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
+#include "coil_winding_sim/core/implicit/newton_iteration.hpp"
 #include "coil_winding_sim/core/wire_model.hpp"
 
 namespace cws {
@@ -15,9 +16,8 @@ SpatialFormulation::SpatialFormulation(WireModel& model, const Scene& scene)
       point_mass_(model.constants().point_mass),
       quat_mass_(4.0 * model.constants().point_inertia),
       segment_length_(model.constants().segment_length),
-      newton_tol_(scene.solver.newton_tol),
-      newton_max_iterations_(scene.solver.newton_max_iterations),
-      flag_rounds_(scene.solver.flag_rounds) {
+      newton_{scene.solver.newton_tol, scene.solver.newton_max_iterations,
+              scene.solver.flag_rounds} {
   const int cap = model.constants().capacity;
   for (ForceEffect* e : model.effectList()) effects_.push_back(e);
   // Constraint rows in the force rows' unit: the axial rigidity EA [N]
@@ -128,7 +128,6 @@ double SpatialFormulation::residual(bool jacobian) {
 NewtonStats SpatialFormulation::solve(double t1, double alpha, double kappa,
                                       const Eigen::MatrixXd& x_hat, const Eigen::MatrixXd& v_hat,
                                       const Eigen::MatrixXd& x_guess) {
-  NewtonStats st;
   const int f = state_.first, n = state_.n, m = n - f;
   alpha_ = alpha;
   kappa_ = kappa;
@@ -140,82 +139,52 @@ NewtonStats SpatialFormulation::solve(double t1, double alpha, double kappa,
   state_.p.middleCols(f, m) = x_guess.block(0, f, 3, m);
   state_.q.middleCols(f, m) = x_guess.block(3, f, 4, m);
   updateRates();
-  if (factored_alpha_ != alpha || factored_kappa_ != kappa || factored_first_ != f ||
-      factored_n_ != n) {
-    have_factor_ = false;
+  if (!(factored_ == FactorKey{alpha, kappa, f, n})) have_factor_ = false;
+  return newtonSolve(*this, newton_, have_factor_);
+}
+
+bool SpatialFormulation::factor() {
+  if (!assembly_.matrix().factor()) return false;
+  factored_ = {alpha_, kappa_, state_.first, state_.n};
+  return true;
+}
+
+double SpatialFormulation::direction() {
+  const int unknowns = assembly_.unknowns();
+  dx_.head(unknowns) = -r_.head(unknowns);
+  assembly_.matrix().solve(dx_.head(unknowns));
+  // The step's size in metres: positions, and quaternions times l.
+  double step = 0.0;
+  for (int i = state_.first; i < state_.n; ++i) {
+    step =
+        std::max({step, dx_.segment<3>(assembly_.pRow(i)).lpNorm<Eigen::Infinity>(),
+                  segment_length_ * dx_.segment<4>(assembly_.qRow(i)).lpNorm<Eigen::Infinity>()});
   }
-  const double l = segment_length_;
-  for (int round = 0; round <= flag_rounds_; ++round) {
-    bool converged = false;
-    double norm = residual(false);
-    double previous = std::numeric_limits<double>::infinity();
-    bool fresh = false;
-    for (int it = 0; it < newton_max_iterations_; ++it) {
-      ++st.iterations;
-      const int unknowns = assembly_.unknowns();
-      if (!have_factor_) {
-        residual(true);
-        if (!assembly_.matrix().factor()) return st;
-        have_factor_ = fresh = true;
-        factored_alpha_ = alpha;
-        factored_kappa_ = kappa;
-        factored_first_ = f;
-        factored_n_ = n;
-        ++st.factorizations;
-      }
-      dx_.head(unknowns) = -r_.head(unknowns);
-      assembly_.matrix().solve(dx_.head(unknowns));
-      // The step's size in metres: positions, and quaternions times l.
-      double step = 0.0;
-      for (int i = f; i < n; ++i) {
-        step = std::max({step, dx_.segment<3>(assembly_.pRow(i)).lpNorm<Eigen::Infinity>(),
-                         l * dx_.segment<4>(assembly_.qRow(i)).lpNorm<Eigen::Infinity>()});
-      }
-      // An old factorization that does not contract: refactor here.
-      if (!fresh && !(step < 0.5 * previous)) {
-        have_factor_ = false;
-        continue;
-      }
-      if (!std::isfinite(step)) return st;
-      // Line search on the residual's weighted max norm.
-      x_try_.block(0, f, 3, m) = state_.p.middleCols(f, m);
-      x_try_.block(3, f, 4, m) = state_.q.middleCols(f, m);
-      mu_try_.middleCols(f, m) = state_.mu.middleCols(f, m);
-      const Eigen::Vector2d lambda0 = state_.lambda_port;
-      double s = 1.0, trial = 0.0;
-      int ls = 0;
-      for (;; ++ls) {
-        for (int i = f; i < n; ++i) {
-          state_.mu.col(i) = mu_try_.col(i) + s * dx_.segment<3>(assembly_.muRow(i));
-          state_.p.col(i) = x_try_.block<3, 1>(0, i) + s * dx_.segment<3>(assembly_.pRow(i));
-          state_.q.col(i) = x_try_.block<4, 1>(3, i) + s * dx_.segment<4>(assembly_.qRow(i));
-        }
-        if (port_) state_.lambda_port = lambda0 + s * dx_.segment<2>(unknowns - 2);
-        updateRates();
-        trial = residual(false);
-        if (trial < norm || ls >= 5 || s * step < newton_tol_) break;
-        s *= 0.5;
-        ++st.line_searches;
-      }
-      norm = trial;
-      if (s * step < newton_tol_) {
-        converged = true;
-        break;
-      }
-      if (ls > 0) have_factor_ = false;
-      previous = s * step;
-      fresh = false;
-    }
-    if (!converged) return st;
-    bool changed = false;
-    for (ForceEffect* e : effects_) changed = e->recheckSpatialFlags(state_) || changed;
-    if (!changed) {
-      st.converged = true;
-      return st;
-    }
-    if (round < flag_rounds_) ++st.flag_rounds;
+  return step;
+}
+
+void SpatialFormulation::keepStart() {
+  const int f = state_.first, m = state_.n - f;
+  x_try_.block(0, f, 3, m) = state_.p.middleCols(f, m);
+  x_try_.block(3, f, 4, m) = state_.q.middleCols(f, m);
+  mu_try_.middleCols(f, m) = state_.mu.middleCols(f, m);
+  lambda_try_ = state_.lambda_port;
+}
+
+void SpatialFormulation::moveAlong(double s) {
+  for (int i = state_.first; i < state_.n; ++i) {
+    state_.mu.col(i) = mu_try_.col(i) + s * dx_.segment<3>(assembly_.muRow(i));
+    state_.p.col(i) = x_try_.block<3, 1>(0, i) + s * dx_.segment<3>(assembly_.pRow(i));
+    state_.q.col(i) = x_try_.block<4, 1>(3, i) + s * dx_.segment<4>(assembly_.qRow(i));
   }
-  return st;
+  if (port_) state_.lambda_port = lambda_try_ + s * dx_.segment<2>(assembly_.portRow());
+  updateRates();
+}
+
+bool SpatialFormulation::recheckFlags() {
+  bool changed = false;
+  for (ForceEffect* e : effects_) changed = e->recheckSpatialFlags(state_) || changed;
+  return changed;
 }
 
 void SpatialFormulation::store(double h, Eigen::VectorXd& y) {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
+#include "coil_winding_sim/core/implicit/newton_iteration.hpp"
 #include "coil_winding_sim/core/implicit/planar_assembly.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 
@@ -75,13 +76,20 @@ class PlanarFormulation : public NewtonFormulation {
   double residual(bool jacobian);
   // Velocities of the integrated points from x: alpha (x - x_hat).
   void updateVelocities();
+  // The Problem of newtonSolve (newton_iteration.hpp).
+  template <class Problem>
+  friend NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor);
+  bool factor();
+  double direction();
+  void keepStart();
+  void moveAlong(double s);
+  bool recheckFlags();
 
   WireModel& model_;
   std::vector<ForceEffect*> effects_;
   bool multiplier_;  // a supply port constraint
   double point_mass_, point_inertia_;
-  double newton_tol_;
-  int newton_max_iterations_, flag_rounds_;
+  NewtonSettings newton_;
   Eigen::Vector3d p_boundary_world_, v_boundary_world_;
   PlanarState state_;
   PlanarAssembly assembly_;
@@ -94,12 +102,12 @@ class PlanarFormulation : public NewtonFormulation {
   Eigen::Matrix2Xd x_hat_in_, v_hat_in_, guess_in_;
   Eigen::Matrix2Xd frame_gradient_;  // d phi_i / d d_{i-1} at the step's start
   Eigen::VectorXd r_, dx_;
+  double lambda_try_ = 0.0;
   double alpha_ = 0.0, kappa_ = 0.0;
   double lambda_accepted_ = 0.0;  // port multiplier of the last accepted step [N]
   // The factorization in the assembly's matrix, and what it was made for.
   bool have_factor_ = false;
-  double factored_alpha_ = 0.0, factored_kappa_ = 0.0;
-  int factored_first_ = -1, factored_n_ = -1;
+  FactorKey factored_;
 };
 
 }  // namespace cws

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
+#include "coil_winding_sim/core/implicit/newton_iteration.hpp"
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 
@@ -49,6 +50,14 @@ class SpatialFormulation : public NewtonFormulation {
   // Residual r = inertia - F (force rows), the scaled constraints; its
   // weighted max norm [N]. With jacobian, the Newton matrix too.
   double residual(bool jacobian);
+  // The Problem of newtonSolve (newton_iteration.hpp).
+  template <class Problem>
+  friend NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor);
+  bool factor();
+  double direction();
+  void keepStart();
+  void moveAlong(double s);
+  bool recheckFlags();
 
   WireModel& model_;
   std::vector<ForceEffect*> effects_;
@@ -56,20 +65,18 @@ class SpatialFormulation : public NewtonFormulation {
   double point_mass_, quat_mass_;  // [kg], 4 I [kg m^2]
   double segment_length_;
   double scale_unit_, scale_direction_;  // constraint row scales [N], [N/m]
-  double newton_tol_;
-  int newton_max_iterations_, flag_rounds_;
+  NewtonSettings newton_;
   SpatialState state_;
   SpatialAssembly assembly_;
   // Committed state and the present step's scheme data (capacity columns).
   Eigen::MatrixXd x0_, v0_, x_hat_, v_hat_, x_try_;
   Eigen::Matrix3Xd mu_try_, mu_accepted_;
-  Eigen::Vector2d lambda_accepted_ = Eigen::Vector2d::Zero();
+  Eigen::Vector2d lambda_accepted_ = Eigen::Vector2d::Zero(), lambda_try_ = Eigen::Vector2d::Zero();
   Eigen::VectorXd r_, dx_;
   double alpha_ = 0.0, kappa_ = 0.0;
   // The factorization in the assembly's matrix, and what it was made for.
   bool have_factor_ = false;
-  double factored_alpha_ = 0.0, factored_kappa_ = 0.0;
-  int factored_first_ = -1, factored_n_ = -1;
+  FactorKey factored_;
 };
 
 }  // namespace cws

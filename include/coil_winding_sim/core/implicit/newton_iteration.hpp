@@ -1,0 +1,97 @@
+// The Newton iterations both implicit formulations share (planar and 3-D):
+// modified Newton (a factorization serves while the steps it gives shrink
+// to less than half; otherwise, or after a halved step, it is made anew), a
+// backtracking line search on the residual's norm (halving up to five
+// times), convergence when the step is below the tolerance, and flag
+// rounds: after a converged solve the effects recheck their frozen flags
+// (contact, stick, slip, hysteresis lines) and a change solves again, up to
+// flag_rounds times (docs/MODEL.md, "Implicit integration").
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include "coil_winding_sim/core/implicit/newton_formulation.hpp"
+
+namespace cws {
+
+// What a factorization was made for: a later solve of the same system size
+// and scheme coefficients may start from it (modified Newton).
+struct FactorKey {
+  double alpha = 0.0, kappa = 0.0;  // [1/s]
+  int first = -1, n = -1;
+  bool operator==(const FactorKey& o) const {
+    return alpha == o.alpha && kappa == o.kappa && first == o.first && n == o.n;
+  }
+};
+
+struct NewtonSettings {
+  double tol = 1e-9;  // [m]
+  int max_iterations = 30;
+  int flag_rounds = 4;
+};
+
+// Problem: the formulation's trial state and Newton system, with
+//   double residual(bool jacobian)  assembles; the residual's norm
+//   bool factor()                   factors the Jacobian just assembled
+//   double direction()              the Newton direction; its size [m]
+//   void keepStart()                remembers the present iterate
+//   void moveAlong(double s)        iterate = kept + s direction (rates too)
+//   bool recheckFlags()             true: a flag changed
+// have_factor: the system's matrix holds a usable factorization (in, out).
+template <class Problem>
+NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) {
+  NewtonStats st;
+  for (int round = 0; round <= c.flag_rounds; ++round) {
+    bool converged = false;
+    double norm = p.residual(false);
+    double previous = std::numeric_limits<double>::infinity();
+    bool fresh = false;
+    for (int it = 0; it < c.max_iterations; ++it) {
+      ++st.iterations;
+      if (!have_factor) {
+        p.residual(true);
+        if (!p.factor()) return st;
+        have_factor = fresh = true;
+        ++st.factorizations;
+      }
+      const double step = p.direction();
+      // An old factorization that does not contract: refactor here.
+      if (!fresh && !(step < 0.5 * previous)) {
+        have_factor = false;
+        continue;
+      }
+      if (!std::isfinite(step)) return st;
+      // Line search: halve the step while the residual does not fall.
+      p.keepStart();
+      double s = 1.0, trial = 0.0;
+      int ls = 0;
+      for (;; ++ls) {
+        p.moveAlong(s);
+        trial = p.residual(false);
+        if (trial < norm || ls >= 5 || s * step < c.tol) break;
+        s *= 0.5;
+        ++st.line_searches;
+      }
+      norm = trial;
+      if (s * step < c.tol) {
+        converged = true;
+        break;
+      }
+      // A halved step: the Jacobian is refreshed for the next iteration.
+      if (ls > 0) have_factor = false;
+      previous = s * step;
+      fresh = false;
+    }
+    if (!converged) return st;
+    if (!p.recheckFlags()) {
+      st.converged = true;
+      return st;
+    }
+    if (round < c.flag_rounds) ++st.flag_rounds;
+  }
+  // Flags still changing after the last round: the step is retried smaller.
+  return st;
+}
+
+}  // namespace cws
