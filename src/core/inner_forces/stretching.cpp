@@ -91,22 +91,26 @@ void Stretching::addForces(double, const WireKinematics& k, WireForces& f) const
   }
 }
 
-void Stretching::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
-  // The same law in plane coordinates; its Jacobian blocks: the tangent
-  // k / l along the segment, the tension's geometric stiffness T / |d|
-  // across it.
+// The law in the implicit formulations' coordinates (the plane's, or the
+// world's in 3-D): the tension along each segment, and its Jacobian blocks,
+// the tangent k / l along the segment and the tension's geometric
+// stiffness T / |d| across it.
+template <int Dim, class State, class Assembly>
+void Stretching::addImplicitForces(const State& s, Assembly& a) const {
+  using Vec = Eigen::Matrix<double, Dim, 1>;
+  using Mat = Eigen::Matrix<double, Dim, Dim>;
   const double l = c_.segment_length;
   for (int j = s.first - 1; j + 1 < s.n; ++j) {
-    const Eigen::Vector2d d = s.segment(j);
+    const Vec d = s.segment(j);
     const double len = d.norm();
     double k;
     const double tension = stressTangent((len - l) / l, j, k);
-    const Eigen::Vector2d t = d / len;
+    const Vec t = d / len;
     a.addForce(j, tension * t);
     a.addForce(j + 1, -tension * t);
     if (!a.wantsJacobian()) continue;
-    const Eigen::Matrix2d tt = t * t.transpose();
-    const Eigen::Matrix2d kb = (k / l) * tt + (tension / len) * (Eigen::Matrix2d::Identity() - tt);
+    const Mat tt = t * t.transpose();
+    const Mat kb = (k / l) * tt + (tension / len) * (Mat::Identity() - tt);
     a.addStiffness(j + 1, j + 1, -kb);
     a.addStiffness(j + 1, j, kb);
     a.addStiffness(j, j, -kb);
@@ -114,25 +118,12 @@ void Stretching::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const 
   }
 }
 
+void Stretching::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
+  addImplicitForces<2>(s, a);
+}
+
 void Stretching::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
-  // As addPlanarForces, in world coordinates.
-  const double l = c_.segment_length;
-  for (int j = s.first - 1; j + 1 < s.n; ++j) {
-    const Eigen::Vector3d d = s.segment(j);
-    const double len = d.norm();
-    double k;
-    const double tension = stressTangent((len - l) / l, j, k);
-    const Eigen::Vector3d t = d / len;
-    a.addForce(j, tension * t);
-    a.addForce(j + 1, -tension * t);
-    if (!a.wantsJacobian()) continue;
-    const Eigen::Matrix3d tt = t * t.transpose();
-    const Eigen::Matrix3d kb = (k / l) * tt + (tension / len) * (Eigen::Matrix3d::Identity() - tt);
-    a.addStiffnessPP(j + 1, j + 1, -kb);
-    a.addStiffnessPP(j + 1, j, kb);
-    a.addStiffnessPP(j, j, -kb);
-    a.addStiffnessPP(j, j + 1, kb);
-  }
+  addImplicitForces<3>(s, a);
 }
 
 void Stretching::commit(double, const WireKinematics& k) {

@@ -78,6 +78,8 @@ class SpatialAssembly {
   }
   // d f_i / d x_j (x: p or q of point j) and d f_i / d xdot_j.
   void addStiffnessPP(int i, int j, const Eigen::Matrix3d& k) { block(i, kP, j, kP, -k); }
+  // The same by the planar assembly's name (code shared by both).
+  void addStiffness(int i, int j, const Eigen::Matrix3d& k) { addStiffnessPP(i, j, k); }
   void addStiffnessPQ(int i, int j, const Eigen::Matrix<double, 3, 4>& k) {
     block(i, kP, j, kQ, -k);
   }

@@ -53,6 +53,9 @@ class Stretching : public ForceEffect {
   void beginLines(const State& s0);
   template <class State>
   bool recheckLines(const State& s);
+  // addPlanarForces and addSpatialForces: one code in Dim coordinates.
+  template <int Dim, class State, class Assembly>
+  void addImplicitForces(const State& s, Assembly& a) const;
   // Commits segment j as loaded from virgin to its present strain.
   void loadVirgin(const WireKinematics& k, int j);
 
