@@ -47,9 +47,6 @@ PlanarFormulation::PlanarFormulation(WireModel& model, const Scene& scene)
   omega_hat_.setZero(cap);
   x0_steps_.setZero(2, cap);
   v0_steps_.setZero(3, cap);
-  x_hat_in_.setZero(2, cap);
-  v_hat_in_.setZero(2, cap);
-  guess_in_.setZero(2, cap);
   frame_gradient_.setZero(2, cap);
   r_.setZero(2 * cap + 1);
   dx_.setZero(2 * cap + 1);
@@ -156,26 +153,15 @@ double PlanarFormulation::residual(bool jacobian) {
 NewtonStats PlanarFormulation::solve(double t1, double alpha, double kappa,
                                      const Eigen::MatrixXd& x_hat, const Eigen::MatrixXd& v_hat,
                                      const Eigen::MatrixXd& x_guess) {
-  const int f = state_.first, m = state_.n - f;
-  x_hat_in_.middleCols(f, m) = x_hat.middleCols(f, m);
-  v_hat_in_.middleCols(f, m) = v_hat.block(0, f, 2, m);
-  omega_hat_.segment(f, m) = v_hat.block(2, f, 1, m).transpose();
-  guess_in_.middleCols(f, m) = x_guess.middleCols(f, m);
-  return solve(t1, alpha, kappa, x_hat_in_, v_hat_in_, omega_hat_, guess_in_);
-}
-
-NewtonStats PlanarFormulation::solve(double t1, double alpha, double kappa,
-                                     const Eigen::Matrix2Xd& x_hat, const Eigen::Matrix2Xd& v_hat,
-                                     const Eigen::VectorXd& omega_hat,
-                                     const Eigen::Matrix2Xd& x_guess) {
   const int f = state_.first, n = state_.n, m = n - f;
   alpha_ = alpha;
   kappa_ = kappa;
   state_.alpha = alpha;
   state_.t = t1;
+  // The steppers' rates: the plane velocities, then the frames' angular ones.
   x_hat_.middleCols(f, m) = x_hat.middleCols(f, m);
-  v_hat_.middleCols(f, m) = v_hat.middleCols(f, m);
-  omega_hat_.segment(f, m) = omega_hat.segment(f, m);
+  v_hat_.middleCols(f, m) = v_hat.block(0, f, 2, m);
+  omega_hat_.segment(f, m) = v_hat.block(2, f, 1, m).transpose();
   placeBoundary(t1);
   state_.x.middleCols(f, m) = x_guess.middleCols(f, m);
   updateVelocities();

@@ -43,18 +43,6 @@ class PlanarFormulation : public NewtonFormulation {
   void load(double t0) override;
   int first() const override { return state_.first; }
   int n() const override { return state_.n; }
-  const Eigen::Matrix2Xd& x0() const { return x0_; }
-  const Eigen::Matrix2Xd& v0() const { return v0_; }
-  // Angular velocity of frame i (segment i-1) at the committed state [rad/s].
-  const Eigen::VectorXd& omega0() const { return omega0_; }
-
-  // Solves the step to t1 [s] with the scheme's alpha = dv/dx and kappa =
-  // da/dv [1/s]: x_hat, v_hat [m], [m/s] and omega_hat [rad/s] per point /
-  // frame (columns first..n-1), starting Newton at x_guess. Leaves the
-  // solution in solution().
-  NewtonStats solve(double t1, double alpha, double kappa, const Eigen::Matrix2Xd& x_hat,
-                    const Eigen::Matrix2Xd& v_hat, const Eigen::VectorXd& omega_hat,
-                    const Eigen::Matrix2Xd& x_guess);
   const PlanarState& solution() const { return state_; }
 
   // Writes the solution into the model's state vector y (positions,
@@ -96,10 +84,8 @@ class PlanarFormulation : public NewtonFormulation {
   // Committed state and the present step's scheme data (capacity columns).
   Eigen::Matrix2Xd x0_, v0_, x_hat_, v_hat_, x_try_;
   Eigen::VectorXd omega0_, omega_hat_;
-  // The same for the steppers: x0 (2 rows), v0 and omega0 (3 rows); and
-  // the scheme data they pass in, split.
+  // The same for the steppers: x0 (2 rows), v0 and omega0 (3 rows).
   Eigen::MatrixXd x0_steps_, v0_steps_;
-  Eigen::Matrix2Xd x_hat_in_, v_hat_in_, guess_in_;
   Eigen::Matrix2Xd frame_gradient_;  // d phi_i / d d_{i-1} at the step's start
   Eigen::VectorXd r_, dx_;
   double lambda_try_ = 0.0;
