@@ -109,7 +109,8 @@ void Contact::beginSpatialStep(const SpatialState& s0) {
     if (!friction_) continue;
     trial_stuck_[i] = stuck_[i];
     trial_anchor_core_[i] = anchor_core_[i];
-    // A slipping point keeps the direction it slides in.
+    // The direction a slipping point slides in at the step's start: a
+    // sliding that turns against it within the step sticks the point.
     trial_slip_world_[i].setZero();
     Eigen::Vector3d nrm;
     double h;

@@ -118,7 +118,8 @@ class Contact : public ForceEffect {
   std::vector<char> trial_stuck_;
   std::vector<Eigen::Vector3d> trial_anchor_core_;
   std::vector<signed char> trial_sign_;
-  // 3-D: the world direction a slipping point slides in (unit).
+  // 3-D: the world direction a slipping point slid in at the step's start,
+  // or in which it began to slip (unit; zero: none yet).
   std::vector<Eigen::Vector3d> trial_slip_world_;
 };
 
