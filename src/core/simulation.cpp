@@ -49,6 +49,13 @@ void Simulation::afterStep() {
   }
 }
 
+void Simulation::setCoreSpeed(double omega) {
+  const RotatingCore* core = model_->core();
+  const bool ramps = core && omega != core->command();
+  model_->setCoreSpeed(omega);
+  if (ramps) stepper_->kink();
+}
+
 SimulationState Simulation::saveState() const {
   SimulationState st;
   st.scene_yaml = sceneToYamlText(scene_);
@@ -96,6 +103,7 @@ void Simulation::step(double t_limit) {
   if (const Supply* supply = model_->supply()) {
     t_limit = std::min(t_limit, supply->portCommand().nextKink(t_));
   }
+  const double t_ramp = model_->core() ? model_->core()->rampEnd() : -1.0;
   try {
     stepper_->step(*model_, t_, y_, t_limit);
   } catch (const IntegrationError& e) {
@@ -110,6 +118,10 @@ void Simulation::step(double t_limit) {
     throw IntegrationError("the state became non-finite at t = " + std::to_string(t_) + " s");
   }
   if (collapse_step_s_ > 0.0) checkCollapse(ramp);
+  // A step that ended where a speed ramp ends: the acceleration jumps.
+  if (t_ramp > 0.0 && std::abs(t_ - t_ramp) <= 1e-12 * std::max(1.0, std::abs(t_))) {
+    stepper_->kink();
+  }
   afterStep();
   if (max_residual_ > kDivergedResidual) {
     std::ostringstream msg;

@@ -40,7 +40,7 @@ class Simulation {
   // Setpoints, effective from the present time on: core angular velocity
   // [rad/s] (reached at the scene's acceleration limit) and supply tension
   // [N]. Ignored when the scene has no core / no supply.
-  void setCoreSpeed(double omega) { model_->setCoreSpeed(omega); }
+  void setCoreSpeed(double omega);
   void setSupplyTension(double tension) { model_->setSupplyTension(tension); }
   // Commanded supply-port position p_world [m, world frame] at simulated
   // time t_s [s]: the port moves on straight lines between the commanded

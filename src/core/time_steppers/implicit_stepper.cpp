@@ -28,6 +28,11 @@ void ImplicitStepper::restore(double next_step, double last_step, const StepCoun
   have_prev_ = false;  // a continued run restarts BDF2 with one Euler step
 }
 
+void ImplicitStepper::kink() {
+  h_ = std::min(h_, kStartFraction * p_.implicit_step);
+  have_prev_ = false;
+}
+
 void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) {
   // A limit within rounding of t is reached as it is. A step of that size
   // would turn Newton's position tolerance into velocities of tol / h: at

@@ -7,7 +7,8 @@
 // Newton iterations do not converge is retried at a quarter of its size and
 // the step grows back by doubling. BDF2 starts, and restarts after a
 // retried step or a step more than twice the last, with one backward Euler
-// step. A run starts with small steps (kStartFraction).
+// step. A run starts with small steps (kStartFraction), and so does the
+// step after a kink of the core's motion (kink()).
 #pragma once
 
 #include <Eigen/Core>
@@ -24,9 +25,9 @@ class ImplicitStepper : public TimeStepper {
   static constexpr double kLandRounding = 1e-12;
   // A step may be this much longer to land on the limit.
   static constexpr double kLandStretch = 0.01;
-  // A run starts with this fraction of solver.implicit_step and doubles it
-  // each step: a core at speed from t = 0 jerks the clamped wire, and
-  // full steps through that shock booked energy the wire did not get
+  // A run, and the step after a kink of the core's motion, start with this
+  // fraction of solver.implicit_step, doubled each step: full steps
+  // through the jerk of the clamped wire booked energy it did not get
   // (docs/MODEL.md, "Implicit integration of planar scenes").
   static constexpr double kStartFraction = 1.0 / 64.0;
   ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme);
@@ -39,6 +40,7 @@ class ImplicitStepper : public TimeStepper {
   const StepCounts& counts() const override { return counts_; }
   void restore(double next_step, double last_step, const StepCounts& counts) override;
   const NewtonCounts* newtonCounts() const override { return &newton_; }
+  void kink() override;
 
  private:
   SolverParams p_;

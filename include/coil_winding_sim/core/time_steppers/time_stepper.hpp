@@ -45,6 +45,9 @@ class TimeStepper {
   virtual const NewtonCounts* newtonCounts() const { return nullptr; }
   // Continues from a snapshot: next and last step sizes [s] and counts.
   virtual void restore(double next_step, double last_step, const StepCounts& counts) = 0;
+  // The prescribed motion's acceleration jumps at the present time (a core
+  // speed ramp begins or ends): a stepper may take small steps from here.
+  virtual void kink() {}
 };
 
 // Max norm of an error estimate `err` over the first n components, each
