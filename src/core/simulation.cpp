@@ -103,7 +103,6 @@ void Simulation::step(double t_limit) {
   if (const Supply* supply = model_->supply()) {
     t_limit = std::min(t_limit, supply->portCommand().nextKink(t_));
   }
-  const double t_ramp = model_->core() ? model_->core()->rampEnd() : -1.0;
   try {
     stepper_->step(*model_, t_, y_, t_limit);
   } catch (const IntegrationError& e) {
@@ -119,7 +118,7 @@ void Simulation::step(double t_limit) {
   }
   if (collapse_step_s_ > 0.0) checkCollapse(ramp);
   // A step that ended where a speed ramp ends: the acceleration jumps.
-  if (t_ramp > 0.0 && std::abs(t_ - t_ramp) <= 1e-12 * std::max(1.0, std::abs(t_))) {
+  if (ramp.end_s > 0.0 && std::abs(t_ - ramp.end_s) <= 1e-12 * std::max(1.0, std::abs(t_))) {
     stepper_->kink();
   }
   afterStep();
