@@ -10,10 +10,10 @@ void SpatialAssembly::resize(int capacity_points) {
   f_dissipative.setZero(3, capacity_points);
   fq_work.setZero(4, capacity_points);
   fq_dissipative.setZero(4, capacity_points);
-  // The widest coupling: bending's q_j (rows 0..3 of block j) to q_j+1
-  // (rows 10..13 on): 13 either way; stretching's p_j to p_j+1 spans 12,
-  // the port's rows reach back 11 to q_L, a frame's rows 9 to p_i-1.
-  matrix_.resize(unknowns, 13, 13);
+  // Every coupling is between a point's block and its neighbours' (bending
+  // and stretching j to j+1, a frame's rows to p_i-1); the port's two rows
+  // form a block of their own after q_L's.
+  matrix_.resize(unknowns);
 }
 
 void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double alpha) {

@@ -115,7 +115,7 @@ double SpatialFormulation::residual(bool jacobian) {
     norm = std::max(norm, r_.segment<2>(unknowns - 2).lpNorm<Eigen::Infinity>());
   }
   if (jacobian) {
-    BandedLu& m = assembly_.matrix();
+    SpatialAssembly::Matrix& m = assembly_.matrix();
     const double mp = kappa_ * alpha_ * point_mass_, mq = kappa_ * alpha_ * quat_mass_;
     for (int i = f; i < n; ++i) {
       for (int a = 0; a < 3; ++a) m.at(assembly_.pRow(i) + a, assembly_.pRow(i) + a) += mp;

@@ -13,7 +13,7 @@
 
 #include <Eigen/Core>
 
-#include "coil_winding_sim/core/linear_algebra/banded_lu.hpp"
+#include "coil_winding_sim/core/linear_algebra/block_tridiagonal_lu.hpp"
 
 namespace cws {
 
@@ -33,9 +33,10 @@ struct SpatialState {
 };
 
 // The Newton system over the integrated points' unknowns, in blocks of
-// kPerPoint per point: q_i, then the frame's three multipliers, then p_i
-// (so ordered, the widest coupling, bending's q_j to q_j+1, spans 13
-// unknowns); with a supply the port's two multipliers last. The matrix holds
+// kPerPoint per point: q_i, then the frame's three multipliers, then p_i;
+// with a supply the port's two multipliers last. Every effect couples a
+// point only to its neighbours, so the matrix is block-tridiagonal, one
+// block per point (the port's rows a block of their own). The matrix holds
 //   -(d F / d x + alpha d F / d v)
 // to which the formulation adds the inertia; a constraint row holds
 // -scale g and -scale dg/dx, and the multiplier's column -dg/dx (the
@@ -98,7 +99,8 @@ class SpatialAssembly {
 
   Eigen::VectorXd& forces() { return force_; }
   const Eigen::VectorXd& forces() const { return force_; }
-  BandedLu& matrix() { return matrix_; }
+  using Matrix = BlockTridiagonalLu<kPerPoint>;
+  Matrix& matrix() { return matrix_; }
 
   // Bookkeeping at the trial state, as WireForces does for the explicit
   // model: rates not paired with the wire's velocities, and the forces that
@@ -117,17 +119,15 @@ class SpatialAssembly {
   template <class Derived>
   void block(int i, int row, int j, int col, const Eigen::MatrixBase<Derived>& b) {
     if (!jacobian_ || i < first_ || j < first_) return;
-    const int r0 = blockRow(i) + row, c0 = blockRow(j) + col;
-    for (int c = 0; c < b.cols(); ++c) {
-      for (int r = 0; r < b.rows(); ++r) matrix_.at(r0 + r, c0 + c) += b(r, c);
-    }
+    matrix_.blockAt(i - first_, j - first_)
+        .template block<Derived::RowsAtCompileTime, Derived::ColsAtCompileTime>(row, col) += b;
   }
 
   int first_ = 1, n_ = 0, unknowns_ = 0;
   bool jacobian_ = false;
   double alpha_ = 0.0;
   Eigen::VectorXd force_, scale_;  // scale_: each constraint row's
-  BandedLu matrix_;
+  Matrix matrix_;
 };
 
 }  // namespace cws

@@ -1,0 +1,98 @@
+// The block-tridiagonal LU against a dense LU with partial pivoting, on
+// matrices shaped like the 3-D Newton system: each diagonal block a local
+// saddle point (zero diagonal in its multiplier rows), so that no
+// elimination without pivoting would pass its first multiplier row.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cstdio>
+#include <limits>
+#include <random>
+
+#include "coil_winding_sim/core/linear_algebra/block_tridiagonal_lu.hpp"
+
+namespace {
+
+constexpr int kB = 10;
+
+// Random block-tridiagonal matrix of size n: per block, rows 4..6 are
+// "multiplier" rows with a zero diagonal block, coupled to the other rows
+// both ways; the rest is diagonally heavy as inertia over h^2 makes it.
+void fill(int n, std::mt19937& rng, Eigen::MatrixXd& dense, cws::BlockTridiagonalLu<kB>& lu) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  dense.setZero(n, n);
+  lu.setZero(n);
+  auto multiplier = [](int i) { return i % kB >= 4 && i % kB < 7; };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      if (std::abs(i / kB - j / kB) > 1) continue;
+      double a = u(rng);
+      if (multiplier(i) && multiplier(j)) a = 0.0;
+      if (i == j && !multiplier(i)) a += 20.0;
+      dense(i, j) = a;
+      lu.at(i, j) = a;
+    }
+  }
+}
+
+void check(int n, std::mt19937& rng) {
+  cws::BlockTridiagonalLu<kB> lu;
+  lu.resize(n + 25);  // room for more than this matrix, as in a run
+  Eigen::MatrixXd dense;
+  fill(n, rng, dense, lu);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::VectorXd b(n);
+  for (int i = 0; i < n; ++i) b[i] = u(rng);
+  const Eigen::VectorXd x_dense = dense.partialPivLu().solve(b);
+  ASSERT_TRUE(lu.factor());
+  Eigen::VectorXd x = b;
+  lu.solve(x);
+  const double residual = (dense * x - b).norm() / b.norm();
+  const double residual_dense = (dense * x_dense - b).norm() / b.norm();
+  const double diff = (x - x_dense).norm() / x_dense.norm();
+  std::printf("block-tridiagonal LU n=%d: residual %.1e (dense LU's %.1e), vs dense LU %.1e\n", n,
+              residual, residual_dense, diff);
+  // Random saddle points are not well conditioned: within rounding of the
+  // dense LU's own result, far from any wrong elimination's O(1).
+  EXPECT_LT(residual, 1e-9);
+  EXPECT_LT(diff, 1e-10);
+}
+
+TEST(BlockTridiagonalLu, MatchesADenseLuOnSaddlePointBlocks) {
+  std::mt19937 rng(7);
+  check(10, rng);   // one block
+  check(402, rng);  // 40 points and the port's two rows (a padded block)
+  check(127, rng);  // a size that is no multiple of the block
+  // The same storage reused for a smaller and a larger matrix.
+  cws::BlockTridiagonalLu<kB> lu;
+  lu.resize(300);
+  Eigen::MatrixXd dense;
+  for (int n : {300, 37, 212}) {
+    fill(n, rng, dense, lu);
+    ASSERT_TRUE(lu.factor());
+    Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0), x = b;
+    lu.solve(x);
+    EXPECT_LT((dense * x - b).norm() / b.norm(), 1e-9) << "n = " << n;
+  }
+}
+
+TEST(BlockTridiagonalLu, ReportsASingularBlock) {
+  cws::BlockTridiagonalLu<kB> lu;
+  lu.resize(20);
+  lu.setZero(20);
+  for (int i = 0; i < 20; ++i) lu.at(i, i) = 1.0;
+  // The second block's pivot block loses a rank: rows 13 and 14 equal.
+  lu.at(13, 13) = 0.0;
+  lu.at(13, 14) = 1.0;
+  lu.at(14, 14) = 1.0;
+  lu.at(14, 13) = 0.0;
+  lu.at(13, 12) = 0.0;
+  EXPECT_FALSE(lu.factor());
+  // A non-finite entry is refused too.
+  lu.setZero(20);
+  for (int i = 0; i < 20; ++i) lu.at(i, i) = 1.0;
+  lu.at(3, 3) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(lu.factor());
+}
+
+}  // namespace
