@@ -4,8 +4,9 @@
 // backtracking line search on the residual's norm (halving up to five
 // times), convergence when the step is below the tolerance, and flag
 // rounds: after a converged solve the effects recheck their frozen flags
-// (contact, stick, slip, hysteresis lines) and a change solves again, up to
-// flag_rounds times (docs/MODEL.md, "Implicit integration").
+// (contact, stick, slip, hysteresis lines) and a change solves again with a
+// new Jacobian, up to flag_rounds times (docs/MODEL.md, "Implicit
+// integration").
 #pragma once
 
 #include <cmath>
@@ -89,6 +90,10 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
       return st;
     }
     if (round < c.flag_rounds) ++st.flag_rounds;
+    // Changed flags change the system (a stick spring, a contact, a
+    // hysteresis line's slope): the next round starts from a new Jacobian,
+    // as the old one's steps would mostly be cut by the line search.
+    have_factor = false;
   }
   // Flags still changing after the last round: the step is retried smaller.
   return st;
