@@ -136,7 +136,7 @@ bool Contact::stickSlipAt(const PlanarState& s, bool predict) {
         trial_sign_[i] = along < 0.0 ? -1 : 1;
         changed = true;
       }
-    } else if (!predict && p_.static_friction > 0.0 &&
+    } else if (p_.static_friction > 0.0 &&
                (fresh ? std::abs(vt) < p_.stick_speed : trial_sign_[i] * vt < p_.stick_speed)) {
       // Slow enough, or the sliding would have reversed within the step
       // (kinetic friction stops a point, it does not push it back): stick

@@ -164,7 +164,7 @@ bool Contact::spatialStickSlipAt(const SpatialState& s, bool predict) {
     // back): stick where it is (as a commit of contact.cpp does).
     const Eigen::Vector3d& dir = trial_slip_world_[i];
     const bool known = !fresh && dir.squaredNorm() > 0.0;
-    if (!predict && p_.static_friction > 0.0 &&
+    if (p_.static_friction > 0.0 &&
         (speed < p_.stick_speed || (known && vh.dot(dir) < p_.stick_speed))) {
       trial_stuck_[i] = 1;
       trial_anchor_core_[i] = rot_world_core_.transpose() * (p - core_.originWorld());

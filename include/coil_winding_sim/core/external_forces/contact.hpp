@@ -40,11 +40,10 @@ class Contact : public ForceEffect {
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
   void beginImplicitStep(const PlanarState& s0) override;
   bool recheckFlags(const PlanarState& s) override { return stickSlipAt(s, false); }
-  // A stuck point that the step's predicted end state (the Newton start)
-  // pulls past mu_s N starts the step slipping. Nothing else is predicted:
-  // a predicted re-stick would anchor the point where the guess put it, and
-  // a predicted landing or lift-off that the solve undoes makes the flags
-  // cycle (both measured in docs/PERFORMANCE.md).
+  // A step's stick and slip start from its predicted end state (the
+  // recheck there); the surfaces touched stay the committed ones (a
+  // predicted landing or lift-off that the solve then undoes would make
+  // the flags cycle, measured in docs/PERFORMANCE.md).
   bool predictFlags(const PlanarState& guess) override { return stickSlipAt(guess, true); }
   bool predictSpatialFlags(const SpatialState& guess) override {
     return spatialStickSlipAt(guess, true);
@@ -77,8 +76,8 @@ class Contact : public ForceEffect {
   double maxPenetration() const { return max_penetration_; }
 
  private:
-  // The recheck of the trial flags at state s; `predict`: only the
-  // breakaway of stuck points still on their committed surface.
+  // The recheck of the trial flags at state s; `predict`: stick and slip
+  // only, for points still on their committed surface.
   bool stickSlipAt(const PlanarState& s, bool predict);
   bool spatialStickSlipAt(const SpatialState& s, bool predict);
   // Places the cylinder axes and faces in the world at time t, once per
