@@ -104,7 +104,7 @@ void Contact::beginImplicitStep(const PlanarState& s0) {
   }
 }
 
-bool Contact::stickSlipAt(const PlanarState& s, bool predict) {
+bool Contact::recheckFlags(const PlanarState& s) {
   placeSurfaces(s.t);
   bool changed = false;
   for (int i = s.first; i < s.n; ++i) {
@@ -117,7 +117,6 @@ bool Contact::stickSlipAt(const PlanarState& s, bool predict) {
     Eigen::Matrix2d dn;
     const bool on = surface >= 0 && planarSurface(s, surface, x, nrm, h, dn);
     const bool fresh = surface != trial_surface_[i];
-    if (predict && fresh) continue;
     if (fresh) {
       trial_surface_[i] = surface;
       trial_stuck_[i] = 0;

@@ -124,7 +124,7 @@ void Contact::beginSpatialStep(const SpatialState& s0) {
   }
 }
 
-bool Contact::spatialStickSlipAt(const SpatialState& s, bool predict) {
+bool Contact::recheckSpatialFlags(const SpatialState& s) {
   placeSurfaces(s.t);
   bool changed = false;
   for (int i = s.first; i < s.n; ++i) {
@@ -137,7 +137,6 @@ bool Contact::spatialStickSlipAt(const SpatialState& s, bool predict) {
     Eigen::Matrix3d dn;
     const bool on = surface >= 0 && spatialSurface(surface, p, nrm, h, dn);
     const bool fresh = surface != trial_surface_[i];
-    if (predict && fresh) continue;
     if (fresh) {
       trial_surface_[i] = surface;
       trial_stuck_[i] = 0;

@@ -39,14 +39,11 @@ class Contact : public ForceEffect {
   // solve; contact_planar.cpp.
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
   void beginImplicitStep(const PlanarState& s0) override;
-  bool recheckFlags(const PlanarState& s) override { return stickSlipAt(s, false); }
-  // A step's stick and slip start from its predicted end state (the
-  // recheck there); the surfaces touched stay the committed ones (a
-  // predicted landing or lift-off that the solve then undoes would make
-  // the flags cycle, measured in docs/PERFORMANCE.md).
-  bool predictFlags(const PlanarState& guess) override { return stickSlipAt(guess, true); }
+  bool recheckFlags(const PlanarState& s) override;
+  // A step's flags start from its predicted end state (the recheck there).
+  bool predictFlags(const PlanarState& guess) override { return recheckFlags(guess); }
   bool predictSpatialFlags(const SpatialState& guess) override {
-    return spatialStickSlipAt(guess, true);
+    return recheckSpatialFlags(guess);
   }
   // The same in 3-D (contact_spatial.cpp). Kinetic friction follows the
   // trial sliding velocity (a floor of the speed it is divided by, for a
@@ -54,7 +51,7 @@ class Contact : public ForceEffect {
   static constexpr double kTinySlidingSpeed = 1e-12;
   void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
   void beginSpatialStep(const SpatialState& s0) override;
-  bool recheckSpatialFlags(const SpatialState& s) override { return spatialStickSlipAt(s, false); }
+  bool recheckSpatialFlags(const SpatialState& s) override;
   void adoptFlags() override;
   void commit(double t, const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
@@ -76,10 +73,6 @@ class Contact : public ForceEffect {
   double maxPenetration() const { return max_penetration_; }
 
  private:
-  // The recheck of the trial flags at state s; `predict`: stick and slip
-  // only, for points still on their committed surface.
-  bool stickSlipAt(const PlanarState& s, bool predict);
-  bool spatialStickSlipAt(const SpatialState& s, bool predict);
   // Places the cylinder axes and faces in the world at time t, once per
   // evaluation.
   void placeSurfaces(double t) const;
