@@ -159,11 +159,6 @@ class ForceEffect {
   virtual void beginImplicitStep(const PlanarState& /*s0*/) {}
   virtual bool recheckFlags(const PlanarState& /*s*/) { return false; }
   virtual void adoptFlags() {}
-  // Flags guessed before the first solve from the Newton start, the step's
-  // predicted end state (contact and stick from where the points are going,
-  // not where they were: an active-set predictor); true: a flag changed.
-  virtual bool predictFlags(const PlanarState& /*guess*/) { return false; }
-  virtual bool predictSpatialFlags(const SpatialState& /*guess*/) { return false; }
   // The 3-D implicit formulation (docs/MODEL.md, "Implicit integration of
   // 3-D scenes"): the same, with the explicit model's generalized forces on
   // positions and quaternions and their derivatives; flags as above.

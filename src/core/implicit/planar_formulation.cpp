@@ -165,11 +165,7 @@ NewtonStats PlanarFormulation::solve(double t1, double alpha, double kappa,
   placeBoundary(t1);
   state_.x.middleCols(f, m) = x_guess.middleCols(f, m);
   updateVelocities();
-  // Flags from the Newton start (the predicted end state); changed ones
-  // change the system, so the Jacobian is made anew.
-  bool predicted = false;
-  for (ForceEffect* e : effects_) predicted = e->predictFlags(state_) || predicted;
-  if (predicted || !(factored_ == FactorKey{alpha, kappa, f, n})) have_factor_ = false;
+  if (!(factored_ == FactorKey{alpha, kappa, f, n})) have_factor_ = false;
   return newtonSolve(*this, newton_, have_factor_);
 }
 

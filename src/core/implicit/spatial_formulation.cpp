@@ -139,11 +139,7 @@ NewtonStats SpatialFormulation::solve(double t1, double alpha, double kappa,
   state_.p.middleCols(f, m) = x_guess.block(0, f, 3, m);
   state_.q.middleCols(f, m) = x_guess.block(3, f, 4, m);
   updateRates();
-  // Flags from the Newton start (the predicted end state); changed ones
-  // change the system, so the Jacobian is made anew.
-  bool predicted = false;
-  for (ForceEffect* e : effects_) predicted = e->predictSpatialFlags(state_) || predicted;
-  if (predicted || !(factored_ == FactorKey{alpha, kappa, f, n})) have_factor_ = false;
+  if (!(factored_ == FactorKey{alpha, kappa, f, n})) have_factor_ = false;
   return newtonSolve(*this, newton_, have_factor_);
 }
 

@@ -40,11 +40,6 @@ class Contact : public ForceEffect {
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
   void beginImplicitStep(const PlanarState& s0) override;
   bool recheckFlags(const PlanarState& s) override;
-  // A step's flags start from its predicted end state (the recheck there).
-  bool predictFlags(const PlanarState& guess) override { return recheckFlags(guess); }
-  bool predictSpatialFlags(const SpatialState& guess) override {
-    return recheckSpatialFlags(guess);
-  }
   // The same in 3-D (contact_spatial.cpp). Kinetic friction follows the
   // trial sliding velocity (a floor of the speed it is divided by, for a
   // scene with no stick speed [m/s]).
