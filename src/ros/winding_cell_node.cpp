@@ -41,6 +41,8 @@
 #include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/job_error_estimate.hpp"
+#include "coil_winding_sim/ros/snapshot_bag.hpp"
+#include "coil_winding_sim/ros/snapshot_reader.hpp"
 
 #ifndef CWS_DEFAULT_SCENE
 #define CWS_DEFAULT_SCENE ""

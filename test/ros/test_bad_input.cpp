@@ -36,7 +36,7 @@
 #include "coil_winding_sim/SimulationSnapshot.h"
 #include "coil_winding_sim/Snapshot.h"
 #include "coil_winding_sim/WindingMetrics.h"
-#include "coil_winding_sim/ros/bridge.hpp"
+#include "coil_winding_sim/ros/snapshot_bag.hpp"
 #include "ros_test_support.hpp"
 
 namespace fs = std::filesystem;

@@ -1,5 +1,7 @@
-// The ROS bridge: conversions between the simulation core and ROS messages,
-// TF and bag files. The only place where core types meet ROS types.
+// The ROS bridge: conversions between the simulation core and ROS messages
+// and TF. With snapshot_bag.hpp (snapshots as messages and bag files) and
+// snapshot_reader.hpp (reading an untrusted snapshot bag in a child
+// process), the only place where core types meet ROS types.
 #pragma once
 
 #include <geometry_msgs/PointStamped.h>
@@ -12,7 +14,6 @@
 #include <string>
 
 #include "coil_winding_sim/ErrorEstimate.h"
-#include "coil_winding_sim/SimulationSnapshot.h"
 #include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/WindingMetrics.h"
 #include "coil_winding_sim/WireState.h"
@@ -94,42 +95,5 @@ bool spindleVelocity(const sensor_msgs::JointState& msg, double& omega, std::str
 // A point [m] in the world frame (finite; frame_id empty or `frames.world`).
 bool portPoint(const geometry_msgs::PointStamped& msg, const Frames& frames,
                Eigen::Vector3d& p_world, std::string& why);
-
-// Start and end time of a bag (its first and last message). Throws
-// std::runtime_error naming the file and the problem.
-void bagTimeRange(const std::string& path, ros::Time& start, ros::Time& end);
-
-// Snapshots as messages and bag files. The readers throw std::runtime_error
-// with a message that says what is wrong with the file. toSnapshotMsg sets
-// the checksum; fromSnapshotMsg refuses a message whose checksum does not
-// match (a bag has no checksum of its own: a changed number would restore).
-coil_winding_sim::SimulationSnapshot toSnapshotMsg(const cws::SimulationState& state,
-                                                   const ros::Time& stamp);
-cws::SimulationState fromSnapshotMsg(const coil_winding_sim::SimulationSnapshot& msg);
-// FNV-1a (64 bit) of the message serialized with its checksum field 0.
-uint64_t snapshotChecksum(const coil_winding_sim::SimulationSnapshot& msg);
-void writeSnapshotBag(const std::string& path, const coil_winding_sim::SimulationSnapshot& msg);
-// In this process: a corrupt bag can crash rosbag's reader or make the
-// deserializer allocate gigabytes. Use it for trusted files only.
-coil_winding_sim::SimulationSnapshot readSnapshotBag(const std::string& path);
-
-// Reads and checks a snapshot bag in a child process, `reader_exe
-// --read-snapshot <path>` (an executable whose main() hands that call to
-// snapshotReaderMain), under an address-space limit and a wall-time limit
-// of `timeout_s`: a file that crashes the reader, exhausts its memory or
-// hangs it fails with a message, the calling process is never harmed.
-coil_winding_sim::SimulationSnapshot readSnapshotBagIsolated(const std::string& path,
-                                                             const std::string& reader_exe,
-                                                             double timeout_s);
-// The child's side of readSnapshotBagIsolated: reads `path`, checks that it
-// restores (cws::Simulation::fromState) and writes the result to `out_fd`.
-// Returns the process exit code.
-int snapshotReaderMain(const std::string& path, int out_fd);
-// The argument that selects snapshotReaderMain, and the descriptor it writes to.
-extern const char* const kReadSnapshotArg;
-constexpr int kSnapshotReaderFd = 3;
-
-extern const char* const kSnapshotFormat;
-extern const char* const kSnapshotTopic;
 
 }  // namespace cws_ros
