@@ -103,8 +103,8 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
   const double radius = m.constants().radius;
   out << "  \"core_turns\": " << num(sim.coreTurns()) << ",\n"
       << "  \"fed_length_m\": " << num(m.fedLength()) << ",\n"
-      << "  \"supply_tension_N\": "
-      << (m.supply() ? num(m.axialForce(m.constants().n - 2)) : std::string("null")) << ",\n"
+      << "  \"supply_tension_N\": " << (m.supply() ? num(m.portAxialForce()) : std::string("null"))
+      << ",\n"
       << "  \"max_penetration_ratio\": "
       << (m.contact() ? num(sim.maxPenetration() / radius) : std::string("null")) << ",\n"
       << "  \"carried_points\": " << m.carriedPoints() << ",\n";

@@ -44,7 +44,7 @@ double Scene::endTime() const {
   if (process.duration) return *process.duration;
   // Turns at the commanded speed; a core that starts at rest loses half its
   // ramp time to the acceleration.
-  const double omega = std::abs(process.core_speed_rpm) * 2.0 * M_PI / 60.0;
+  const double omega = std::abs(rpmToRadPerSec(process.core_speed_rpm));
   const double ramp = core.start_at_speed ? 0.0 : omega / core.max_angular_acceleration;
   return process.turns * 2.0 * M_PI / omega + 0.5 * ramp;
 }
@@ -74,7 +74,7 @@ double Scene::pointCapacity() const {
     r_max = std::max({r_max, f.from_core.norm() + wire_radius, f.to_core.norm() + wire_radius});
   }
   const Eigen::Vector3d axis = core.axis_world.normalized();
-  const double angle = std::abs(process.core_speed_rpm * 2.0 * M_PI / 60.0) * endTime();
+  const double angle = std::abs(rpmToRadPerSec(process.core_speed_rpm)) * endTime();
   Eigen::Vector3d port_rel = supply.port_position_world - core.position_world;
   port_rel -= port_rel.dot(axis) * axis;
   const double fed = angle * r_max + 2.0 * port_rel.norm();

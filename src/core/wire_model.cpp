@@ -19,7 +19,7 @@ bool needsCore(const Scene& s) {
   return s.physics.contact || s.physics.supply || s.start.frame == "core";
 }
 
-double coreSpeedCommand(const Scene& s) { return s.process.core_speed_rpm * 2.0 * M_PI / 60.0; }
+double coreSpeedCommand(const Scene& s) { return rpmToRadPerSec(s.process.core_speed_rpm); }
 
 // Clamp position at t = 0 in the world frame.
 Eigen::Vector3d clampStartWorld(const Scene& s) {
@@ -36,15 +36,14 @@ WireConstants constantsOf(const Scene& s) {
   // Point counts and storage come from the scene, which validated them.
   c.n = static_cast<int>(s.initialPoints());
   c.capacity = static_cast<int>(s.pointCapacity());
+  c.segment_length = s.modelSegmentLength();
   if (!s.physics.supply) {
     // A wire of fixed length: eq. (1), M = rho L / n.
-    c.segment_length = s.naturalSegmentLength();
     c.point_mass = s.wire.line_density * s.wire.length / c.n;
   } else {
     // A drawn-in wire: straight from the clamp towards the port, segments of
     // exactly segment_length, the last point within one segment of the port;
     // every point (new ones too) carries rho l, eq. (1) for n -> infinity.
-    c.segment_length = s.wire.segment_length;
     c.point_mass = s.wire.line_density * c.segment_length;
   }
   c.point_inertia = 0.4 * c.point_mass * c.radius * c.radius;

@@ -144,14 +144,20 @@ double WireModel::standOff(int i) const {
   return section_->signedDistance(p_core.head<2>()) - c_.radius;
 }
 
+int WireModel::lastInContact() const {
+  int last = -1;
+  if (!contact_) return last;
+  for (int i = 1; i < c_.n; ++i) {
+    if (contact_->inContact(i)) last = i;
+  }
+  return last;
+}
+
 BulgeReport WireModel::bulging() const {
   placeCarriedWire();
   BulgeReport b;
   if (!contact_ || !section_) return b;
-  int last_contact = -1;
-  for (int i = 1; i < c_.n; ++i) {
-    if (contact_->inContact(i)) last_contact = i;
-  }
+  const int last_contact = lastInContact();
   if (last_contact < 0) return b;
   b.valid = true;
   b.wound_points = last_contact + 1;

@@ -15,12 +15,6 @@ namespace cws_ros {
 const char* const kSpindleJoint = "spindle";
 
 namespace {
-// The wire's axial force at the supply port [N] (the last integrated
-// segment's), what a load cell at the nozzle measures; 0 without a supply.
-double portAxialForce(const cws::WireModel& m) {
-  return m.supply() ? m.axialForce(m.constants().n - 2) : 0.0;
-}
-
 geometry_msgs::Point point(const Eigen::Vector3d& p) {
   geometry_msgs::Point m;
   m.x = p.x();
@@ -58,14 +52,6 @@ visualization_msgs::Marker marker(const ros::Time& stamp, const std::string& fra
   return k;
 }
 
-int lastInContact(const cws::WireModel& m) {
-  int last = -1;
-  if (!m.contact()) return last;
-  for (int i = 1; i < m.constants().n; ++i) {
-    if (m.contact()->inContact(i)) last = i;
-  }
-  return last;
-}
 }  // namespace
 
 coil_winding_sim::WireState toWireState(const cws::Simulation& sim, const ros::Time& stamp,
@@ -102,14 +88,14 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
   const cws::BulgeReport b = m.bulging();
   msg.bulging_height = b.valid ? b.height_m : std::numeric_limits<double>::quiet_NaN();
   msg.bulging_index = b.valid ? b.index : -1;
-  const int last = lastInContact(m);
+  const int last = m.lastInContact();
   msg.wound_length = last > 0 ? last * m.constants().segment_length : 0.0;
   msg.fed_length = m.fedLength();
   msg.core_turns = sim.coreTurns();
   msg.core_angular_velocity = m.core() ? m.core()->omega(sim.time()) : 0.0;
   msg.core_angular_velocity_setpoint = m.core() ? m.core()->command() : 0.0;
   msg.supply_tension = m.supply() ? m.supply()->tension() : 0.0;
-  msg.port_axial_force = portAxialForce(m);
+  msg.port_axial_force = m.supply() ? m.portAxialForce() : 0.0;
   msg.real_time_factor = pace.real_time_factor;
   msg.target_real_time_factor = pace.target_real_time_factor;
   msg.keeping_pace = pace.keeping_pace;
@@ -280,7 +266,7 @@ coil_winding_sim::WireTension toTensionMeasured(const cws::Simulation& sim,
                                                 const ros::Time& stamp) {
   coil_winding_sim::WireTension msg;
   msg.header.stamp = stamp;
-  msg.tension = portAxialForce(sim.model());
+  msg.tension = sim.model().supply() ? sim.model().portAxialForce() : 0.0;
   return msg;
 }
 
@@ -303,7 +289,7 @@ sensor_msgs::PointCloud2 toProfile(const cws::Simulation& sim, const ros::Time& 
   const cws::WireModel& m = sim.model();
   const cws::RotatingCore* core = m.core();
   // The wound part: up to the last point touching the core.
-  const int last = m.contact() ? lastInContact(m) : m.constants().n - 1;
+  const int last = m.contact() ? m.lastInContact() : m.constants().n - 1;
   const int count = core ? last + 1 : 0;
   sensor_msgs::PointCloud2Modifier mod(cloud);
   mod.setPointCloud2Fields(

@@ -17,6 +17,7 @@
 
 #include "coil_winding_sim/CoreSpeedSetpoint.h"
 #include "coil_winding_sim/TensionSetpoint.h"
+#include "coil_winding_sim/core/scene.hpp"
 
 namespace {
 struct Keyframe {
@@ -41,7 +42,7 @@ std::vector<Keyframe> loadProfile(const std::string& path, double& rate) {
     const std::string key = "keyframes[" + std::to_string(i) + "]";
     try {
       Keyframe f{list[i]["time"].as<double>(),
-                 list[i]["core_speed_rpm"].as<double>() * 2.0 * M_PI / 60.0,
+                 cws::rpmToRadPerSec(list[i]["core_speed_rpm"].as<double>()),
                  list[i]["tension"].as<double>()};
       if (!std::isfinite(f.time) || (!k.empty() && !(f.time > k.back().time))) {
         throw std::runtime_error(key + ".time must increase");

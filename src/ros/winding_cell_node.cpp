@@ -53,8 +53,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
-double rpmToRadPerS(double rpm) { return rpm * 2.0 * M_PI / 60.0; }
-
 // Wall-time limit of reading a snapshot in the reader process [s].
 constexpr double kRestoreTimeout = 20.0;
 
@@ -134,7 +132,7 @@ class WindingCell {
         estimator_->startJob(sim_->saveState());
       }
     }
-    speed_setpoint_ = rpmToRadPerS(scene_.process.core_speed_rpm);
+    speed_setpoint_ = cws::rpmToRadPerSec(scene_.process.core_speed_rpm);
     tension_setpoint_ = scene_.process.tension;
 
     state_pub_ = nh_.advertise<coil_winding_sim::WireState>("wire_state", 5);
@@ -751,7 +749,7 @@ class WindingCell {
   // Makes `scene` the scene in use (its limits apply to the setpoints).
   void setScene(const cws::Scene& scene) {
     scene_ = scene;
-    max_speed_ = rpmToRadPerS(scene_.process.max_core_speed_rpm);
+    max_speed_ = cws::rpmToRadPerSec(scene_.process.max_core_speed_rpm);
     max_tension_ = scene_.process.max_tension;
   }
 
@@ -779,7 +777,7 @@ class WindingCell {
       std::lock_guard<std::mutex> lock(sim_mutex_);
       setScene(scene);
       replace(std::move(fresh));
-      speed_setpoint_ = rpmToRadPerS(scene_.process.core_speed_rpm);
+      speed_setpoint_ = cws::rpmToRadPerSec(scene_.process.core_speed_rpm);
       tension_setpoint_ = scene_.process.tension;
       res.success = true;
       res.message = "reset to the scene's initial state";
@@ -851,7 +849,7 @@ class WindingCell {
       // Its setpoints pass the checks of the setpoint topics.
       const cws::Scene& scene = restored->scene();
       const double speed = state.model.core[3];
-      const double speed_limit = rpmToRadPerS(scene.process.max_core_speed_rpm);
+      const double speed_limit = cws::rpmToRadPerSec(scene.process.max_core_speed_rpm);
       if (restored->model().core() && std::abs(speed) > speed_limit) {
         throw std::runtime_error("'" + req.path + "': its core speed setpoint " + number(speed) +
                                  " rad/s exceeds its scene's process.max_core_speed_rpm (" +

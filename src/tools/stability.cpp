@@ -27,8 +27,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kRpm = 2.0 * M_PI / 60.0;  // [rad/s] per rpm
-
 // A change of the core's commanded speed during a run.
 struct SpeedEvent {
   double time_s;
@@ -151,11 +149,11 @@ std::vector<Case> matrixCases() {
   cases.push_back({"reversal",
                    "1200 rpm, reversed to -1200 rpm at t = 25 ms, until t = 75 ms",
                    {"core.start_at_speed=true", "process.duration=0.075"},
-                   {{0.025, -1200.0 * kRpm}}});
+                   {{0.025, cws::rpmToRadPerSec(-1200.0)}}});
   cases.push_back({"reversal_no_supply",
                    "as reversal, a 50 mm wire clamped on the core without supply",
                    {"core.start_at_speed=true", "process.duration=0.075", "physics.supply=false"},
-                   {{0.025, -1200.0 * kRpm}}});
+                   {{0.025, cws::rpmToRadPerSec(-1200.0)}}});
   // Planar winding on a round drum: one 5 mm cylinder, 10 turns. Before
   // the planar constraint was solved with the frame constraints, the frames
   // tilted out of the plane and the run diverged after about 3 turns; before

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -83,6 +84,10 @@ struct CoreParams {
   std::vector<FaceParams> faces;
   bool hull_faces = false;  // add the flat faces between neighbouring cylinders
 };
+
+// Keys whose name says rpm carry revolutions per minute; everything else is
+// SI. The one conversion to an angular velocity [rad/s].
+inline double rpmToRadPerSec(double rpm) { return rpm * 2.0 * M_PI / 60.0; }
 
 struct ProcessParams {
   double core_speed_rpm = 600.0;       // [rpm]

@@ -134,6 +134,12 @@ class WireModel : public OdeSystem {
   double maxConstraintResidual() const { return constraints_.maxResidual(committed_); }
   PointReport point(int i) const;
   double axialForce(int j) const;  // segment j at the last accepted step [N]
+  // The wire's axial force at the supply port [N]: the last segment's, what
+  // a load cell at the nozzle measures (a scene with a supply).
+  double portAxialForce() const { return axialForce(c_.n - 2); }
+  // The last point touching the core at the last accepted step; -1: none,
+  // or a scene without contact.
+  int lastInContact() const;
 
   // History state of all effects, concatenated (empty without plasticity).
   std::vector<double> history() const;
