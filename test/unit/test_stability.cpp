@@ -14,6 +14,7 @@
 #include "coil_winding_sim/core/quaternion.hpp"
 #include "coil_winding_sim/core/run_checks.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/stability_cases.hpp"
 
 namespace {
 
@@ -84,6 +85,14 @@ cws::RunMeasures runToEnd(const std::vector<std::string>& overrides, const std::
   return m;
 }
 
+// A case of the stability matrix (the study's own table), shortened to
+// `turns` core turns when given.
+std::vector<std::string> matrixCase(const std::string& name, double turns = 0.0) {
+  std::vector<std::string> o = cws::stabilityCase(name).overrides;
+  if (turns > 0.0) o.push_back("process.turns=" + std::to_string(turns));
+  return o;
+}
+
 void expectStable(const cws::RunMeasures& m) {
   for (const std::string& v : cws::stabilityViolations(m)) ADD_FAILURE() << v;
 }
@@ -92,9 +101,7 @@ void expectStable(const cws::RunMeasures& m) {
 // the step ends where the ramp ends, so the constraint solve sees the
 // core's acceleration for the whole ramp.
 TEST(Stability, StepsEndWhereASpeedRampEnds) {
-  cws::Simulation sim(scene(
-      {"core.start_at_speed=false", "core.max_angular_acceleration=1e12", "process.turns=0.01"},
-      "symplectic_euler"));
+  cws::Simulation sim(scene(matrixCase("speed_step", 0.01), "symplectic_euler"));
   const double omega = 1200.0 * 2.0 * M_PI / 60.0;
   const double ramp_s = omega / 1e12;
   ASSERT_LT(ramp_s, cws::fixedStep(sim.scene()));
@@ -110,18 +117,15 @@ TEST(Stability, StepsEndWhereASpeedRampEnds) {
 // acceleration to follow it, and the frames would lag the segments by
 // about dv / (e nu l) = 0.04 rad.
 TEST(Stability, InstantSpeedStep) {
-  expectStable(runToEnd(
-      {"core.start_at_speed=false", "core.max_angular_acceleration=1e12", "process.turns=0.25"},
-      "symplectic_euler", "speed step 0 -> 1200 rpm"));
+  expectStable(
+      runToEnd(matrixCase("speed_step", 0.25), "symplectic_euler", "speed step 0 -> 1200 rpm"));
 }
 
 // 0 -> 20,000 rpm in one instant, 1 3/4 turns: both explicit methods meet
 // the criteria; the implicit one is stopped by the collapse detection, with
 // its cause and the remedy in the message.
 TEST(Stability, Instant20000Rpm) {
-  const std::vector<std::string> o = {
-      "process.core_speed_rpm=20000", "process.max_core_speed_rpm=20000",
-      "core.start_at_speed=false", "core.max_angular_acceleration=1e12"};
+  const std::vector<std::string> o = matrixCase("core_20000rpm");
   expectStable(runToEnd(o, "symplectic_euler", "0 -> 20,000 rpm"));
   expectStable(runToEnd(o, "rkf45", "0 -> 20,000 rpm"));
   try {
@@ -249,14 +253,10 @@ TEST(Stability, ImplicitFailureAtTheInstantStartNamesTheRamp) {
 // the deepest penetration of the matrix), a slack wire at 0 N, and 0.2 mm
 // segments.
 TEST(Stability, StiffWireExtremeTensionsAndFineSegments) {
-  expectStable(runToEnd({"wire.stretch.elastic_rigidity=4.89e6",
-                         "wire.stretch.plastic_rigidity=1.10e5", "wire.bend.elastic_rigidity=0.306",
-                         "wire.bend.plastic_rigidity=1.13e-2", "process.turns=0.1"},
-                        "symplectic_euler", "rigidities x100"));
-  expectStable(runToEnd({"process.tension=300", "process.turns=0.5"}, "symplectic_euler", "300 N"));
-  expectStable(runToEnd({"process.tension=0", "process.turns=0.5"}, "symplectic_euler", "0 N"));
-  expectStable(runToEnd({"wire.segment_length=2e-4", "process.turns=0.01"}, "symplectic_euler",
-                        "0.2 mm segments"));
+  expectStable(runToEnd(matrixCase("rigidity_x100", 0.1), "symplectic_euler", "rigidities x100"));
+  expectStable(runToEnd(matrixCase("tension_300N", 0.5), "symplectic_euler", "300 N"));
+  expectStable(runToEnd(matrixCase("tension_0N", 0.5), "symplectic_euler", "0 N"));
+  expectStable(runToEnd(matrixCase("segment_0.2mm", 0.01), "symplectic_euler", "0.2 mm segments"));
 }
 
 // The Newton-step methods on the extreme cases of the matrix, shortened: a
@@ -269,19 +269,12 @@ TEST(Stability, StiffWireExtremeTensionsAndFineSegments) {
 // result that passes silently.
 TEST(Stability, NewtonStepMethodsOnTheExtremeCases) {
   const std::vector<std::pair<const char*, std::vector<std::string>>> cases = {
-      {"speed step 0 -> 1200 rpm",
-       {"core.start_at_speed=false", "core.max_angular_acceleration=1e12", "process.turns=0.25"}},
-      {"0 -> 20,000 rpm",
-       {"process.core_speed_rpm=20000", "process.max_core_speed_rpm=20000",
-        "core.start_at_speed=false", "core.max_angular_acceleration=1e12", "process.turns=0.5"}},
-      {"rigidities x100",
-       {"wire.stretch.elastic_rigidity=4.89e6", "wire.stretch.plastic_rigidity=1.10e5",
-        "wire.bend.elastic_rigidity=0.306", "wire.bend.plastic_rigidity=1.13e-2",
-        "wire.torsion.elastic_rigidity=0.432", "wire.torsion.plastic_rigidity=9.0e-3",
-        "process.turns=0.5"}},
-      {"300 N", {"process.tension=300", "process.turns=0.5"}},
-      {"0 N", {"process.tension=0", "process.turns=0.5"}},
-      {"0.2 mm segments", {"wire.segment_length=2e-4", "process.turns=0.1"}},
+      {"speed step 0 -> 1200 rpm", matrixCase("speed_step", 0.25)},
+      {"0 -> 20,000 rpm", matrixCase("core_20000rpm", 0.5)},
+      {"rigidities x100", matrixCase("rigidity_x100")},  // 1/2 turn
+      {"300 N", matrixCase("tension_300N", 0.5)},
+      {"0 N", matrixCase("tension_0N", 0.5)},
+      {"0.2 mm segments", matrixCase("segment_0.2mm")},  // 1/10 turn
   };
   const std::vector<std::string> spiral = {"physics.planar=false", "physics.torsion=true",
                                            "process.traverse_pitch=1e-3"};
