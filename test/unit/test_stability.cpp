@@ -306,17 +306,7 @@ TEST(Stability, NewtonStepMethodsOnTheExtremeCases) {
 // O(h) shadow term. Booked at the step's start velocity it drifted: 2.5e-3
 // after 3 turns, 5e-3 after 10, 1.7e-2 after 100. Stated bound 2e-4.
 TEST(Stability, EulerBooksFrictionWorkAtItsOwnVelocities) {
-  const std::vector<std::string> core_r5mm = {
-      "wire.segment_length=5e-3",
-      "core.cylinders=[{center: [7.5e-3, 2.5e-3], radius: 5e-3}, "
-      "{center: [-7.5e-3, 2.5e-3], radius: 5e-3}, "
-      "{center: [-7.5e-3, -2.5e-3], radius: 5e-3}, "
-      "{center: [7.5e-3, -2.5e-3], radius: 5e-3}]",
-      "start.position=[7.5e-3, -8.0e-3, 0]",
-      "supply.port_position=[-27.5e-3, -8.0e-3, 0]",
-      "process.turns=3",
-      "process.core_speed_rpm=6000"};
-  cws::Simulation sim(scene(core_r5mm, "symplectic_euler"));
+  cws::Simulation sim(scene(matrixCase("turns_100", 3.0), "symplectic_euler"));
   sim.run();
   const cws::EnergyReport e = sim.energy();
   const cws::RunMeasures m = cws::measureRun(sim);
