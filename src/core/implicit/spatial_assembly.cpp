@@ -12,7 +12,7 @@ void SpatialAssembly::resize(int capacity_points) {
   fq_dissipative.setZero(4, capacity_points);
   // Every coupling is between a point's block and its neighbours' (bending
   // and stretching j to j+1, a frame's rows to p_i-1); the port's two rows
-  // form a block of their own after q_L's.
+  // form a block of their own after the last point's.
   matrix_.resize(unknowns);
 }
 

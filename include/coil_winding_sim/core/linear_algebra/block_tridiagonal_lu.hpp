@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cassert>
 #include <cmath>
 #include <vector>
 
@@ -48,6 +49,7 @@ class BlockTridiagonalLu {
   double& at(int i, int j) { return blockAt(i / B, j / B)(i % B, j % B); }
   // Block (bi, bj), |bi - bj| <= 1: diagonal, lower (bi = bj + 1) or upper.
   Block& blockAt(int bi, int bj) {
+    assert(bi >= 0 && bj >= 0 && bi < m_ && bj < m_ && std::abs(bi - bj) <= 1);
     return bi == bj ? diag_[bi] : (bi > bj ? lower_[bi] : upper_[bi]);
   }
 
