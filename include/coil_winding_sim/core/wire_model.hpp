@@ -87,6 +87,9 @@ class WireModel : public OdeSystem {
  public:
   // The scene must have passed validateScene().
   explicit WireModel(const Scene& scene);
+  // Whether the prescribed point moves with the core (the clamp on the
+  // core, or carried wire), or stands still (a clamp in the world).
+  bool prescribedOnCore() const { return clamp_in_core_; }
 
   // The state vector: kAuxStates energy terms [W_ext, E_visc], then
   // kStatesPerPoint per free point i >= 1: p (3), q (4), v (3), qdot (4).

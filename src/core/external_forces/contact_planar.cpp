@@ -33,7 +33,7 @@ bool Contact::planarSurface(const PlanarState& s, int surface, const Eigen::Vect
 
 Eigen::Vector2d Contact::planarSurfaceVelocity(const PlanarState& s,
                                                const Eigen::Vector2d& x) const {
-  return s.plane.vectorToPlane(core_.velocityWorld(s.t, s.plane.toWorld(x)));
+  return s.plane.vectorToPlane(s.carried.velocity(s.plane.toWorld(x)));
 }
 
 void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
@@ -79,8 +79,8 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
     }
     a.addForce(i, f);
     a.addStiffness(i, i, kx);
-    // The moving surface does work on the wire.
-    a.power_external += f.dot(u);
+    // The moving surface does work on the wire (at its exact velocity).
+    a.power_external += f.dot(s.plane.vectorToPlane(s.carried.exactVelocity(s.plane.toWorld(x))));
   }
 }
 

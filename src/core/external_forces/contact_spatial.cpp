@@ -56,7 +56,8 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
     const double normal = k * h;
     Eigen::Vector3d f = normal * nrm;
     Eigen::Matrix3d kp = -k * nrm * nrm.transpose() + normal * dn;
-    const Eigen::Vector3d u = core_.velocityWorld(s.t, p);
+    // The core's velocity as the scheme gives it (one_leg_step.hpp).
+    const Eigen::Vector3d u = s.carried.velocity(p);
     if (friction_) {
       Eigen::Vector3d ft = Eigen::Vector3d::Zero();
       if (trial_stuck_[i]) {
@@ -69,7 +70,7 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
               (id - nrm * (nrm.transpose() + delta.transpose() * dn) - dnn * dn);
       } else {
         // Slip: mu_d N against the sliding velocity vh = P_n (v - u),
-        // u = omega a x (p - o) the core's; with its derivatives in p
+        // u = G (p - o) the core's; with its derivatives in p
         // (through N, n and u) and v. Below the stick speed the direction
         // vh / |vh| is replaced by vh / stick_speed: a converged solve with
         // a point sliding that slowly sticks it (recheckSpatialFlags), so
@@ -85,7 +86,7 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
         const Eigen::Vector3d dir = vh / scale;
         ft = -p_.kinetic_friction * normal * dir;
         const Eigen::Matrix3d pn = id - nrm * nrm.transpose();
-        const Eigen::Matrix3d du = core_.omega(s.t) * quat::skew(core_.axisWorld());
+        const Eigen::Matrix3d& du = s.carried.g_world;
         const Eigen::Matrix3d dvh_dp = -pn * du - (nrm * (r.transpose() * dn) + rn * dn);
         const Eigen::Matrix3d proj = (speed >= scale ? id - dir * dir.transpose() : id) / scale;
         kp += -p_.kinetic_friction * (-k * dir * nrm.transpose() + normal * proj * dvh_dp);
@@ -97,8 +98,8 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
     }
     a.addForce(i, f);
     a.addStiffnessPP(i, i, kp);
-    // The moving surface does work on the wire.
-    a.power_external += f.dot(u);
+    // The moving surface does work on the wire (at its exact velocity).
+    a.power_external += f.dot(s.carried.exactVelocity(p));
   }
 }
 
@@ -117,7 +118,7 @@ void Contact::beginSpatialStep(const SpatialState& s0) {
     Eigen::Matrix3d dn;
     const Eigen::Vector3d p = s0.p.col(i);
     if (cylinder_[i] >= 0 && spatialSurface(cylinder_[i], p, nrm, h, dn)) {
-      const Eigen::Vector3d v_rel = s0.v.col(i) - core_.velocityWorld(s0.t, p);
+      const Eigen::Vector3d v_rel = s0.v.col(i) - s0.carried.velocity(p);
       const Eigen::Vector3d vh = v_rel - v_rel.dot(nrm) * nrm;
       if (vh.norm() > 0.0) trial_slip_world_[i] = vh.normalized();
     }
@@ -143,7 +144,7 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
       changed = true;
     }
     if (!on || !friction_) continue;
-    const Eigen::Vector3d v_rel = s.v.col(i) - core_.velocityWorld(s.t, p);
+    const Eigen::Vector3d v_rel = s.v.col(i) - s.carried.velocity(p);
     const Eigen::Vector3d vh = v_rel - v_rel.dot(nrm) * nrm;
     const double speed = vh.norm();
     if (trial_stuck_[i]) {

@@ -26,7 +26,8 @@ PlanarFormulation::PlanarFormulation(WireModel& model, const Scene& scene)
       point_mass_(model.constants().point_mass),
       point_inertia_(model.constants().point_inertia),
       newton_{scene.solver.newton_tol, scene.solver.newton_max_iterations,
-              scene.solver.flag_rounds} {
+              scene.solver.flag_rounds},
+      carried_(model.core()) {
   const int cap = model.constants().capacity;
   for (ForceEffect* e : model.effectList()) effects_.push_back(e);
   const WireKinematics& k = model.integratedKinematics();
@@ -79,6 +80,7 @@ void PlanarFormulation::load(double t0) {
   // Newton starts from the last accepted step's port multiplier, also when
   // a failed solve is retried (its multiplier may be far off).
   state_.lambda_port = lambda_accepted_;
+  state_.carried = carried_.load(t0);
   placeBoundary(t0);
   for (ForceEffect* e : effects_) e->beginImplicitStep(state_);
 }
@@ -87,8 +89,13 @@ void PlanarFormulation::placeBoundary(double t) {
   Eigen::Vector4d q, qd;
   model_.prescribedPose(t, p_boundary_world_, v_boundary_world_, q, qd);
   const int b = state_.first - 1;
+  // On the core it moves as the scheme moves the core's material; its exact
+  // velocity is kept for the work booked.
+  const Eigen::Vector3d v_world = model_.prescribedOnCore()
+                                      ? state_.carried.velocity(p_boundary_world_)
+                                      : v_boundary_world_;
   state_.x.col(b) = state_.plane.toPlane(p_boundary_world_);
-  state_.v.col(b) = state_.plane.vectorToPlane(v_boundary_world_);
+  state_.v.col(b) = state_.plane.vectorToPlane(v_world);
   state_.boundary_tangent = state_.plane.vectorToPlane(quat::zeta(q)).normalized();
   // omega_world = 2 E(q) qdot, about n.
   state_.boundary_omega = 2.0 * (quat::E(q) * qd).dot(state_.plane.n_world);
@@ -150,10 +157,12 @@ double PlanarFormulation::residual(bool jacobian) {
   return r_.head(unknowns).lpNorm<Eigen::Infinity>();
 }
 
-NewtonStats PlanarFormulation::solve(double t1, double alpha, double kappa,
-                                     const Eigen::MatrixXd& x_hat, const Eigen::MatrixXd& v_hat,
+NewtonStats PlanarFormulation::solve(const OneLegStep& step, const Eigen::MatrixXd& x_hat,
+                                     const Eigen::MatrixXd& v_hat,
                                      const Eigen::MatrixXd& x_guess) {
   const int f = state_.first, n = state_.n, m = n - f;
+  const double t1 = step.t1, alpha = step.alpha, kappa = step.kappa;
+  state_.carried = carried_.trial(step);
   alpha_ = alpha;
   kappa_ = kappa;
   state_.alpha = alpha;
@@ -214,7 +223,7 @@ void PlanarFormulation::store(double h, Eigen::VectorXd& y) {
     dissipated -= assembly_.f_dissipative.col(i).dot(state_.v.col(i));
   }
   // The clamp (or the carried wire) works on the integrated wire.
-  work -= assembly_.boundary_force.dot(state_.v.col(f - 1)) +
+  work -= assembly_.boundary_force.dot(state_.plane.vectorToPlane(v_boundary_world_)) +
           assembly_.boundary_torque * state_.boundary_omega;
   y[0] += h * work;
   y[1] += h * dissipated;
@@ -232,6 +241,7 @@ void PlanarFormulation::store(double h, Eigen::VectorXd& y) {
     y.segment<4>(o + 10) = 0.5 * quat::E(q).transpose() * (omega * pl.n_world);
   }
   lambda_accepted_ = state_.lambda_port;
+  carried_.accept();
   for (ForceEffect* e : effects_) e->adoptFlags();
 }
 

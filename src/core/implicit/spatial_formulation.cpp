@@ -17,7 +17,8 @@ SpatialFormulation::SpatialFormulation(WireModel& model, const Scene& scene)
       quat_mass_(4.0 * model.constants().point_inertia),
       segment_length_(model.constants().segment_length),
       newton_{scene.solver.newton_tol, scene.solver.newton_max_iterations,
-              scene.solver.flag_rounds} {
+              scene.solver.flag_rounds},
+      carried_(model.core()) {
   const int cap = model.constants().capacity;
   for (ForceEffect* e : model.effectList()) effects_.push_back(e);
   // Constraint rows in the force rows' unit: the axial rigidity EA [N]
@@ -63,6 +64,7 @@ void SpatialFormulation::load(double t0) {
   // failed solve is retried.
   state_.mu.middleCols(c.first, c.n - c.first) = mu_accepted_.middleCols(c.first, c.n - c.first);
   state_.lambda_port = lambda_accepted_;
+  state_.carried = carried_.load(t0);
   placeBoundary(t0);
   for (ForceEffect* e : effects_) e->beginSpatialStep(state_);
 }
@@ -72,6 +74,14 @@ void SpatialFormulation::placeBoundary(double t) {
   Eigen::Vector4d q, qd;
   model_.prescribedPose(t, p, v, q, qd);
   const int b = state_.first - 1;
+  // On the core it moves as the scheme moves the core's material; its exact
+  // rates are kept for the work booked.
+  v_boundary_exact_ = v;
+  qd_boundary_exact_ = qd;
+  if (model_.prescribedOnCore()) {
+    v = state_.carried.velocity(p);
+    qd = state_.carried.quaternionRate(q, qd);
+  }
   state_.p.col(b) = p;
   state_.v.col(b) = v;
   state_.q.col(b) = q;
@@ -125,10 +135,12 @@ double SpatialFormulation::residual(bool jacobian) {
   return norm;
 }
 
-NewtonStats SpatialFormulation::solve(double t1, double alpha, double kappa,
-                                      const Eigen::MatrixXd& x_hat, const Eigen::MatrixXd& v_hat,
+NewtonStats SpatialFormulation::solve(const OneLegStep& step, const Eigen::MatrixXd& x_hat,
+                                      const Eigen::MatrixXd& v_hat,
                                       const Eigen::MatrixXd& x_guess) {
   const int f = state_.first, n = state_.n, m = n - f;
+  const double t1 = step.t1, alpha = step.alpha, kappa = step.kappa;
+  state_.carried = carried_.trial(step);
   alpha_ = alpha;
   kappa_ = kappa;
   state_.alpha = alpha;
@@ -198,8 +210,8 @@ void SpatialFormulation::store(double h, Eigen::VectorXd& y) {
                   assembly_.fq_dissipative.col(i).dot(state_.qd.col(i));
   }
   // The clamp (or the carried wire) works on the integrated wire.
-  work -= assembly_.boundary_force.dot(state_.v.col(f - 1)) +
-          assembly_.boundary_fq.dot(state_.qd.col(f - 1));
+  work -= assembly_.boundary_force.dot(v_boundary_exact_) +
+          assembly_.boundary_fq.dot(qd_boundary_exact_);
   y[0] += h * work;
   y[1] += h * dissipated;
   for (int i = f; i < n; ++i) {
@@ -211,6 +223,7 @@ void SpatialFormulation::store(double h, Eigen::VectorXd& y) {
   }
   mu_accepted_.middleCols(f, n - f) = state_.mu.middleCols(f, n - f);
   lambda_accepted_ = state_.lambda_port;
+  carried_.accept();
   for (ForceEffect* e : effects_) e->adoptFlags();
 }
 

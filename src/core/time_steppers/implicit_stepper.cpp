@@ -65,10 +65,17 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     // end, r can reach 1e5).
     const bool bdf2 = scheme_ == Scheme::kBdf2 && have_prev_ && h <= 2.0 * h_prev_;
     double alpha = 1.0 / h;
+    OneLegStep step;
+    step.t1 = t + h;
+    step.t_past[0] = t;
     if (bdf2) {
       const double r = h / h_prev_;
       const double c0 = (1.0 + r) * (1.0 + r) / (1.0 + 2.0 * r), c1 = r * r / (1.0 + 2.0 * r);
       alpha = (1.0 + 2.0 * r) / ((1.0 + r) * h);
+      step.past = 2;
+      step.w_past[0] = c0;
+      step.w_past[1] = -c1;
+      step.t_past[1] = t_prev_;
       // Points drawn in since the last step have no past: extrapolate back.
       for (int i = n_prev_; i < n; ++i) {
         x_prev_.col(i) = x0.col(i) - h_prev_ * v0.col(i).head(xr);
@@ -83,7 +90,8 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
       v_hat_.middleCols(first, m) = v0.middleCols(first, m);
     }
     guess_.middleCols(first, m) = x0.middleCols(first, m) + h * v0.block(0, first, xr, m);
-    const NewtonStats st = f.solve(t + h, alpha, alpha, x_hat_, v_hat_, guess_);
+    step.alpha = step.kappa = alpha;
+    const NewtonStats st = f.solve(step, x_hat_, v_hat_, guess_);
     newton_.iterations += st.iterations;
     newton_.flag_rounds += st.flag_rounds;
     newton_.line_searches += st.line_searches;
@@ -112,6 +120,7 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     n_prev_ = n;
     first_prev_ = first;
     h_prev_ = h;
+    t_prev_ = t;
     have_prev_ = true;
     f.store(h, y);
     ++counts_.accepted;

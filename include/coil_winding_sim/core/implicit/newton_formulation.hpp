@@ -9,6 +9,8 @@
 
 #include <Eigen/Core>
 
+#include "coil_winding_sim/core/implicit/one_leg_step.hpp"
+
 namespace cws {
 
 struct NewtonStats {
@@ -35,9 +37,9 @@ class NewtonFormulation {
   // The committed configuration and rates (capacity columns).
   virtual const Eigen::MatrixXd& committedX() const = 0;
   virtual const Eigen::MatrixXd& committedV() const = 0;
-  // Solves the step to t1 [s] with the scheme's alpha = dv/dx and kappa =
-  // da/dv [1/s] and its x_hat, v_hat (columns first..n-1), from x_guess.
-  virtual NewtonStats solve(double t1, double alpha, double kappa, const Eigen::MatrixXd& x_hat,
+  // Solves the step `step` with the scheme's x_hat, v_hat (columns
+  // first..n-1), from x_guess.
+  virtual NewtonStats solve(const OneLegStep& step, const Eigen::MatrixXd& x_hat,
                             const Eigen::MatrixXd& v_hat, const Eigen::MatrixXd& x_guess) = 0;
   // Writes the solution into the model's state vector y and books the work
   // and dissipation of the step of h [s] (right after solve()).

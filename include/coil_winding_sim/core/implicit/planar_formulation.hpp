@@ -35,7 +35,7 @@ class PlanarFormulation : public NewtonFormulation {
   int rateRows() const override { return 3; }
   const Eigen::MatrixXd& committedX() const override { return x0_steps_; }
   const Eigen::MatrixXd& committedV() const override { return v0_steps_; }
-  NewtonStats solve(double t1, double alpha, double kappa, const Eigen::MatrixXd& x_hat,
+  NewtonStats solve(const OneLegStep& step, const Eigen::MatrixXd& x_hat,
                     const Eigen::MatrixXd& v_hat, const Eigen::MatrixXd& x_guess) override;
 
   // Reads the committed state of the model at time t0 [s]: positions,
@@ -90,6 +90,8 @@ class PlanarFormulation : public NewtonFormulation {
   Eigen::VectorXd r_, dx_;
   double lambda_try_ = 0.0;
   double alpha_ = 0.0, kappa_ = 0.0;
+  // The scheme velocity of the core's material (the surface friction sees).
+  CarriedMotion carried_;
   double lambda_accepted_ = 0.0;  // port multiplier of the last accepted step [N]
   // The factorization in the assembly's matrix, and what it was made for.
   bool have_factor_ = false;

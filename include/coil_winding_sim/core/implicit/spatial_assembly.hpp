@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 
+#include "coil_winding_sim/core/implicit/one_leg_step.hpp"
 #include "coil_winding_sim/core/linear_algebra/block_tridiagonal_lu.hpp"
 
 namespace cws {
@@ -28,6 +29,7 @@ struct SpatialState {
   Eigen::Matrix4Xd q, qd;  // frames (scalar first) and their rates [1/s]
   Eigen::Matrix3Xd mu;     // frame constraint multipliers, per frame i >= first
   Eigen::Vector2d lambda_port = Eigen::Vector2d::Zero();  // port constraint multipliers [N]
+  CarriedRate carried;  // the scheme velocity of the core's material
 
   Eigen::Vector3d segment(int j) const { return p.col(j + 1) - p.col(j); }
 };

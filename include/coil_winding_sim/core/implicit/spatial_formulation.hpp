@@ -34,7 +34,7 @@ class SpatialFormulation : public NewtonFormulation {
   int n() const override { return state_.n; }
   const Eigen::MatrixXd& committedX() const override { return x0_; }
   const Eigen::MatrixXd& committedV() const override { return v0_; }
-  NewtonStats solve(double t1, double alpha, double kappa, const Eigen::MatrixXd& x_hat,
+  NewtonStats solve(const OneLegStep& step, const Eigen::MatrixXd& x_hat,
                     const Eigen::MatrixXd& v_hat, const Eigen::MatrixXd& x_guess) override;
   void store(double h, Eigen::VectorXd& y) override;
 
@@ -74,6 +74,11 @@ class SpatialFormulation : public NewtonFormulation {
   Eigen::Vector2d lambda_accepted_ = Eigen::Vector2d::Zero(), lambda_try_ = Eigen::Vector2d::Zero();
   Eigen::VectorXd r_, dx_;
   double alpha_ = 0.0, kappa_ = 0.0;
+  // The scheme velocity of the core's material (the surface friction sees),
+  // and the prescribed point's exact rates.
+  CarriedMotion carried_;
+  Eigen::Vector3d v_boundary_exact_ = Eigen::Vector3d::Zero();
+  Eigen::Vector4d qd_boundary_exact_ = Eigen::Vector4d::Zero();
   // The factorization in the assembly's matrix, and what it was made for.
   bool have_factor_ = false;
   FactorKey factored_;

@@ -53,6 +53,7 @@ class ImplicitStepper : public TimeStepper {
   // used; the present step's scheme data.
   Eigen::MatrixXd x_prev_, v_prev_, x_hat_, v_hat_, guess_;
   double h_prev_ = 0.0;
+  double t_prev_ = 0.0;  // the last accepted step's start [s]
   int n_prev_ = 0;
   int first_prev_ = 0;  // the first integrated point of the last step
   bool have_prev_ = false;
