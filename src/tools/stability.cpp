@@ -13,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "coil_winding_sim/core/command_schedule.hpp"
 #include "coil_winding_sim/core/output.hpp"
 #include "coil_winding_sim/core/run_checks.hpp"
 #include "coil_winding_sim/core/scene.hpp"
@@ -210,7 +211,16 @@ void execute(Study& st, Run& r) {
     std::cerr << "stability: " << key << ": refused: " << e.what() << "\n";
     return;
   }
-  std::size_t next_event = 0;
+  // The case's speed events from the first not yet applied on.
+  const std::vector<cws::SpeedEvent>& events = r.c->events;
+  cws::CommandSchedule schedule;
+  auto scheduleFrom = [&](std::size_t first) {
+    schedule.clear();
+    for (std::size_t i = first; i < events.size(); ++i) {
+      schedule.add(events[i].time_s, {cws::Command::Kind::kCoreSpeed, events[i].speed_rad_s});
+    }
+  };
+  scheduleFrom(0);
   // An unfinished run of this build continues where its checkpoint is.
   {
     Checkpoint c;
@@ -218,7 +228,7 @@ void execute(Study& st, Run& r) {
       try {
         sim = cws::Simulation::fromState(c.state);
         wall_before = c.wall_s;
-        next_event = c.next_event;
+        scheduleFrom(c.next_event);
         std::lock_guard<std::mutex> lock(st.log);
         std::cerr << "stability: " << key << ": resumed at t = " << sim->time() << " s after "
                   << c.wall_s << " s of wall time\n";
@@ -233,7 +243,7 @@ void execute(Study& st, Run& r) {
     Checkpoint c;
     c.identity = id;
     c.wall_s = wall();
-    c.next_event = next_event;
+    c.next_event = events.size() - schedule.size();
     c.state = sim->saveState();
     writeCheckpoint(checkpoint_path, c);
   };
@@ -244,17 +254,9 @@ void execute(Study& st, Run& r) {
     double next_report_s = resumed_at_s + 60.0;
     double next_checkpoint_s = resumed_at_s + st.checkpoint_s;
     while (sim->time() < sim->endTime()) {
-      const auto& ev = r.c->events;
-      double t_limit = sim->endTime();
-      if (next_event < ev.size()) {
-        if (sim->time() >= ev[next_event].time_s) {
-          sim->setCoreSpeed(ev[next_event].speed_rad_s);
-          ++next_event;
-          continue;
-        }
-        t_limit = std::min(t_limit, ev[next_event].time_s);
-      }
-      sim->step(t_limit);
+      schedule.takeDue(sim->time(),
+                       [&](double, const cws::Command& c) { cws::applyCommand(*sim, c); });
+      sim->step(std::min(sim->endTime(), schedule.nextTime()));
       if (++k % 1000 != 0) continue;
       // Ctrl-C: keep the run's state for the next study and stop.
       if (st.stop()) {

@@ -65,9 +65,8 @@ void expectSchemeRates(bool bdf2) {
   const Eigen::Vector3d v_expected = step.alpha * (p1 - p_hat);
   const Eigen::Vector4d qd_expected = step.alpha * (q1 - q_hat);
 
-  const cws::CarriedRate rate =
-      cws::CarriedRate::scheme(step, core.originWorld(), core.axisWorld(), core.angle(t1),
-                               core.omega(t1), theta_past);
+  const cws::CarriedRate rate = cws::CarriedRate::scheme(
+      step, core.originWorld(), core.axisWorld(), core.angle(t1), core.omega(t1), theta_past);
   const Eigen::Vector3d v = rate.velocity(p1);
   const Eigen::Vector4d qd = rate.quaternionRate(q1, Eigen::Vector4d::Zero());
   const Eigen::Vector3d v_tangent = core.velocityWorld(t1, p1);

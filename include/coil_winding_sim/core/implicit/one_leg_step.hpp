@@ -39,7 +39,7 @@ struct OneLegStep {
 // The scheme velocity of the core's material (see above).
 struct CarriedRate {
   Eigen::Matrix3d g_world = Eigen::Matrix3d::Zero();  // alpha (I - M) [1/s]
-  double omega_exact = 0.0;  // the core's angular velocity at t1 [rad/s]
+  double omega_exact = 0.0;                           // the core's angular velocity at t1 [rad/s]
   Eigen::Vector3d origin_world = Eigen::Vector3d::Zero();
   Eigen::Vector3d axis_world = Eigen::Vector3d::UnitZ();  // the core axis
   // x_hat of a frame the core carries: Q q (quaternions, scalar first).
@@ -58,8 +58,8 @@ struct CarriedRate {
 
   // The exact rates of a core turning at omega [rad/s] about axis_world
   // (before a run's first step, when there is no scheme yet).
-  static CarriedRate tangent(const Eigen::Vector3d& origin_world,
-                             const Eigen::Vector3d& axis_world, double omega) {
+  static CarriedRate tangent(const Eigen::Vector3d& origin_world, const Eigen::Vector3d& axis_world,
+                             double omega) {
     CarriedRate c;
     c.origin_world = origin_world;
     c.axis_world = axis_world;
@@ -88,9 +88,8 @@ struct CarriedRate {
       c.omega -= step.alpha * step.w_past[j] * turn;
       m += step.w_past[j] * Eigen::AngleAxisd(turn, axis_world).toRotationMatrix();
       const double s = std::sin(0.5 * turn);
-      q += step.w_past[j] *
-           Eigen::Vector4d(std::cos(0.5 * turn), s * axis_world.x(), s * axis_world.y(),
-                           s * axis_world.z());
+      q += step.w_past[j] * Eigen::Vector4d(std::cos(0.5 * turn), s * axis_world.x(),
+                                            s * axis_world.y(), s * axis_world.z());
     }
     c.g_world = step.alpha * (Eigen::Matrix3d::Identity() - m);
     c.q_past = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);  // not unit: a combination

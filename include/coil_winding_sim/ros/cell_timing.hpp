@@ -1,0 +1,155 @@
+// The winding cell's timing logic, apart from ROS's node machinery so that
+// it runs without a master: pacing to a target real-time factor, setpoint
+// stamp admission, the replay's following of another node's clock, the
+// sim/ topics' grid of simulated time, and warnings throttled by wall
+// time. Every time is passed in (wall seconds from a steady clock, ROS
+// times as values), so tests drive them with a fake clock
+// (test/ros/test_cell_timing.cpp).
+#pragma once
+
+#include <ros/time.h>
+
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+
+namespace cws_ros {
+
+// Simulated time against wall time at a target real-time factor.
+class PaceKeeper {
+ public:
+  // target_rtf: simulated seconds per wall second; 0: as fast as possible.
+  void setTarget(double target_rtf) { target_ = target_rtf; }
+  double target() const { return target_; }
+  // A new pace from wall time wall_s [s] and simulated time sim_s [s].
+  void restart(double wall_s, double sim_s) {
+    wall0_ = wall_s;
+    sim0_ = sim_s;
+  }
+  // Simulated seconds ahead of the pace (negative: behind; -1 without a
+  // target, so that a run as fast as possible never waits).
+  double ahead(double wall_s, double sim_s) const {
+    if (target_ <= 0.0) return -1.0;
+    return sim_s - (sim0_ + target_ * (wall_s - wall0_));
+  }
+  // Behind the pace by no more than 50 ms of wall time.
+  bool keeping(double wall_s, double sim_s) const {
+    return target_ <= 0.0 || ahead(wall_s, sim_s) > -0.05 * target_;
+  }
+
+ private:
+  double target_ = 1.0;
+  double wall0_ = 0.0, sim0_ = 0.0;
+};
+
+// The real-time factor measured between two readings.
+class RateMeter {
+ public:
+  void restart(double wall_s, double sim_s) {
+    wall_s_ = wall_s;
+    sim_s_ = sim_s;
+  }
+  // The factor since the last reading (kept when no wall time passed).
+  double read(double wall_s, double sim_s) {
+    const double dw = wall_s - wall_s_;
+    if (dw > 0.0) rtf_ = (sim_s - sim_s_) / dw;
+    restart(wall_s, sim_s);
+    return rtf_;
+  }
+  double last() const { return rtf_; }
+
+ private:
+  double wall_s_ = 0.0, sim_s_ = 0.0, rtf_ = 0.0;
+};
+
+// Setpoint stamps (README, "Setpoint stamps"), per topic: a zero stamp is
+// always admitted; one more than the tolerance ahead of the node's clock is
+// refused, and so is one older than the topic's last admitted stamp. When
+// the clock goes back (another node's /clock, e.g. a looping bag), every
+// topic forgets its last stamp. Thread-safe.
+class SetpointStamps {
+ public:
+  enum class Verdict { kAdmitted, kAhead, kOutOfOrder };
+  explicit SetpointStamps(double tolerance_s) : tolerance_s_(tolerance_s) {}
+  // `have_clock` false: there is no clock to compare with yet (ROS time
+  // before the first /clock). `why` names the refusal.
+  Verdict admit(const std::string& topic, const ros::Time& stamp, const ros::Time& clock,
+                bool have_clock, std::string& why);
+  // Forgets every topic's last stamp (a new run).
+  void clear();
+
+ private:
+  double tolerance_s_;
+  std::mutex mutex_;
+  std::map<std::string, ros::Time> last_;
+  ros::Time last_clock_;
+};
+
+// The replay's target (~follow_clock): the simulated time may advance to
+// the clock since the origin less the lag (setpoints stamped up to there
+// have arrived), never beyond the bag's end; to the whole bag once its clock
+// has reached the end, or stalled within the lag of it for 5 s of wall time,
+// and 0.5 s of wall time has passed for the last messages.
+class ReplayClock {
+ public:
+  ReplayClock(double lag_s, std::optional<double> bag_end_s) : lag_s_(lag_s), end_s_(bag_end_s) {}
+  // The bag's start on the ROS clock (else the first clock seen).
+  void setOrigin(const ros::Time& origin) {
+    origin_ = origin;
+    have_origin_ = true;
+  }
+  bool haveOrigin() const { return have_origin_; }
+  const ros::Time& origin() const { return origin_; }
+  const std::optional<double>& end() const { return end_s_; }
+  // The target [s] at ROS time `now` and wall time wall_s [s]; negative
+  // before the first clock.
+  double target(const ros::Time& now, double wall_s);
+
+ private:
+  double lag_s_;
+  std::optional<double> end_s_;
+  bool have_origin_ = false, end_seen_ = false;
+  ros::Time origin_, last_clock_;
+  double last_clock_wall_s_ = 0.0, end_seen_wall_s_ = 0.0;
+};
+
+// The sim/ topics' grid of simulated time: the fast topics (spindle, tension,
+// port) at one rate, the profile at another [Hz]. Stamps on the grid make a
+// replay's output the same whatever the pace.
+class PublishGrid {
+ public:
+  PublishGrid(double fast_hz, double profile_hz) : fast_hz_(fast_hz), profile_hz_(profile_hz) {}
+  // The grid from simulated time t [s] on (a new run).
+  void restart(double t);
+  double next() const { return next_fast_s_ < next_profile_s_ ? next_fast_s_ : next_profile_s_; }
+  struct Due {
+    bool fast = false, profile = false;
+  };
+  // What is due at t (within the simulation's time tolerance), moving the
+  // grid past t.
+  Due take(double t);
+
+ private:
+  double fast_hz_, profile_hz_;
+  long fast_index_ = 0, profile_index_ = 0;
+  double next_fast_s_ = 0.0, next_profile_s_ = 0.0;
+};
+
+// Warnings at most once a second of wall time, counting those left out.
+// (ROS_WARN_THROTTLE counts ROS time: with ~publish_clock that is the
+// simulated time, and one second of it can take minutes.) Thread-safe.
+class WallThrottle {
+ public:
+  // True when a warning is due at wall time wall_s [s]; `skipped` is the
+  // number suppressed since the last one.
+  bool due(double wall_s, int& skipped);
+
+ private:
+  std::mutex mutex_;
+  bool warned_ = false;
+  double last_s_ = 0.0;
+  int skipped_ = 0;
+};
+
+}  // namespace cws_ros

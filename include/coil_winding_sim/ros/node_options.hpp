@@ -1,0 +1,48 @@
+// The winding_cell node's options: its private parameters (~name), read in
+// one place and validated in one place, as a plain struct (the node, its
+// tests and a launch file's reader share it).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "coil_winding_sim/ros/bridge.hpp"
+
+namespace ros {
+class NodeHandle;
+}
+
+namespace cws_ros {
+
+struct NodeOptions {
+  std::string scene;                        // ~scene: scene file (empty: the defaults)
+  std::vector<std::string> overrides;       // ~overrides: key.path=value
+  double real_time_factor = 1.0;            // ~real_time_factor; 0: as fast as possible
+  double state_rate_hz = 20.0;              // ~state_rate: wire_state, metrics, TF
+  double marker_rate_hz = 10.0;             // ~marker_rate
+  bool publish_clock = false;               // ~publish_clock: the simulated time as /clock
+  bool stop_at_end = true;                  // ~stop_at_end: hold at the scene's end
+  Frames frames;                            // ~world_frame, ~core_frame, ~port_frame
+  double setpoint_stamp_tolerance_s = 1.0;  // ~setpoint_stamp_tolerance
+  double spindle_rate_hz = 100.0;           // ~spindle_rate: the fast sim/ topics
+  double profile_rate_hz = 5.0;             // ~profile_rate: sim/profile
+  double port_move_time_s = 0.01;           // ~port_move_time
+  bool follow_clock = false;                // ~follow_clock: replay a machine bag
+  std::string machine_bag;                  // ~machine_bag
+  double replay_lag_s = 0.05;               // ~replay_lag
+  bool machine_inputs = false;              // ~machine_inputs
+  double wait_for_subscribers_s = 0.0;      // ~wait_for_subscribers [s of wall time]
+  bool error_estimate = false;              // ~error_estimate
+};
+
+// Reads the private parameters; a missing one keeps its default
+// (default_scene for ~scene).
+NodeOptions readNodeOptions(const ros::NodeHandle& pnh, const std::string& default_scene);
+
+// Throws std::invalid_argument naming the parameter and what it must be.
+// `sim_time`: /use_sim_time is set. With ~follow_clock the target real-time
+// factor becomes 0 (as fast as the clock allows).
+void validateNodeOptions(NodeOptions& o, bool sim_time);
+
+}  // namespace cws_ros

@@ -1,0 +1,181 @@
+// winding_cell: the simulated winding cell as a ROS node's class.
+//
+// A thin shell over the simulation core: the simulation advances in the
+// caller's thread (run()) in short chunks (at most ~10 ms of wall time
+// each), paced to a target real-time factor; setpoints and services are
+// served by an AsyncSpinner between chunks, so none waits behind a long
+// computation. All conversions to messages and TF live in the bridge
+// (bridge.hpp); the timing logic in cell_timing.hpp.
+//
+// Replay mode (~follow_clock): the simulated time follows the ROS clock
+// that `rosbag play --clock` publishes, from the machine bag's start
+// (~machine_bag) up to (clock - origin - ~replay_lag), never beyond; the
+// setpoints are queued by stamp and applied when the simulated time reaches
+// them (steps end there), port samples are handed to the simulation ahead
+// of time as a path, and the `sim/` topics are published on a grid of
+// simulated time: the replay is the same whatever the pace. At the bag's
+// end the node shuts down.
+//
+// The class is split by concern over winding_cell.cpp (construction, the
+// loop, pacing, replay, publishing), winding_cell_inputs.cpp (setpoint
+// topics and their queues) and winding_cell_services.cpp.
+#pragma once
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <geometry_msgs/PointStamped.h>
+#include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
+#include <std_srvs/SetBool.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <Eigen/Core>
+#include <atomic>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "coil_winding_sim/CoreSpeedSetpoint.h"
+#include "coil_winding_sim/Restore.h"
+#include "coil_winding_sim/RunUntil.h"
+#include "coil_winding_sim/Snapshot.h"
+#include "coil_winding_sim/TensionSetpoint.h"
+#include "coil_winding_sim/core/command_schedule.hpp"
+#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/ros/cell_timing.hpp"
+#include "coil_winding_sim/ros/job_error_estimate.hpp"
+#include "coil_winding_sim/ros/node_options.hpp"
+
+namespace cws_ros {
+
+class WindingCell {
+ public:
+  // Options already validated (validateNodeOptions). `this_executable`
+  // reads snapshots in a child process (~restore). Throws
+  // std::invalid_argument or cws::SceneError naming what is wrong.
+  WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOptions& options,
+              std::string this_executable);
+
+  // The simulation loop; returns when ROS shuts down.
+  void run();
+
+ private:
+  // ---- the loop (winding_cell.cpp)
+  double wallNow() const;
+  bool finished() const;
+  void restartPace();
+  void advanceChunk();
+  bool recorderReady();
+  void advanceReplay();
+  void publishDue();
+  ros::Time stamp() const;
+  void publishClock();
+  void publishState();
+  void publishMarkers();
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  void warn(WallThrottle& throttle, const std::string& text) const;
+
+  // ---- setpoints (winding_cell_inputs.cpp)
+  struct TopicWarnings {
+    WallThrottle value, ahead, order;
+  };
+  void onSpeed(const coil_winding_sim::CoreSpeedSetpoint::ConstPtr& msg);
+  void onTension(const coil_winding_sim::TensionSetpoint::ConstPtr& msg);
+  void onPort(const geometry_msgs::PointStamped::ConstPtr& msg);
+  void onMachineSpindle(const sensor_msgs::JointState::ConstPtr& msg);
+  void onMachineTension(const coil_winding_sim::TensionSetpoint::ConstPtr& msg);
+  void onMachinePort(const geometry_msgs::PointStamped::ConstPtr& msg);
+  void speedInput(const std::string& topic, double w, const ros::Time& stamp);
+  void tensionInput(const std::string& topic, double f, const ros::Time& stamp);
+  void portInput(const std::string& topic, const geometry_msgs::PointStamped& msg);
+  void deliver(bool tension, double value, const ros::Time& stamp);
+  ros::Time nodeClock() const;
+  bool admitStamp(const std::string& topic, const ros::Time& stamp);
+  TopicWarnings& warningsOf(const std::string& topic);
+  void drainInputs();
+  void applyDue();
+  void feedPort();
+  void applySetpoints();
+  void setScene(const cws::Scene& scene);
+
+  // ---- services (winding_cell_services.cpp)
+  bool onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
+  bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
+  bool onRunUntil(coil_winding_sim::RunUntil::Request& req,
+                  coil_winding_sim::RunUntil::Response& res);
+  bool onSnapshot(coil_winding_sim::Snapshot::Request& req,
+                  coil_winding_sim::Snapshot::Response& res);
+  bool onRestore(coil_winding_sim::Restore::Request& req, coil_winding_sim::Restore::Response& res);
+  void replace(std::unique_ptr<cws::Simulation> next);
+
+  ros::NodeHandle nh_, pnh_;
+  NodeOptions o_;
+  std::string this_executable_;
+  double node_start_s_ = 0.0;  // wall time [s]
+
+  std::mutex sim_mutex_;  // guards everything below but the atomics
+  cws::Scene scene_;
+  std::unique_ptr<cws::Simulation> sim_;
+  bool paused_ = false, failed_ = false, keeping_pace_ = true, send_delete_all_ = false;
+  std::optional<double> run_until_;               // pause when the simulated time reaches it [s]
+  double compute_s_ = 0.0;                        // wall time in the present job's steps [s]
+  std::unique_ptr<JobErrorEstimator> estimator_;  // with ~error_estimate
+  std::string failure_;
+  double clock_offset_ = 0.0;
+  PaceKeeper pace_;
+  RateMeter rate_;
+  std::atomic<double> speed_setpoint_{0.0}, tension_setpoint_{0.0};
+  std::atomic<bool> setpoints_changed_{false};
+  // Limits of the scene in use: |speed| [rad/s], tension [N].
+  std::atomic<double> max_speed_{0.0}, max_tension_{0.0};
+  // The node's clock with ~publish_clock [s] (read by the setpoint callbacks).
+  std::atomic<double> clock_s_{0.0};
+
+  SetpointStamps stamps_;
+  std::mutex warnings_mutex_;  // guards the map (its entries are thread-safe)
+  std::map<std::string, TopicWarnings> warnings_;
+
+  // Replay (~follow_clock): the bag's start on the ROS clock and its end.
+  ReplayClock replay_;
+  bool replay_done_ = false, replay_started_ = false;
+
+  // Setpoints from the callbacks (input_mutex_), and the loop's queues
+  // (sim_mutex_): speed/tension by simulated time, port samples in order.
+  struct Incoming {
+    bool tension = false;  // else a core speed
+    double value = 0.0;    // [N] or [rad/s]
+    ros::Time stamp;
+  };
+  struct IncomingPort {
+    Eigen::Vector3d p_world;
+    ros::Time stamp;
+    std::string topic;
+  };
+  struct PortSample {
+    double t_s;  // simulated time [s]; NaN: ~port_move_time after it is applied
+    Eigen::Vector3d p_world;
+    std::string topic;
+  };
+  std::mutex input_mutex_;
+  std::vector<Incoming> incoming_;
+  std::vector<IncomingPort> incoming_port_;
+  cws::CommandSchedule pending_;  // with ~follow_clock: at their stamps
+  std::deque<PortSample> port_queue_;
+
+  PublishGrid grid_;
+
+  ros::Publisher state_pub_, metrics_pub_, marker_pub_, clock_pub_;
+  ros::Publisher spindle_command_pub_, spindle_state_pub_, tension_command_pub_,
+      tension_measured_pub_, port_command_pub_, port_position_pub_, profile_pub_;
+  ros::Subscriber speed_sub_, tension_sub_, port_sub_, machine_spindle_sub_, machine_tension_sub_,
+      machine_port_sub_;
+  ros::ServiceServer reset_srv_, pause_srv_, snapshot_srv_, restore_srv_, run_until_srv_;
+  tf2_ros::TransformBroadcaster tf_;
+  diagnostic_updater::Updater diagnostics_;
+};
+
+}  // namespace cws_ros

@@ -1,0 +1,108 @@
+#include "coil_winding_sim/ros/cell_timing.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "coil_winding_sim/core/external_forces/port_trajectory.hpp"
+
+namespace cws_ros {
+
+namespace {
+std::string number(double v, const char* format = "%g") {
+  char text[64];
+  std::snprintf(text, sizeof text, format, v);
+  return text;
+}
+}  // namespace
+
+SetpointStamps::Verdict SetpointStamps::admit(const std::string& topic, const ros::Time& stamp,
+                                              const ros::Time& clock, bool have_clock,
+                                              std::string& why) {
+  if (stamp.isZero()) return Verdict::kAdmitted;
+  std::lock_guard<std::mutex> lock(mutex_);
+  // The clock went back: stamps of the new time line must not lose against
+  // the old one.
+  if (clock < last_clock_) last_.clear();
+  last_clock_ = clock;
+  if (have_clock && stamp.toSec() > clock.toSec() + tolerance_s_) {
+    why = "refused " + topic + " stamped " + number(stamp.toSec(), "%.6f") + " s: more than " +
+          number(tolerance_s_) + " s (~setpoint_stamp_tolerance) ahead of the node's clock " +
+          number(clock.toSec(), "%.6f") + " s";
+    return Verdict::kAhead;
+  }
+  ros::Time& last = last_[topic];
+  if (stamp < last) {
+    why = "dropped " + topic + " stamped " + number(stamp.toSec(), "%.6f") +
+          " s: out of order, older than the last applied one (" + number(last.toSec(), "%.6f") +
+          " s)";
+    return Verdict::kOutOfOrder;
+  }
+  last = stamp;
+  return Verdict::kAdmitted;
+}
+
+void SetpointStamps::clear() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  last_.clear();
+}
+
+double ReplayClock::target(const ros::Time& now, double wall_s) {
+  if (now.isZero()) return -1.0;  // no /clock yet
+  if (!have_origin_) setOrigin(now);
+  if (now != last_clock_) {
+    last_clock_ = now;
+    last_clock_wall_s_ = wall_s;
+  }
+  const double clock_s = (now - origin_).toSec();
+  double target = clock_s - lag_s_;
+  if (end_s_) {
+    const double end = *end_s_;
+    const bool at_end = clock_s >= end - 1e-9;
+    const bool stalled = clock_s >= end - lag_s_ - 1e-9 && wall_s - last_clock_wall_s_ > 5.0;
+    if ((at_end || stalled) && !end_seen_) {
+      end_seen_ = true;
+      end_seen_wall_s_ = wall_s;
+    }
+    if (end_seen_ && wall_s - end_seen_wall_s_ >= 0.5) target = end;
+    target = std::min(target, end);
+  }
+  return target;
+}
+
+void PublishGrid::restart(double t) {
+  fast_index_ = static_cast<long>(std::ceil(t * fast_hz_));
+  profile_index_ = static_cast<long>(std::ceil(t * profile_hz_));
+  next_fast_s_ = static_cast<double>(fast_index_) / fast_hz_;
+  next_profile_s_ = static_cast<double>(profile_index_) / profile_hz_;
+}
+
+PublishGrid::Due PublishGrid::take(double t) {
+  const double tol = cws::PortTrajectory::timeTolerance(t);
+  Due due;
+  if (t >= next_fast_s_ - tol) {
+    due.fast = true;
+    while (next_fast_s_ <= t + tol) next_fast_s_ = static_cast<double>(++fast_index_) / fast_hz_;
+  }
+  if (t >= next_profile_s_ - tol) {
+    due.profile = true;
+    while (next_profile_s_ <= t + tol) {
+      next_profile_s_ = static_cast<double>(++profile_index_) / profile_hz_;
+    }
+  }
+  return due;
+}
+
+bool WallThrottle::due(double wall_s, int& skipped) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (warned_ && wall_s - last_s_ < 1.0) {
+    ++skipped_;
+    return false;
+  }
+  warned_ = true;
+  last_s_ = wall_s;
+  skipped = skipped_;
+  skipped_ = 0;
+  return true;
+}
+
+}  // namespace cws_ros

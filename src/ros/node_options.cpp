@@ -1,0 +1,67 @@
+#include "coil_winding_sim/ros/node_options.hpp"
+
+#include <ros/node_handle.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace cws_ros {
+
+NodeOptions readNodeOptions(const ros::NodeHandle& pnh, const std::string& default_scene) {
+  NodeOptions o;
+  pnh.param<std::string>("scene", o.scene, default_scene);
+  pnh.param("overrides", o.overrides, std::vector<std::string>{});
+  pnh.param("real_time_factor", o.real_time_factor, o.real_time_factor);
+  pnh.param("state_rate", o.state_rate_hz, o.state_rate_hz);
+  pnh.param("marker_rate", o.marker_rate_hz, o.marker_rate_hz);
+  pnh.param("publish_clock", o.publish_clock, o.publish_clock);
+  pnh.param("stop_at_end", o.stop_at_end, o.stop_at_end);
+  pnh.param<std::string>("world_frame", o.frames.world, o.frames.world);
+  pnh.param<std::string>("core_frame", o.frames.core, o.frames.core);
+  pnh.param<std::string>("port_frame", o.frames.port, o.frames.port);
+  pnh.param("setpoint_stamp_tolerance", o.setpoint_stamp_tolerance_s, o.setpoint_stamp_tolerance_s);
+  pnh.param("spindle_rate", o.spindle_rate_hz, o.spindle_rate_hz);
+  pnh.param("profile_rate", o.profile_rate_hz, o.profile_rate_hz);
+  pnh.param("port_move_time", o.port_move_time_s, o.port_move_time_s);
+  pnh.param("follow_clock", o.follow_clock, o.follow_clock);
+  pnh.param<std::string>("machine_bag", o.machine_bag, o.machine_bag);
+  pnh.param("replay_lag", o.replay_lag_s, o.replay_lag_s);
+  pnh.param("machine_inputs", o.machine_inputs, o.machine_inputs);
+  pnh.param("wait_for_subscribers", o.wait_for_subscribers_s, o.wait_for_subscribers_s);
+  pnh.param("error_estimate", o.error_estimate, o.error_estimate);
+  return o;
+}
+
+void validateNodeOptions(NodeOptions& o, bool sim_time) {
+  if (!(o.spindle_rate_hz > 0.0) || !(o.profile_rate_hz > 0.0) ||
+      !std::isfinite(o.spindle_rate_hz) || !std::isfinite(o.profile_rate_hz)) {
+    throw std::invalid_argument("~spindle_rate and ~profile_rate must be positive [Hz]");
+  }
+  if (!(o.port_move_time_s > 0.0) || !std::isfinite(o.port_move_time_s)) {
+    throw std::invalid_argument("~port_move_time must be a positive number [s]");
+  }
+  if (!(o.replay_lag_s >= 0.0) || !std::isfinite(o.replay_lag_s)) {
+    throw std::invalid_argument("~replay_lag must be a finite number >= 0 [s]");
+  }
+  if (o.follow_clock) {
+    if (o.publish_clock) {
+      throw std::invalid_argument(
+          "~follow_clock follows another node's /clock: set ~publish_clock false");
+    }
+    if (!sim_time) {
+      throw std::invalid_argument("~follow_clock needs /use_sim_time true (rosbag play --clock)");
+    }
+    o.real_time_factor = 0.0;  // as fast as the clock allows
+  }
+  if (!(o.real_time_factor >= 0.0) || !std::isfinite(o.real_time_factor)) {
+    throw std::invalid_argument("~real_time_factor must be >= 0 (0: as fast as possible)");
+  }
+  if (!(o.setpoint_stamp_tolerance_s >= 0.0) || !std::isfinite(o.setpoint_stamp_tolerance_s)) {
+    throw std::invalid_argument("~setpoint_stamp_tolerance must be a finite number >= 0 [s]");
+  }
+  if (!(o.state_rate_hz > 0.0) || !(o.marker_rate_hz > 0.0)) {
+    throw std::invalid_argument("~state_rate and ~marker_rate must be positive [Hz]");
+  }
+}
+
+}  // namespace cws_ros

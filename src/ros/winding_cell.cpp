@@ -1,0 +1,358 @@
+// The winding cell's construction, its simulation loop with pacing and
+// replay, and what it publishes (winding_cell.hpp).
+#include "coil_winding_sim/ros/winding_cell.hpp"
+
+#include <rosgraph_msgs/Clock.h>
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "coil_winding_sim/ros/bridge.hpp"
+#include "coil_winding_sim/ros/snapshot_bag.hpp"
+
+namespace cws_ros {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+}  // namespace
+
+double WindingCell::wallNow() const {
+  return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+}
+
+WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOptions& options,
+                         std::string this_executable)
+    : nh_(nh),
+      pnh_(pnh),
+      o_(options),
+      this_executable_(std::move(this_executable)),
+      stamps_(options.setpoint_stamp_tolerance_s),
+      replay_(options.replay_lag_s, std::nullopt),
+      grid_(options.spindle_rate_hz, options.profile_rate_hz),
+      diagnostics_(nh, pnh) {
+  node_start_s_ = wallNow();
+  pace_.setTarget(o_.real_time_factor);
+  if (o_.follow_clock && !o_.machine_bag.empty()) {
+    ros::Time start, end;
+    bagTimeRange(o_.machine_bag, start, end);
+    replay_ = ReplayClock(o_.replay_lag_s, (end - start).toSec());
+    replay_.setOrigin(start);
+  }
+  setScene(cws::loadScene(o_.scene, o_.overrides));
+  sim_ = std::make_unique<cws::Simulation>(scene_);
+  if (o_.error_estimate) {
+    if (o_.follow_clock || !o_.stop_at_end) {
+      ROS_WARN(
+          "winding_cell: ~error_estimate needs jobs that end: not with ~follow_clock or "
+          "without ~stop_at_end; no estimates");
+    } else {
+      estimator_ = std::make_unique<JobErrorEstimator>(nh_);
+      estimator_->startJob(sim_->saveState());
+    }
+  }
+  speed_setpoint_ = cws::rpmToRadPerSec(scene_.process.core_speed_rpm);
+  tension_setpoint_ = scene_.process.tension;
+
+  state_pub_ = nh_.advertise<coil_winding_sim::WireState>("wire_state", 5);
+  metrics_pub_ = nh_.advertise<coil_winding_sim::WindingMetrics>("winding_metrics", 5);
+  marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("wire_markers", 2, true);
+  if (o_.publish_clock) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  speed_sub_ = nh_.subscribe("core_speed_setpoint", 100, &WindingCell::onSpeed, this);
+  tension_sub_ = nh_.subscribe("tension_setpoint", 100, &WindingCell::onTension, this);
+  port_sub_ = nh_.subscribe("port_position_setpoint", 100, &WindingCell::onPort, this);
+  if (o_.machine_inputs) {
+    // The machine's commands (docs/MACHINE_INTERFACE.md) as setpoints.
+    machine_spindle_sub_ =
+        nh_.subscribe("machine/spindle/command", 1000, &WindingCell::onMachineSpindle, this);
+    machine_tension_sub_ =
+        nh_.subscribe("machine/tension/command", 1000, &WindingCell::onMachineTension, this);
+    machine_port_sub_ =
+        nh_.subscribe("machine/port/command", 1000, &WindingCell::onMachinePort, this);
+  }
+  spindle_command_pub_ = nh_.advertise<sensor_msgs::JointState>("sim/spindle/command", 100);
+  spindle_state_pub_ = nh_.advertise<sensor_msgs::JointState>("sim/spindle/state", 100);
+  tension_command_pub_ =
+      nh_.advertise<coil_winding_sim::TensionSetpoint>("sim/tension/command", 100);
+  tension_measured_pub_ = nh_.advertise<coil_winding_sim::WireTension>("sim/tension/measured", 100);
+  port_command_pub_ = nh_.advertise<geometry_msgs::PointStamped>("sim/port/command", 100);
+  port_position_pub_ = nh_.advertise<geometry_msgs::PointStamped>("sim/port/position", 100);
+  profile_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("sim/profile", 10);
+  reset_srv_ = pnh_.advertiseService("reset", &WindingCell::onReset, this);
+  pause_srv_ = pnh_.advertiseService("pause", &WindingCell::onPause, this);
+  snapshot_srv_ = pnh_.advertiseService("snapshot", &WindingCell::onSnapshot, this);
+  restore_srv_ = pnh_.advertiseService("restore", &WindingCell::onRestore, this);
+  run_until_srv_ = pnh_.advertiseService("run_until", &WindingCell::onRunUntil, this);
+
+  diagnostics_.setHardwareID("coil_winding_sim");
+  diagnostics_.add("simulation", this, &WindingCell::diagnose);
+  ROS_INFO("winding_cell: scene '%s', %d points, target real-time factor %g%s", o_.scene.c_str(),
+           sim_->model().constants().n, pace_.target(),
+           o_.publish_clock ? ", publishing /clock" : "");
+  if (o_.follow_clock) {
+    if (replay_.end()) {
+      ROS_INFO("winding_cell: replaying '%s': %.6f s from %.9f s, lag %g s", o_.machine_bag.c_str(),
+               *replay_.end(), replay_.origin().toSec(), o_.replay_lag_s);
+    } else {
+      ROS_INFO("winding_cell: following /clock from its first value, lag %g s", o_.replay_lag_s);
+    }
+  }
+}
+
+void WindingCell::run() {
+  restartPace();
+  double next_state = wallNow(), next_marker = next_state, next_clock = next_state,
+         next_diagnostics = next_state;
+  while (ros::ok()) {
+    bool done = false;
+    {
+      std::lock_guard<std::mutex> lock(sim_mutex_);
+      applySetpoints();
+      drainInputs();
+      if (o_.follow_clock) {
+        if (!failed_ && !replay_done_) advanceReplay();
+      } else if (!paused_ && !failed_ && !finished()) {
+        advanceChunk();
+      }
+      done = paused_ || failed_ || finished();
+      clock_s_ = stamp().toSec();
+      // The job's end: its refined twin runs on the estimator's worker.
+      if (estimator_ && finished()) estimator_->finishJob(*sim_, compute_s_, stamp());
+    }
+    const double now = wallNow();
+    if (o_.publish_clock && now >= next_clock) {
+      publishClock();
+      next_clock = now + 0.001;
+    }
+    if (now >= next_state) {
+      publishState();
+      next_state = now + 1.0 / o_.state_rate_hz;
+    }
+    if (now >= next_marker) {
+      publishMarkers();
+      next_marker = now + 1.0 / o_.marker_rate_hz;
+    }
+    // Once a second of wall time: the updater's own period counts ROS
+    // time, with ~publish_clock the simulated time (100 s of wall time
+    // between reports at a real-time factor of 0.01).
+    if (now >= next_diagnostics) {
+      diagnostics_.force_update();
+      next_diagnostics = now + 1.0;
+    }
+    if (replay_done_) {
+      // The bag's end: the last state out, then a clean shutdown (a
+      // required node ends the launch, rosbag record closes its bag).
+      publishState();
+      ROS_INFO("winding_cell: replay done at t = %.6f s (the machine bag's end)", sim_->time());
+      ros::shutdown();
+      break;
+    }
+    // Ahead of the target pace (or idle): wait a little.
+    const double ahead_s = pace_.ahead(wallNow(), sim_->time());
+    if (done || ahead_s > 0.0) {
+      std::this_thread::sleep_for(std::chrono::duration<double>(
+          done ? 0.005 : std::min(0.005, ahead_s / std::max(pace_.target(), 1e-9))));
+    }
+  }
+}
+
+// ---- pacing -----------------------------------------------------------------
+
+void WindingCell::restartPace() {
+  const double now = wallNow();
+  pace_.restart(now, sim_->time());
+  rate_.restart(now, sim_->time());
+}
+
+bool WindingCell::finished() const {
+  if (o_.follow_clock) return replay_done_;
+  return o_.stop_at_end && sim_->time() >= sim_->endTime();
+}
+
+// Steps until the pace target, the scene's end, a ~run_until time or
+// ~10 ms of wall time.
+void WindingCell::advanceChunk() {
+  const double start = wallNow();
+  double t_limit = o_.stop_at_end ? sim_->endTime() : 1e300;
+  if (run_until_) t_limit = std::min(t_limit, *run_until_);
+  try {
+    publishDue();
+    while (sim_->time() < t_limit && pace_.ahead(wallNow(), sim_->time()) < 0.0 &&
+           wallNow() - start < 0.010) {
+      feedPort();
+      const double step_start = wallNow();
+      sim_->step(std::min(t_limit, grid_.next()));
+      compute_s_ += wallNow() - step_start;
+      publishDue();
+    }
+  } catch (const std::exception& e) {
+    failed_ = true;
+    failure_ = e.what();
+    ROS_ERROR("winding_cell: the simulation stopped: %s (reset or restore to go on)", e.what());
+  }
+  if (run_until_ && sim_->time() >= *run_until_) {
+    run_until_.reset();
+    paused_ = true;
+  }
+  keeping_pace_ = pace_.keeping(wallNow(), sim_->time());
+}
+
+// ---- replay (~follow_clock) -------------------------------------------------
+
+// Before the replay's first output: every sim/ topic has a subscriber
+// (rosbag record), or ~wait_for_subscribers of wall time has passed since
+// the node started. Waiting costs nothing but wall time: the steps do not
+// depend on the pace.
+bool WindingCell::recorderReady() {
+  if (replay_started_) return true;
+  const bool all =
+      spindle_command_pub_.getNumSubscribers() > 0 && spindle_state_pub_.getNumSubscribers() > 0 &&
+      tension_command_pub_.getNumSubscribers() > 0 &&
+      tension_measured_pub_.getNumSubscribers() > 0 && port_command_pub_.getNumSubscribers() > 0 &&
+      port_position_pub_.getNumSubscribers() > 0 && profile_pub_.getNumSubscribers() > 0;
+  if (!all && wallNow() - node_start_s_ < o_.wait_for_subscribers_s) return false;
+  if (!all) {
+    ROS_WARN(
+        "winding_cell: replay starts with sim/ topics nobody subscribed to after %g s "
+        "(~wait_for_subscribers)",
+        o_.wait_for_subscribers_s);
+  }
+  replay_started_ = true;
+  return true;
+}
+
+// Steps towards the replay's target for at most ~10 ms of wall time,
+// ending steps at setpoint stamps and at the publishing grid.
+void WindingCell::advanceReplay() {
+  const double target = replay_.target(ros::Time::now(), wallNow());
+  if (target < 0.0) return;  // no clock yet, or not yet past the lag
+  if (!recorderReady()) return;
+  const double start = wallNow();
+  const std::optional<double>& end = replay_.end();
+  try {
+    applyDue();
+    publishDue();
+    while (sim_->time() < target && wallNow() - start < 0.010) {
+      feedPort();
+      // Steps end at events only (setpoints, the publishing grid, the
+      // bag's end), never at the clock: a step that would end beyond the
+      // clock's target waits for it. So the steps are the same whatever
+      // the pace.
+      double limit = grid_.next();
+      if (end) limit = std::min(limit, *end);
+      limit = std::min(limit, pending_.nextTime());
+      // Port samples still waiting for room: not past the queued path.
+      if (!port_queue_.empty()) limit = std::min(limit, sim_->portCommandEnd());
+      const double t = sim_->time();
+      if (!(limit > t) || std::min(limit, t + sim_->stepper().nextStep()) > target) break;
+      sim_->step(limit);
+      applyDue();
+      publishDue();
+    }
+  } catch (const std::exception& e) {
+    failed_ = true;
+    failure_ = e.what();
+    ROS_ERROR("winding_cell: the simulation stopped: %s (reset or restore to go on)", e.what());
+  }
+  if (end && sim_->time() >= *end - cws::PortTrajectory::timeTolerance(*end)) replay_done_ = true;
+}
+
+// ---- publishing -------------------------------------------------------------
+
+// The sim/ topics due at the simulated time.
+void WindingCell::publishDue() {
+  const PublishGrid::Due due = grid_.take(sim_->time());
+  if (due.fast) {
+    const ros::Time st = stamp();
+    spindle_command_pub_.publish(toSpindleCommand(*sim_, st));
+    spindle_state_pub_.publish(toSpindleState(*sim_, st));
+    if (sim_->model().supply()) {
+      tension_command_pub_.publish(toTensionCommand(*sim_, st));
+      tension_measured_pub_.publish(toTensionMeasured(*sim_, st));
+    }
+    geometry_msgs::PointStamped port;
+    if (toPortPosition(*sim_, st, o_.frames, port)) {
+      port_command_pub_.publish(port);
+      port_position_pub_.publish(port);
+    }
+  }
+  if (due.profile && sim_->model().core())
+    profile_pub_.publish(toProfile(*sim_, stamp(), o_.frames));
+}
+
+// With ~publish_clock the node's clock is the simulated time plus an offset
+// that keeps it monotonic across reset and restore; otherwise ROS time.
+ros::Time WindingCell::stamp() const {
+  if (o_.follow_clock) return replay_.origin() + ros::Duration(sim_->time());
+  if (o_.publish_clock) return ros::Time(std::max(0.0, clock_offset_ + sim_->time()));
+  return ros::Time::now();
+}
+
+void WindingCell::publishClock() {
+  rosgraph_msgs::Clock c;
+  {
+    std::lock_guard<std::mutex> lock(sim_mutex_);
+    c.clock = stamp();
+  }
+  clock_pub_.publish(c);
+}
+
+void WindingCell::publishState() {
+  std::lock_guard<std::mutex> lock(sim_mutex_);
+  const ros::Time t = stamp();
+  Pace pace;
+  pace.real_time_factor = rate_.read(wallNow(), sim_->time());
+  pace.target_real_time_factor = pace_.target();
+  pace.keeping_pace = keeping_pace_ || paused_ || finished();
+  if (state_pub_.getNumSubscribers() > 0) state_pub_.publish(toWireState(*sim_, t, o_.frames));
+  metrics_pub_.publish(toMetrics(*sim_, t, o_.frames, pace));
+  geometry_msgs::TransformStamped tf;
+  if (coreTransform(*sim_, t, o_.frames, tf)) tf_.sendTransform(tf);
+  if (portTransform(*sim_, t, o_.frames, tf)) tf_.sendTransform(tf);
+}
+
+void WindingCell::publishMarkers() {
+  std::lock_guard<std::mutex> lock(sim_mutex_);
+  if (send_delete_all_) {
+    marker_pub_.publish(deleteAllMarkers(stamp(), o_.frames));
+    send_delete_all_ = false;
+  }
+  const double scale = std::max(1.0, 1.5 * tension_setpoint_);
+  marker_pub_.publish(toMarkers(*sim_, stamp(), o_.frames, scale));
+}
+
+void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  std::lock_guard<std::mutex> lock(sim_mutex_);
+  const double rtf = rate_.last();
+  stat.add("simulated time [s]", sim_->time());
+  stat.add("real-time factor", rtf);
+  stat.add("target real-time factor", pace_.target());
+  stat.add("step size [s]", sim_->stepper().lastStep());
+  stat.add("max constraint residual", sim_->model().maxConstraintResidual());
+  stat.add("points", sim_->model().constants().n);
+  if (estimator_) estimator_->diagnose(stat);
+  if (failed_) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "stopped: " + failure_);
+  } else if (paused_) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "paused");
+  } else if (finished()) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "scene finished (process.turns)");
+  } else if (!keeping_pace_) {
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                  "not keeping pace: real-time factor %.3g, target %.3g", rtf, pace_.target());
+  } else {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
+  }
+}
+
+void WindingCell::warn(WallThrottle& throttle, const std::string& text) const {
+  int skipped = 0;
+  if (!throttle.due(wallNow(), skipped)) return;
+  if (skipped > 0) {
+    ROS_WARN("winding_cell: %s (and %d more like it since the last report)", text.c_str(), skipped);
+  } else {
+    ROS_WARN("winding_cell: %s", text.c_str());
+  }
+}
+
+}  // namespace cws_ros

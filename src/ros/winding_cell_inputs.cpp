@@ -1,0 +1,210 @@
+// The winding cell's setpoint topics: checked in the callbacks, applied by
+// the simulation loop between chunks (winding_cell.hpp). Neither takes the
+// simulation's lock: a burst of setpoints cannot hold up the simulation or
+// the services.
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "coil_winding_sim/ros/bridge.hpp"
+#include "coil_winding_sim/ros/winding_cell.hpp"
+
+namespace cws_ros {
+
+namespace {
+std::string number(double v) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+}  // namespace
+
+void WindingCell::onSpeed(const coil_winding_sim::CoreSpeedSetpoint::ConstPtr& msg) {
+  speedInput("core_speed_setpoint", msg->angular_velocity, msg->header.stamp);
+}
+
+void WindingCell::onTension(const coil_winding_sim::TensionSetpoint::ConstPtr& msg) {
+  tensionInput("tension_setpoint", msg->tension, msg->header.stamp);
+}
+
+void WindingCell::onPort(const geometry_msgs::PointStamped::ConstPtr& msg) {
+  portInput("port_position_setpoint", *msg);
+}
+
+// The machine's commands (~machine_inputs): converted by the bridge, then
+// checked as the setpoint topics are.
+void WindingCell::onMachineSpindle(const sensor_msgs::JointState::ConstPtr& msg) {
+  const std::string topic = "machine/spindle/command";
+  double w = 0.0;
+  std::string why;
+  if (!spindleVelocity(*msg, w, why)) {
+    warn(warningsOf(topic).value,
+         "refused " + topic + ": " + why + "; keeping " + number(speed_setpoint_) + " rad/s");
+    return;
+  }
+  speedInput(topic, w, msg->header.stamp);
+}
+
+void WindingCell::onMachineTension(const coil_winding_sim::TensionSetpoint::ConstPtr& msg) {
+  tensionInput("machine/tension/command", msg->tension, msg->header.stamp);
+}
+
+void WindingCell::onMachinePort(const geometry_msgs::PointStamped::ConstPtr& msg) {
+  portInput("machine/port/command", *msg);
+}
+
+void WindingCell::speedInput(const std::string& topic, double w, const ros::Time& stamp) {
+  const double limit = max_speed_;
+  if (!std::isfinite(w) || std::abs(w) > limit) {
+    warn(warningsOf(topic).value,
+         "refused " + topic + " " + number(w) + " rad/s (finite, |w| <= " + number(limit) +
+             " rad/s = process.max_core_speed_rpm); keeping " + number(speed_setpoint_) + " rad/s");
+    return;
+  }
+  if (admitStamp(topic, stamp)) deliver(false, w, stamp);
+}
+
+void WindingCell::tensionInput(const std::string& topic, double f, const ros::Time& stamp) {
+  const double limit = max_tension_;
+  if (!std::isfinite(f) || f < 0.0 || f > limit) {
+    warn(warningsOf(topic).value, "refused " + topic + " " + number(f) + " N (finite, 0 .. " +
+                                      number(limit) + " N = process.max_tension); keeping " +
+                                      number(tension_setpoint_) + " N");
+    return;
+  }
+  if (admitStamp(topic, stamp)) deliver(true, f, stamp);
+}
+
+// A port position: finite, in the world frame, stamps as for the other
+// setpoints; the simulation refuses a port inside the core or in the past
+// (feedPort) with a warning.
+void WindingCell::portInput(const std::string& topic, const geometry_msgs::PointStamped& msg) {
+  Eigen::Vector3d p_world;
+  std::string why;
+  if (!portPoint(msg, o_.frames, p_world, why)) {
+    warn(warningsOf(topic).value, "refused " + topic + ": " + why);
+    return;
+  }
+  if (!admitStamp(topic, msg.header.stamp)) return;
+  std::lock_guard<std::mutex> lock(input_mutex_);
+  incoming_port_.push_back({p_world, msg.header.stamp, topic});
+}
+
+// An admitted speed or tension: applied between chunks, or with
+// ~follow_clock queued to be applied at its stamp.
+void WindingCell::deliver(bool tension, double value, const ros::Time& stamp) {
+  if (o_.follow_clock) {
+    std::lock_guard<std::mutex> lock(input_mutex_);
+    incoming_.push_back({tension, value, stamp});
+    return;
+  }
+  (tension ? tension_setpoint_ : speed_setpoint_) = value;
+  setpoints_changed_ = true;
+}
+
+// The node's clock: its own /clock with ~publish_clock, else ROS time.
+ros::Time WindingCell::nodeClock() const {
+  return o_.publish_clock ? ros::Time(clock_s_.load()) : ros::Time::now();
+}
+
+WindingCell::TopicWarnings& WindingCell::warningsOf(const std::string& topic) {
+  std::lock_guard<std::mutex> lock(warnings_mutex_);
+  return warnings_[topic];  // std::map: references stay valid
+}
+
+bool WindingCell::admitStamp(const std::string& topic, const ros::Time& stamp) {
+  const ros::Time clock = nodeClock();
+  // Without ~publish_clock and before the first /clock, ROS time is zero:
+  // there is no clock to compare with yet.
+  const bool have_clock = o_.publish_clock || !clock.isZero();
+  std::string why;
+  switch (stamps_.admit(topic, stamp, clock, have_clock, why)) {
+    case SetpointStamps::Verdict::kAdmitted:
+      return true;
+    case SetpointStamps::Verdict::kAhead:
+      warn(warningsOf(topic).ahead, why);
+      return false;
+    case SetpointStamps::Verdict::kOutOfOrder:
+      warn(warningsOf(topic).order, why);
+      return false;
+  }
+  return false;
+}
+
+// Moves the setpoints the callbacks received into the loop's queues (with
+// ~follow_clock once the origin is known): speed and tension by the
+// simulated time of their stamp (zero: now), port samples in arrival
+// order (stamps only grow: admitStamp drops older ones).
+void WindingCell::drainInputs() {
+  std::lock_guard<std::mutex> lock(input_mutex_);
+  if (o_.follow_clock && !replay_.haveOrigin()) return;
+  for (const Incoming& in : incoming_) {
+    const double t_s = in.stamp.isZero() ? -std::numeric_limits<double>::infinity()
+                                         : (in.stamp - replay_.origin()).toSec();
+    // (After equal times: arrival order kept.)
+    pending_.add(t_s,
+                 {in.tension ? cws::Command::Kind::kSupplyTension : cws::Command::Kind::kCoreSpeed,
+                  in.value});
+  }
+  incoming_.clear();
+  for (const IncomingPort& in : incoming_port_) {
+    double t_s = std::numeric_limits<double>::quiet_NaN();  // reached ~port_move_time from now
+    if (o_.follow_clock && !in.stamp.isZero()) {
+      t_s = (in.stamp - replay_.origin()).toSec();
+    } else if (o_.publish_clock && in.stamp.toSec() > clock_offset_ + sim_->time()) {
+      t_s = in.stamp.toSec() - clock_offset_;
+    }
+    port_queue_.push_back({t_s, in.p_world, in.topic});
+  }
+  incoming_port_.clear();
+}
+
+// Applies the queued speed and tension setpoints whose time has come.
+void WindingCell::applyDue() {
+  const double t = sim_->time();
+  pending_.takeDue(t, [&](double, const cws::Command& c) {
+    cws::applyCommand(*sim_, c);
+    if (c.kind == cws::Command::Kind::kSupplyTension) {
+      tension_setpoint_ = c.value;
+      if (estimator_) estimator_->inputs().supplyTension(t, c.value);
+    } else {
+      speed_setpoint_ = c.value;
+      if (estimator_) estimator_->inputs().coreSpeed(t, c.value);
+    }
+  });
+}
+
+// Hands queued port samples to the simulation's path while it has room.
+void WindingCell::feedPort() {
+  while (!port_queue_.empty() && sim_->portCommandRoom() > 1) {
+    const PortSample& s = port_queue_.front();
+    const double t_s = std::isnan(s.t_s) ? sim_->time() + o_.port_move_time_s : s.t_s;
+    try {
+      sim_->setPortCommand(s.p_world, t_s);
+      if (estimator_) estimator_->inputs().portCommand(sim_->time(), s.p_world, t_s);
+    } catch (const std::invalid_argument& e) {
+      warn(warningsOf("port_position_setpoint").value, "refused " + s.topic + ": " + e.what());
+    }
+    port_queue_.pop_front();
+  }
+}
+
+void WindingCell::applySetpoints() {
+  if (!setpoints_changed_.exchange(false)) return;
+  const double speed = speed_setpoint_, tension = tension_setpoint_;
+  sim_->setCoreSpeed(speed);
+  sim_->setSupplyTension(tension);
+  if (estimator_) {
+    estimator_->inputs().coreSpeed(sim_->time(), speed);
+    estimator_->inputs().supplyTension(sim_->time(), tension);
+  }
+}
+
+// Makes `scene` the scene in use (its limits apply to the setpoints).
+void WindingCell::setScene(const cws::Scene& scene) {
+  scene_ = scene;
+  max_speed_ = cws::rpmToRadPerSec(scene_.process.max_core_speed_rpm);
+  max_tension_ = scene_.process.max_tension;
+}
+
+}  // namespace cws_ros

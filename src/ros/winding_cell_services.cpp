@@ -1,0 +1,152 @@
+// The winding cell's services: reset, pause, run_until, snapshot and
+// restore (winding_cell.hpp). A failing service leaves the run as it was.
+#include <cstdio>
+
+#include "coil_winding_sim/ros/bridge.hpp"
+#include "coil_winding_sim/ros/snapshot_bag.hpp"
+#include "coil_winding_sim/ros/snapshot_reader.hpp"
+#include "coil_winding_sim/ros/winding_cell.hpp"
+
+namespace cws_ros {
+
+namespace {
+// Wall-time limit of reading a snapshot in the reader process [s].
+constexpr double kRestoreTimeout = 20.0;
+
+std::string number(double v) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+}  // namespace
+
+bool WindingCell::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  try {
+    // A copy of the scene: a concurrent restore may replace it.
+    cws::Scene scene;
+    {
+      std::lock_guard<std::mutex> lock(sim_mutex_);
+      scene = scene_;
+    }
+    auto fresh = std::make_unique<cws::Simulation>(scene);
+    std::lock_guard<std::mutex> lock(sim_mutex_);
+    setScene(scene);
+    replace(std::move(fresh));
+    speed_setpoint_ = cws::rpmToRadPerSec(scene_.process.core_speed_rpm);
+    tension_setpoint_ = scene_.process.tension;
+    res.success = true;
+    res.message = "reset to the scene's initial state";
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = std::string("reset failed: ") + e.what();
+  }
+  return true;
+}
+
+bool WindingCell::onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
+  std::lock_guard<std::mutex> lock(sim_mutex_);
+  paused_ = req.data;
+  restartPace();
+  res.success = true;
+  res.message = paused_ ? "paused" : "running";
+  return true;
+}
+
+bool WindingCell::onRunUntil(coil_winding_sim::RunUntil::Request& req,
+                             coil_winding_sim::RunUntil::Response& res) {
+  std::lock_guard<std::mutex> lock(sim_mutex_);
+  if (!std::isfinite(req.time) || req.time <= sim_->time()) {
+    res.success = false;
+    res.message = "time " + std::to_string(req.time) + " s is not ahead of the simulated time " +
+                  std::to_string(sim_->time()) + " s";
+    return true;
+  }
+  run_until_ = req.time;
+  paused_ = false;
+  restartPace();
+  res.success = true;
+  res.message = "running until t = " + std::to_string(req.time) + " s, then pausing";
+  return true;
+}
+
+bool WindingCell::onSnapshot(coil_winding_sim::Snapshot::Request& req,
+                             coil_winding_sim::Snapshot::Response& res) {
+  cws::SimulationState state;
+  ros::Time t;
+  {
+    std::lock_guard<std::mutex> lock(sim_mutex_);
+    state = sim_->saveState();
+    // The setpoints not yet applied belong to the state too.
+    state.model.core[3] = sim_->model().core() ? speed_setpoint_.load() : state.model.core[3];
+    if (sim_->model().supply()) state.model.tension_N = tension_setpoint_;
+    t = stamp();
+  }
+  try {
+    writeSnapshotBag(req.path, toSnapshotMsg(state, t));
+    res.success = true;
+    res.message = "snapshot at t = " + std::to_string(state.time_s) + " s written to " + req.path;
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = e.what();
+  }
+  return true;
+}
+
+bool WindingCell::onRestore(coil_winding_sim::Restore::Request& req,
+                            coil_winding_sim::Restore::Response& res) {
+  // Read and rebuild outside the lock; swap only a complete simulation.
+  // The file is read in a child process: a corrupt bag can crash rosbag's
+  // reader or exhaust the memory, which must not take this node with it.
+  try {
+    const cws::SimulationState state = fromSnapshotMsg(
+        readSnapshotBagIsolated(req.path, this_executable_.c_str(), kRestoreTimeout));
+    auto restored = cws::Simulation::fromState(state);
+    // Its setpoints pass the checks of the setpoint topics.
+    const cws::Scene& scene = restored->scene();
+    const double speed = state.model.core[3];
+    const double speed_limit = cws::rpmToRadPerSec(scene.process.max_core_speed_rpm);
+    if (restored->model().core() && std::abs(speed) > speed_limit) {
+      throw std::runtime_error("'" + req.path + "': its core speed setpoint " + number(speed) +
+                               " rad/s exceeds its scene's process.max_core_speed_rpm (" +
+                               number(speed_limit) + " rad/s)");
+    }
+    if (restored->model().supply() && state.model.tension_N > scene.process.max_tension) {
+      throw std::runtime_error("'" + req.path + "': its tension " + number(state.model.tension_N) +
+                               " N exceeds its scene's process.max_tension (" +
+                               number(scene.process.max_tension) + " N)");
+    }
+    std::lock_guard<std::mutex> lock(sim_mutex_);
+    setScene(scene);
+    replace(std::move(restored));
+    speed_setpoint_ = state.model.core[3];
+    tension_setpoint_ = sim_->model().supply() ? state.model.tension_N : scene_.process.tension;
+    res.success = true;
+    res.message = "restored t = " + std::to_string(state.time_s) + " s from " + req.path;
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = std::string("restore failed, state unchanged: ") + e.what();
+  }
+  return true;
+}
+
+// Swaps in a new simulation (lock held): the clock stays monotonic, rviz
+// gets a DELETEALL, pacing restarts, the pause state stays, a pending
+// ~run_until is dropped and the setpoint stamps are forgotten (a new run:
+// a client may start its stamps anew).
+void WindingCell::replace(std::unique_ptr<cws::Simulation> next) {
+  clock_offset_ += sim_->time() - next->time();
+  sim_ = std::move(next);
+  clock_s_ = stamp().toSec();
+  stamps_.clear();
+  run_until_.reset();
+  failed_ = false;
+  failure_.clear();
+  send_delete_all_ = true;
+  port_queue_.clear();
+  grid_.restart(sim_->time());
+  restartPace();
+  compute_s_ = 0.0;
+  if (estimator_) estimator_->startJob(sim_->saveState());
+}
+
+}  // namespace cws_ros

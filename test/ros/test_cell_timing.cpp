@@ -1,0 +1,213 @@
+// The winding cell's timing logic and options without a ROS master (plain
+// gtest, no roscore): pacing, setpoint stamps, the replay's clock following,
+// the sim/ topics' grid and the throttled warnings, all driven by a fake
+// clock; the node's options and their checks.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "coil_winding_sim/ros/cell_timing.hpp"
+#include "coil_winding_sim/ros/node_options.hpp"
+
+using cws_ros::PaceKeeper;
+using cws_ros::SetpointStamps;
+using Verdict = cws_ros::SetpointStamps::Verdict;
+
+TEST(Pace, AheadAndBehindTheTargetFactor) {
+  PaceKeeper pace;
+  pace.setTarget(2.0);
+  pace.restart(100.0, 0.5);
+  // After 0.25 s of wall time the target is 0.5 + 2 x 0.25 = 1.0 s.
+  EXPECT_NEAR(pace.ahead(100.25, 1.2), 0.2, 1e-12);
+  EXPECT_NEAR(pace.ahead(100.25, 0.9), -0.1, 1e-12);
+  // Keeping pace: no more than 50 ms of wall time (0.1 s simulated) behind.
+  EXPECT_TRUE(pace.keeping(100.25, 0.95));
+  EXPECT_FALSE(pace.keeping(100.25, 0.85));
+  // A restart (pause, reset) forgives the time lost before it.
+  pace.restart(200.0, 0.85);
+  EXPECT_TRUE(pace.keeping(200.0, 0.85));
+}
+
+TEST(Pace, AsFastAsPossibleNeverWaitsAndAlwaysKeepsPace) {
+  PaceKeeper pace;
+  pace.setTarget(0.0);
+  pace.restart(0.0, 0.0);
+  EXPECT_LT(pace.ahead(10.0, 1e6), 0.0);
+  EXPECT_TRUE(pace.keeping(1e6, 0.0));
+}
+
+TEST(Pace, MeasuredFactorBetweenReadings) {
+  cws_ros::RateMeter meter;
+  meter.restart(10.0, 1.0);
+  EXPECT_NEAR(meter.read(12.0, 2.0), 0.5, 1e-12);
+  EXPECT_NEAR(meter.read(12.0, 3.0), 0.5, 1e-12);  // no wall time: kept
+  EXPECT_NEAR(meter.read(13.0, 5.0), 2.0, 1e-12);
+}
+
+TEST(SetpointStamps, ZeroIsAlwaysAdmitted) {
+  SetpointStamps stamps(1.0);
+  std::string why;
+  EXPECT_EQ(stamps.admit("a", ros::Time(50.0), ros::Time(50.0), true, why), Verdict::kAdmitted);
+  EXPECT_EQ(stamps.admit("a", ros::Time(), ros::Time(50.0), true, why), Verdict::kAdmitted);
+}
+
+TEST(SetpointStamps, AheadOfTheClockBeyondTheToleranceIsRefused) {
+  SetpointStamps stamps(1.0);
+  std::string why;
+  EXPECT_EQ(stamps.admit("tension_setpoint", ros::Time(11.0), ros::Time(10.0), true, why),
+            Verdict::kAdmitted);
+  EXPECT_EQ(stamps.admit("tension_setpoint", ros::Time(11.5), ros::Time(10.0), true, why),
+            Verdict::kAhead);
+  EXPECT_NE(why.find("tension_setpoint stamped 11.500000 s"), std::string::npos) << why;
+  EXPECT_NE(why.find("~setpoint_stamp_tolerance"), std::string::npos) << why;
+  // Without a clock yet (ROS time zero before the first /clock) there is
+  // nothing to compare with.
+  EXPECT_EQ(stamps.admit("other", ros::Time(1e6), ros::Time(), false, why), Verdict::kAdmitted);
+}
+
+TEST(SetpointStamps, OlderThanTheTopicsLastIsDroppedPerTopic) {
+  SetpointStamps stamps(1.0);
+  std::string why;
+  EXPECT_EQ(stamps.admit("a", ros::Time(5.0), ros::Time(5.0), true, why), Verdict::kAdmitted);
+  EXPECT_EQ(stamps.admit("a", ros::Time(4.0), ros::Time(5.0), true, why), Verdict::kOutOfOrder);
+  EXPECT_NE(why.find("older than the last applied one (5.000000 s)"), std::string::npos) << why;
+  // Another topic has its own order; an equal stamp is in order.
+  EXPECT_EQ(stamps.admit("b", ros::Time(4.0), ros::Time(5.0), true, why), Verdict::kAdmitted);
+  EXPECT_EQ(stamps.admit("a", ros::Time(5.0), ros::Time(5.0), true, why), Verdict::kAdmitted);
+}
+
+TEST(SetpointStamps, AClockGoingBackOrANewRunForgetsTheLastStamps) {
+  SetpointStamps stamps(1.0);
+  std::string why;
+  EXPECT_EQ(stamps.admit("a", ros::Time(9.0), ros::Time(10.0), true, why), Verdict::kAdmitted);
+  // A looping bag: the clock starts again at 2 s.
+  EXPECT_EQ(stamps.admit("a", ros::Time(1.5), ros::Time(2.0), true, why), Verdict::kAdmitted);
+  EXPECT_EQ(stamps.admit("a", ros::Time(2.5), ros::Time(3.0), true, why), Verdict::kAdmitted);
+  stamps.clear();  // reset or restore
+  EXPECT_EQ(stamps.admit("a", ros::Time(2.0), ros::Time(3.0), true, why), Verdict::kAdmitted);
+}
+
+TEST(ReplayClock, FollowsTheClockLessTheLagFromItsFirstValue) {
+  cws_ros::ReplayClock replay(0.05, std::nullopt);
+  EXPECT_LT(replay.target(ros::Time(), 0.0), 0.0);  // no /clock yet
+  EXPECT_NEAR(replay.target(ros::Time(100.0), 0.0), -0.05, 1e-9);
+  EXPECT_TRUE(replay.haveOrigin());
+  EXPECT_NEAR(replay.origin().toSec(), 100.0, 1e-9);
+  EXPECT_NEAR(replay.target(ros::Time(100.5), 1.0), 0.45, 1e-9);
+}
+
+TEST(ReplayClock, ReachesTheBagsEndHalfASecondAfterTheClockDid) {
+  cws_ros::ReplayClock replay(0.05, 2.0);
+  replay.setOrigin(ros::Time(100.0));
+  EXPECT_NEAR(replay.target(ros::Time(101.0), 0.0), 0.95, 1e-9);
+  // The clock at the bag's end: the lag still holds for 0.5 s of wall time
+  // (the last messages may be on their way), then the whole bag.
+  EXPECT_NEAR(replay.target(ros::Time(102.0), 10.0), 1.95, 1e-9);
+  EXPECT_NEAR(replay.target(ros::Time(102.0), 10.4), 1.95, 1e-9);
+  EXPECT_NEAR(replay.target(ros::Time(102.0), 10.5), 2.0, 1e-9);
+  // Never beyond the end.
+  EXPECT_NEAR(replay.target(ros::Time(105.0), 11.0), 2.0, 1e-9);
+}
+
+TEST(ReplayClock, AClockStalledWithinTheLagOfTheEndCountsAsTheEnd) {
+  cws_ros::ReplayClock replay(0.05, 2.0);
+  replay.setOrigin(ros::Time(100.0));
+  EXPECT_NEAR(replay.target(ros::Time(101.97), 0.0), 1.92, 1e-9);
+  EXPECT_NEAR(replay.target(ros::Time(101.97), 4.9), 1.92, 1e-9);  // waiting
+  EXPECT_NEAR(replay.target(ros::Time(101.97), 5.1), 1.92, 1e-9);  // stalled: end seen
+  EXPECT_NEAR(replay.target(ros::Time(101.97), 5.7), 2.0, 1e-9);
+}
+
+TEST(PublishGrid, TopicsFallDueOnTheirGridOfSimulatedTime) {
+  cws_ros::PublishGrid grid(100.0, 5.0);
+  grid.restart(0.0);
+  EXPECT_EQ(grid.next(), 0.0);
+  cws_ros::PublishGrid::Due d = grid.take(0.0);
+  EXPECT_TRUE(d.fast && d.profile);
+  EXPECT_NEAR(grid.next(), 0.01, 1e-15);
+  d = grid.take(0.005);
+  EXPECT_FALSE(d.fast || d.profile);
+  // A step that lands within rounding short of the grid counts as on it.
+  d = grid.take(0.01 - 1e-16);
+  EXPECT_TRUE(d.fast);
+  EXPECT_FALSE(d.profile);
+  EXPECT_NEAR(grid.next(), 0.02, 1e-15);
+  // A long step passes several grid times: one message, the grid moves past.
+  d = grid.take(0.2);
+  EXPECT_TRUE(d.fast && d.profile);
+  EXPECT_NEAR(grid.next(), 0.21, 1e-12);
+  // A new run at 0.123 s: the next grid times after it.
+  grid.restart(0.123);
+  EXPECT_NEAR(grid.next(), 0.13, 1e-12);
+  grid.take(0.13);
+  EXPECT_NEAR(grid.next(), 0.14, 1e-12);
+}
+
+TEST(WallThrottle, OncePerSecondOfWallTimeCountingTheRest) {
+  cws_ros::WallThrottle throttle;
+  int skipped = -1;
+  EXPECT_TRUE(throttle.due(10.0, skipped));
+  EXPECT_EQ(skipped, 0);
+  EXPECT_FALSE(throttle.due(10.5, skipped));
+  EXPECT_FALSE(throttle.due(10.9, skipped));
+  EXPECT_TRUE(throttle.due(11.0, skipped));
+  EXPECT_EQ(skipped, 2);
+}
+
+namespace {
+// validateNodeOptions' message for options changed by `change`, or "" when
+// they pass.
+template <class Change>
+std::string refusal(Change change, bool sim_time = false) {
+  cws_ros::NodeOptions o;
+  change(o);
+  try {
+    cws_ros::validateNodeOptions(o, sim_time);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(NodeOptions, DefaultsPassAndEachBadValueIsNamed) {
+  EXPECT_EQ(refusal([](cws_ros::NodeOptions&) {}), "");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_NE(refusal([&](auto& o) { o.real_time_factor = -1.0; }).find("~real_time_factor"),
+            std::string::npos);
+  EXPECT_NE(refusal([&](auto& o) { o.real_time_factor = nan; }).find("~real_time_factor"),
+            std::string::npos);
+  EXPECT_NE(refusal([&](auto& o) { o.state_rate_hz = 0.0; }).find("~state_rate"),
+            std::string::npos);
+  EXPECT_NE(refusal([&](auto& o) { o.spindle_rate_hz = inf; }).find("~spindle_rate"),
+            std::string::npos);
+  EXPECT_NE(refusal([&](auto& o) { o.port_move_time_s = 0.0; }).find("~port_move_time"),
+            std::string::npos);
+  EXPECT_NE(refusal([&](auto& o) { o.replay_lag_s = -0.1; }).find("~replay_lag"),
+            std::string::npos);
+  EXPECT_NE(refusal([&](auto& o) {
+              o.setpoint_stamp_tolerance_s = nan;
+            }).find("~setpoint_stamp_tolerance"),
+            std::string::npos);
+}
+
+TEST(NodeOptions, FollowingTheClockNeedsSimTimeAndAnotherNodesClock) {
+  EXPECT_NE(refusal([](auto& o) { o.follow_clock = true; }, false).find("/use_sim_time"),
+            std::string::npos);
+  EXPECT_NE(refusal(
+                [](auto& o) {
+                  o.follow_clock = true;
+                  o.publish_clock = true;
+                },
+                true)
+                .find("~publish_clock"),
+            std::string::npos);
+  cws_ros::NodeOptions o;
+  o.follow_clock = true;
+  o.real_time_factor = 5.0;
+  cws_ros::validateNodeOptions(o, true);
+  EXPECT_EQ(o.real_time_factor, 0.0);  // as fast as the clock allows
+}
