@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "coil_winding_sim/core/core_geometry.hpp"
+#include "coil_winding_sim/core/setpoint_limits.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "scene_detail.hpp"
 
@@ -144,17 +145,14 @@ void planarGravity(const Scene& s) {
 
 // ---------------------------------------------------------------------------
 // The process.
+// (The same check as every setpoint during a run: setpoint_limits.hpp.)
 void setpointsWithinLimits(const Scene& s) {
-  if (std::abs(s.process.core_speed_rpm) > s.process.max_core_speed_rpm) {
-    throw SceneError("process.core_speed_rpm", fmt(s.process.core_speed_rpm) +
-                                                   " is beyond process.max_core_speed_rpm = " +
-                                                   fmt(s.process.max_core_speed_rpm));
-  }
-  if (s.process.tension > s.process.max_tension) {
-    throw SceneError(
-        "process.tension",
-        fmt(s.process.tension) + " is above process.max_tension = " + fmt(s.process.max_tension));
-  }
+  const SetpointLimits limits = SetpointLimits::of(s.process);
+  std::string why = coreSpeedRefusal(limits, rpmToRadPerSec(s.process.core_speed_rpm));
+  if (!why.empty())
+    throw SceneError("process.core_speed_rpm", fmt(s.process.core_speed_rpm) + " " + why);
+  why = tensionRefusal(limits, s.process.tension);
+  if (!why.empty()) throw SceneError("process.tension", fmt(s.process.tension) + " " + why);
 }
 
 // Without a duration the turns end the run: some, at a speed that ends them.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "coil_winding_sim/core/setpoint_limits.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 
 namespace cws {
@@ -50,10 +51,18 @@ void Simulation::afterStep() {
 }
 
 void Simulation::setCoreSpeed(double omega) {
+  const std::string why = coreSpeedRefusal(SetpointLimits::of(scene_.process), omega);
+  if (!why.empty()) throw std::invalid_argument(coreSpeedText(omega) + " " + why);
   const RotatingCore* core = model_->core();
   const bool ramps = core && omega != core->command();
   model_->setCoreSpeed(omega);
   if (ramps) stepper_->kink();
+}
+
+void Simulation::setSupplyTension(double tension) {
+  const std::string why = tensionRefusal(SetpointLimits::of(scene_.process), tension);
+  if (!why.empty()) throw std::invalid_argument(tensionText(tension) + " " + why);
+  model_->setSupplyTension(tension);
 }
 
 SimulationState Simulation::saveState() const {

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "coil_winding_sim/core/setpoint_limits.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/winding_cell.hpp"
 
@@ -53,23 +54,24 @@ void WindingCell::onMachinePort(const geometry_msgs::PointStamped::ConstPtr& msg
   portInput("machine/port/command", *msg);
 }
 
+// The scene's limits, without the simulation's lock.
+cws::SetpointLimits WindingCell::limits() const { return {max_speed_, max_tension_}; }
+
 void WindingCell::speedInput(const std::string& topic, double w, const ros::Time& stamp) {
-  const double limit = max_speed_;
-  if (!std::isfinite(w) || std::abs(w) > limit) {
-    warn(warningsOf(topic).value,
-         "refused " + topic + " " + number(w) + " rad/s (finite, |w| <= " + number(limit) +
-             " rad/s = process.max_core_speed_rpm); keeping " + number(speed_setpoint_) + " rad/s");
+  const std::string why = cws::coreSpeedRefusal(limits(), w);
+  if (!why.empty()) {
+    warn(warningsOf(topic).value, "refused " + topic + " " + number(w) + " rad/s, which " + why +
+                                      "; keeping " + number(speed_setpoint_) + " rad/s");
     return;
   }
   if (admitStamp(topic, stamp)) deliver(false, w, stamp);
 }
 
 void WindingCell::tensionInput(const std::string& topic, double f, const ros::Time& stamp) {
-  const double limit = max_tension_;
-  if (!std::isfinite(f) || f < 0.0 || f > limit) {
-    warn(warningsOf(topic).value, "refused " + topic + " " + number(f) + " N (finite, 0 .. " +
-                                      number(limit) + " N = process.max_tension); keeping " +
-                                      number(tension_setpoint_) + " N");
+  const std::string why = cws::tensionRefusal(limits(), f);
+  if (!why.empty()) {
+    warn(warningsOf(topic).value, "refused " + topic + " " + number(f) + " N, which " + why +
+                                      "; keeping " + number(tension_setpoint_) + " N");
     return;
   }
   if (admitStamp(topic, stamp)) deliver(true, f, stamp);
@@ -203,8 +205,9 @@ void WindingCell::applySetpoints() {
 // Makes `scene` the scene in use (its limits apply to the setpoints).
 void WindingCell::setScene(const cws::Scene& scene) {
   scene_ = scene;
-  max_speed_ = cws::rpmToRadPerSec(scene_.process.max_core_speed_rpm);
-  max_tension_ = scene_.process.max_tension;
+  const cws::SetpointLimits l = cws::SetpointLimits::of(scene_.process);
+  max_speed_ = l.max_core_speed_rad_s;
+  max_tension_ = l.max_tension_N;
 }
 
 }  // namespace cws_ros

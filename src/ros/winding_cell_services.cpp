@@ -2,6 +2,7 @@
 // restore (winding_cell.hpp). A failing service leaves the run as it was.
 #include <cstdio>
 
+#include "coil_winding_sim/core/setpoint_limits.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/snapshot_bag.hpp"
 #include "coil_winding_sim/ros/snapshot_reader.hpp"
@@ -12,12 +13,6 @@ namespace cws_ros {
 namespace {
 // Wall-time limit of reading a snapshot in the reader process [s].
 constexpr double kRestoreTimeout = 20.0;
-
-std::string number(double v) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
 }  // namespace
 
 bool WindingCell::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
@@ -103,18 +98,17 @@ bool WindingCell::onRestore(coil_winding_sim::Restore::Request& req,
     auto restored = cws::Simulation::fromState(state);
     // Its setpoints pass the checks of the setpoint topics.
     const cws::Scene& scene = restored->scene();
-    const double speed = state.model.core[3];
-    const double speed_limit = cws::rpmToRadPerSec(scene.process.max_core_speed_rpm);
-    if (restored->model().core() && std::abs(speed) > speed_limit) {
-      throw std::runtime_error("'" + req.path + "': its core speed setpoint " + number(speed) +
-                               " rad/s exceeds its scene's process.max_core_speed_rpm (" +
-                               number(speed_limit) + " rad/s)");
+    const cws::SetpointLimits limits = cws::SetpointLimits::of(scene.process);
+    std::string why;
+    if (restored->model().core()) {
+      why = cws::coreSpeedRefusal(limits, state.model.core[3]);
+      if (!why.empty()) why = cws::coreSpeedText(state.model.core[3]) + " " + why;
     }
-    if (restored->model().supply() && state.model.tension_N > scene.process.max_tension) {
-      throw std::runtime_error("'" + req.path + "': its tension " + number(state.model.tension_N) +
-                               " N exceeds its scene's process.max_tension (" +
-                               number(scene.process.max_tension) + " N)");
+    if (why.empty() && restored->model().supply()) {
+      why = cws::tensionRefusal(limits, state.model.tension_N);
+      if (!why.empty()) why = cws::tensionText(state.model.tension_N) + " " + why;
     }
+    if (!why.empty()) throw std::runtime_error("'" + req.path + "': its setpoint, " + why);
     std::lock_guard<std::mutex> lock(sim_mutex_);
     setScene(scene);
     replace(std::move(restored));

@@ -39,9 +39,11 @@ class Simulation {
 
   // Setpoints, effective from the present time on: core angular velocity
   // [rad/s] (reached at the scene's acceleration limit) and supply tension
-  // [N]. Ignored when the scene has no core / no supply.
+  // [N]. Ignored when the scene has no core / no supply. A value beyond the
+  // scene's limits throws std::invalid_argument naming the limit
+  // (setpoint_limits.hpp); the run is unchanged then.
   void setCoreSpeed(double omega);
-  void setSupplyTension(double tension) { model_->setSupplyTension(tension); }
+  void setSupplyTension(double tension);
   // Commanded supply-port position p_world [m, world frame] at simulated
   // time t_s [s]: the port moves on straight lines between the commanded
   // samples (constant velocity between them) and holds the last one; the

@@ -45,6 +45,7 @@
 #include "coil_winding_sim/Snapshot.h"
 #include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/core/command_schedule.hpp"
+#include "coil_winding_sim/core/setpoint_limits.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 #include "coil_winding_sim/ros/cell_timing.hpp"
 #include "coil_winding_sim/ros/job_error_estimate.hpp"
@@ -101,6 +102,7 @@ class WindingCell {
   void feedPort();
   void applySetpoints();
   void setScene(const cws::Scene& scene);
+  cws::SetpointLimits limits() const;
 
   // ---- services (winding_cell_services.cpp)
   bool onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
