@@ -167,6 +167,10 @@ std::vector<SceneKey> declareKeys() {
                                                       "Newton iterations before a retry at 1/4"),
       key<&S::solver, &Solver::flag_rounds>("solver.flag_rounds", "-", count(100),
                                             "solves again after a contact/stick/slip change"),
+      key<&S::solver, &Solver::line_search_halvings>("solver.line_search_halvings", "-",
+                                                     count(30),
+                                                     "halvings of a Newton step that does not "
+                                                     "lower the residual"),
       key<&S::solver, &Solver::carry_stuck_wire>("solver.carry_stuck_wire", "", kAny,
                                                  "stuck wound wire moves rigidly with the core"),
 

@@ -119,6 +119,7 @@ struct SolverParams {
   double newton_tol = 1.0e-9;
   int newton_max_iterations = 30;
   int flag_rounds = 4;
+  int line_search_halvings = 5;  // of a Newton step that does not lower the residual
   // Wound wire held by static friction moves rigidly with the core and leaves
   // the integrated system (with contact, friction and start.frame core;
   // elsewhere it has no effect).

@@ -25,8 +25,7 @@ PlanarFormulation::PlanarFormulation(WireModel& model, const Scene& scene)
       multiplier_(scene.physics.supply),
       point_mass_(model.constants().point_mass),
       point_inertia_(model.constants().point_inertia),
-      newton_{scene.solver.newton_tol, scene.solver.newton_max_iterations,
-              scene.solver.flag_rounds},
+      newton_(NewtonSettings::of(scene.solver)),
       carried_(model.core()) {
   const int cap = model.constants().capacity;
   for (ForceEffect* e : model.effectList()) effects_.push_back(e);

@@ -16,8 +16,7 @@ SpatialFormulation::SpatialFormulation(WireModel& model, const Scene& scene)
       point_mass_(model.constants().point_mass),
       quat_mass_(4.0 * model.constants().point_inertia),
       segment_length_(model.constants().segment_length),
-      newton_{scene.solver.newton_tol, scene.solver.newton_max_iterations,
-              scene.solver.flag_rounds},
+      newton_(NewtonSettings::of(scene.solver)),
       carried_(model.core()) {
   const int cap = model.constants().capacity;
   for (ForceEffect* e : model.effectList()) effects_.push_back(e);

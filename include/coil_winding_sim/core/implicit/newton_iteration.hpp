@@ -1,8 +1,8 @@
 // The Newton iterations both implicit formulations share (planar and 3-D):
 // modified Newton (a factorization serves while the steps it gives shrink
 // to less than half; otherwise, or after a halved step, it is made anew), a
-// backtracking line search on the residual's norm (halving up to five
-// times), convergence when the step is below the tolerance, and flag
+// backtracking line search on the residual's norm (halving up to
+// solver.line_search_halvings times), convergence when the step is below the tolerance, and flag
 // rounds: after a converged solve the effects recheck their frozen flags
 // (contact, stick, slip, hysteresis lines) and a change solves again with a
 // new Jacobian, up to flag_rounds times (docs/MODEL.md, "Implicit
@@ -13,6 +13,7 @@
 #include <limits>
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
+#include "coil_winding_sim/core/scene.hpp"
 
 namespace cws {
 
@@ -30,6 +31,12 @@ struct NewtonSettings {
   double tol = 1e-9;  // [m]
   int max_iterations = 30;
   int flag_rounds = 4;
+  int line_search_halvings = 5;
+  // The scene's (solver.newton_tol, newton_max_iterations, flag_rounds,
+  // line_search_halvings).
+  static NewtonSettings of(const SolverParams& s) {
+    return {s.newton_tol, s.newton_max_iterations, s.flag_rounds, s.line_search_halvings};
+  }
 };
 
 // Problem: the formulation's trial state and Newton system, with
@@ -70,7 +77,7 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
       for (;; ++ls) {
         p.moveAlong(s);
         trial = p.residual(false);
-        if (trial < norm || ls >= 5 || s * step < c.tol) break;
+        if (trial < norm || ls >= c.line_search_halvings || s * step < c.tol) break;
         s *= 0.5;
         ++st.line_searches;
       }
