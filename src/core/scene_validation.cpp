@@ -229,8 +229,7 @@ void fixedStepStable(const Scene& s) {
                      fmt(step) + " s is above solver.max_step = " + fmt(s.solver.max_step) + " s");
   }
   // Above the explicit stability limit symplectic Euler stays bounded but
-  // wrong, with no warning (measured on the paper's case at 2 mm: three
-  // wire diameters off at 1.05 l / c, right at 0.53 l / c).
+  // wrong, with no warning (docs/MODEL.md, "Other integrators").
   const double limit = explicitStepLimit(s);
   if (step > limit) {
     std::ostringstream why;

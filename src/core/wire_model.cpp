@@ -282,9 +282,9 @@ bool WireModel::semiImplicitUpdate(double h, ConstRef dydt, Ref y) const {
   // Discrete work-energy law of the method: the kinetic energy changes by
   // exactly h f . (v + v_new) / 2 for the forces f of the step's start. Book
   // the applied loads and the friction and damping forces at that mean
-  // velocity, i.e. add h f . dv / 2 with dv = h a to the rates at v. Booked
-  // at v the balance drifted by O(h) per unit of friction work (1.7 % over
-  // 100 turns); booked at v_new, by as much the other way.
+  // velocity, i.e. add h f . dv / 2 with dv = h a to the rates at v; at v
+  // or v_new alone the balance drifts by O(h) per unit of friction work
+  // (docs/MODEL.md, "Other integrators").
   double dw = 0.0, dd = 0.0;
   for (int i = c_.first; i < c_.n; ++i) {
     const int o = stateOffset(i);

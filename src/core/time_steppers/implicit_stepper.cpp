@@ -35,9 +35,8 @@ void ImplicitStepper::kink() {
 
 void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) {
   // A limit within rounding of t is reached as it is. A step of that size
-  // would turn Newton's position tolerance into velocities of tol / h: at
-  // h = 1e-18 s (t summed from steps of 1e-4 s short of a limit of 0.005 s)
-  // the wire was flung and drawn back through the port.
+  // would turn Newton's position tolerance into velocities of tol / h
+  // (docs/MODEL.md, "Steps that land on a time limit").
   if (t_limit - t <= kLandRounding * std::max(1.0, std::abs(t))) {
     t = t_limit;
     return;
