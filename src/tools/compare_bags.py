@@ -27,8 +27,8 @@ import numpy as np
 
 # The numerics (interpolation, lag, distances) live beside this script.
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from series_math import (MIN_SAMPLES, estimate_lag, hermite, monotone_angle,  # noqa: E402
-                         point_to_polyline, rms)
+from series_math import (MIN_SAMPLES, RAD_S_PER_RPM, estimate_lag, hermite,  # noqa: E402
+                         monotone_angle, point_to_polyline, rms)
 
 # Errors are "sim minus machine"; percentages are of the machine's mean.
 CONVENTIONS = {
@@ -233,8 +233,8 @@ def compare(machine, sim, align, max_lag):
         notes.append("spindle speed lag not estimated: %s" % info_w)
 
     s["spindle_speed"] = {"samples": int(len(w_err)), "rms_rad_per_s": rms(w_err),
-                          "rms_rpm": rms(w_err) * 60 / (2 * math.pi) if len(w_err) else None,
-                          "machine_max_rpm": float(np.max(np.abs(wm))) * 60 / (2 * math.pi)}
+                          "rms_rpm": rms(w_err) / RAD_S_PER_RPM if len(w_err) else None,
+                          "machine_max_rpm": float(np.max(np.abs(wm))) / RAD_S_PER_RPM}
 
     plots = {"tension": (am, Tm, as_, Ts, am[sel], err),
              "speed": (tms, wm, tss, ws)}
@@ -371,7 +371,7 @@ def make_plots(out, plots, profile_out):
     plt.close(fig)
 
     tms, wm, tss, ws = plots["speed"]
-    rpm = 60 / (2 * math.pi)
+    rpm = 1.0 / RAD_S_PER_RPM
     fig, ax = plt.subplots(figsize=(9, 3.5))
     ax.plot(tss - tms[0], ws * rpm, lw=0.8, label="sim")
     ax.plot(tms - tms[0], wm * rpm, lw=0.8, alpha=0.8, label="machine")

@@ -43,11 +43,15 @@ from geometry_msgs.msg import PointStamped
 from sensor_msgs.msg import JointState, PointCloud2, PointField
 from std_msgs.msg import Header
 
+# The rpm conversion, shared with compare_bags.py (beside this script).
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from series_math import RAD_S_PER_RPM  # noqa: E402
+
 PKG = "coil_winding_sim"
 
 # The closed-form signals' constants (SI units).
 T0 = 100.0                      # first stamp [s] (not 0: stamps are absolute)
-OMEGA_MAX = 1200.0 * 2 * math.pi / 60.0   # [rad/s]
+OMEGA_MAX = 1200.0 * RAD_S_PER_RPM   # [rad/s]
 T_RAMP = 0.5                    # [s] spindle ramp time
 TENSION_CMD = 30.0              # [N]
 TENSION_RISE = 0.05             # [s] time constant of the tension's rise

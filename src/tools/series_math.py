@@ -6,6 +6,7 @@ import math
 import numpy as np
 
 MIN_SAMPLES = 10            # fewer spindle/tension samples (in the overlap) cannot be aligned
+RAD_S_PER_RPM = 2.0 * math.pi / 60.0   # the one rpm conversion of the Python tools
 
 
 def hermite(xq, x, y):
