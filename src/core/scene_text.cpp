@@ -2,6 +2,7 @@
 // shows them.
 #include <cstdio>
 
+#include "coil_winding_sim/core/text_format.hpp"
 #include "scene_detail.hpp"
 
 namespace cws::detail {
@@ -48,11 +49,7 @@ std::string printable(const std::string& text, std::size_t max) {
 }
 
 // std::to_string would print 1e-9 as 0.000000.
-std::string fmt(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
+std::string fmt(double v) { return formatNumber(v, "%.6g"); }
 
 std::string describe(const YAML::Node& n) {
   switch (n.Type()) {

@@ -4,16 +4,9 @@
 #include <cstdio>
 
 #include "coil_winding_sim/core/external_forces/port_trajectory.hpp"
+#include "coil_winding_sim/core/text_format.hpp"
 
 namespace cws_ros {
-
-namespace {
-std::string number(double v, const char* format = "%g") {
-  char text[64];
-  std::snprintf(text, sizeof text, format, v);
-  return text;
-}
-}  // namespace
 
 SetpointStamps::Verdict SetpointStamps::admit(const std::string& topic, const ros::Time& stamp,
                                               const ros::Time& clock, bool have_clock,
@@ -25,16 +18,17 @@ SetpointStamps::Verdict SetpointStamps::admit(const std::string& topic, const ro
   if (clock < last_clock_) last_.clear();
   last_clock_ = clock;
   if (have_clock && stamp.toSec() > clock.toSec() + tolerance_s_) {
-    why = "refused " + topic + " stamped " + number(stamp.toSec(), "%.6f") + " s: more than " +
-          number(tolerance_s_) + " s (~setpoint_stamp_tolerance) ahead of the node's clock " +
-          number(clock.toSec(), "%.6f") + " s";
+    why = "refused " + topic + " stamped " + cws::formatNumber(stamp.toSec(), "%.6f") +
+          " s: more than " + cws::formatNumber(tolerance_s_) +
+          " s (~setpoint_stamp_tolerance) ahead of the node's clock " +
+          cws::formatNumber(clock.toSec(), "%.6f") + " s";
     return Verdict::kAhead;
   }
   ros::Time& last = last_[topic];
   if (stamp < last) {
-    why = "dropped " + topic + " stamped " + number(stamp.toSec(), "%.6f") +
-          " s: out of order, older than the last applied one (" + number(last.toSec(), "%.6f") +
-          " s)";
+    why = "dropped " + topic + " stamped " + cws::formatNumber(stamp.toSec(), "%.6f") +
+          " s: out of order, older than the last applied one (" +
+          cws::formatNumber(last.toSec(), "%.6f") + " s)";
     return Verdict::kOutOfOrder;
   }
   last = stamp;

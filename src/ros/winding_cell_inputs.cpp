@@ -7,18 +7,11 @@
 #include <limits>
 
 #include "coil_winding_sim/core/setpoint_limits.hpp"
+#include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/winding_cell.hpp"
 
 namespace cws_ros {
-
-namespace {
-std::string number(double v) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
-}  // namespace
 
 void WindingCell::onSpeed(const coil_winding_sim::CoreSpeedSetpoint::ConstPtr& msg) {
   speedInput("core_speed_setpoint", msg->angular_velocity, msg->header.stamp);
@@ -39,8 +32,8 @@ void WindingCell::onMachineSpindle(const sensor_msgs::JointState::ConstPtr& msg)
   double w = 0.0;
   std::string why;
   if (!spindleVelocity(*msg, w, why)) {
-    warn(warningsOf(topic).value,
-         "refused " + topic + ": " + why + "; keeping " + number(speed_setpoint_) + " rad/s");
+    warn(warningsOf(topic).value, "refused " + topic + ": " + why + "; keeping " +
+                                      cws::formatNumber(speed_setpoint_) + " rad/s");
     return;
   }
   speedInput(topic, w, msg->header.stamp);
@@ -60,8 +53,9 @@ cws::SetpointLimits WindingCell::limits() const { return {max_speed_, max_tensio
 void WindingCell::speedInput(const std::string& topic, double w, const ros::Time& stamp) {
   const std::string why = cws::coreSpeedRefusal(limits(), w);
   if (!why.empty()) {
-    warn(warningsOf(topic).value, "refused " + topic + " " + number(w) + " rad/s, which " + why +
-                                      "; keeping " + number(speed_setpoint_) + " rad/s");
+    warn(warningsOf(topic).value, "refused " + topic + " " + cws::formatNumber(w) +
+                                      " rad/s, which " + why + "; keeping " +
+                                      cws::formatNumber(speed_setpoint_) + " rad/s");
     return;
   }
   if (admitStamp(topic, stamp)) deliver(false, w, stamp);
@@ -70,8 +64,9 @@ void WindingCell::speedInput(const std::string& topic, double w, const ros::Time
 void WindingCell::tensionInput(const std::string& topic, double f, const ros::Time& stamp) {
   const std::string why = cws::tensionRefusal(limits(), f);
   if (!why.empty()) {
-    warn(warningsOf(topic).value, "refused " + topic + " " + number(f) + " N, which " + why +
-                                      "; keeping " + number(tension_setpoint_) + " N");
+    warn(warningsOf(topic).value, "refused " + topic + " " + cws::formatNumber(f) + " N, which " +
+                                      why + "; keeping " + cws::formatNumber(tension_setpoint_) +
+                                      " N");
     return;
   }
   if (admitStamp(topic, stamp)) deliver(true, f, stamp);

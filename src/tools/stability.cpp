@@ -19,6 +19,7 @@
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 #include "coil_winding_sim/core/stability_cases.hpp"
+#include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "parallel.hpp"
 #include "run_store.hpp"
@@ -44,12 +45,6 @@ struct Study {
   bool report_only = false;
   std::mutex log;
 };
-
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
 
 // Bumped when the way a run is set up or measured changes, so that results
 // and checkpoints of the earlier way are not reused.
@@ -248,7 +243,7 @@ void execute(Study& st, Run& r) {
         std::ostringstream msg;
         msg << "not finished within the budget of " << st.budget_s
             << " s of wall time (t = " << sim->time() << " s of " << sim->endTime() << " s, about "
-            << fmt("%.0f", w * sim->endTime() / sim->time())
+            << cws::formatNumber(w * sim->endTime() / sim->time(), "%.0f")
             << " s in all at this pace; a study with a larger --budget continues it); the "
                "criteria are checked on the part run";
         r.outcome = Outcome::kBudget;

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "coil_winding_sim/core/output.hpp"
+#include "coil_winding_sim/core/text_format.hpp"
 
 namespace cws_tools {
 
@@ -31,12 +32,6 @@ const char* outcomeName(Outcome o) {
 }
 
 namespace {
-
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
 
 // One line of the machine's CPU, for the record.
 std::string machine() {
@@ -164,22 +159,24 @@ std::string writeStabilityReport(const std::string& dir, const std::vector<Stabi
     md << "| " << r.c->name << " (" << r.c->what << ") | " << r.method << " | "
        << outcomeName(r.outcome) << " | ";
     if (r.measured) {
-      md << fmt("%+.2e", r.m.energy_signed_rel) << " | " << fmt("%.2e", r.m.residual) << " | "
-         << fmt("%.3f", r.m.penetration_ratio) << " | " << r.m.steps << " | "
-         << fmt("%.2e", r.m.mean_step_s);
+      md << cws::formatNumber(r.m.energy_signed_rel, "%+.2e") << " | "
+         << cws::formatNumber(r.m.residual, "%.2e") << " | "
+         << cws::formatNumber(r.m.penetration_ratio, "%.3f") << " | " << r.m.steps << " | "
+         << cws::formatNumber(r.m.mean_step_s, "%.2e");
     } else {
       md << "- | - | - | - | -";
     }
-    md << " | " << fmt("%.1f", r.wall_s) << " | " << cell(r.message) << " |\n";
+    md << " | " << cws::formatNumber(r.wall_s, "%.1f") << " | " << cell(r.message) << " |\n";
   }
   md << "\nRegenerate: `make stability` (this file and docs/stability/stability.csv). The runs "
         "took "
-     << fmt("%.0f", run_wall_s / 60.0) << " minutes of wall time in all";
+     << cws::formatNumber(run_wall_s / 60.0, "%.0f") << " minutes of wall time in all";
   if (info.report_only) {
     md << "; this table was written by `wire_sim stability --report` from the results kept so "
           "far, while the study was in progress";
   } else {
-    md << "; this study took " << fmt("%.0f", study_min) << " minutes on the machine above";
+    md << "; this study took " << cws::formatNumber(study_min, "%.0f")
+       << " minutes on the machine above";
     if (kept > 0) md << ", and kept " << kept << " results of an earlier study of the same build";
   }
   md << ". A study stopped with Ctrl-C keeps its finished runs and a checkpoint of each "

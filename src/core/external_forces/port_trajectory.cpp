@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
+
+#include "coil_winding_sim/core/text_format.hpp"
 
 namespace cws {
 
@@ -12,12 +13,7 @@ namespace {
 // A commanded position this close to where the port is counts as the same [m].
 constexpr double kSamePosition_m = 1.0e-12;
 
-std::string text(double v) {
-  std::ostringstream s;
-  s.precision(12);
-  s << v;
-  return s.str();
-}
+std::string text(double v) { return formatNumber(v, "%.12g"); }
 }  // namespace
 
 PortTrajectory::PortTrajectory() : ring_(kCapacity) {}
