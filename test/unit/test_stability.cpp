@@ -140,16 +140,10 @@ TEST(Stability, Instant20000Rpm) {
 
 // Planar winding on a single 5 mm drum, 4 turns at 1200 rpm, 5 mm segments.
 // The points are held in the plane and the frame constraints keep each zeta
-// along its in-plane segment, so no frame may tilt out of the plane. When
-// only the points' out-of-plane acceleration was removed after the
-// constraint solve, the frames tilted (zeta . n from 6e-6 at 0.10 s to 7e-2
-// at 0.16 s) and the state became non-finite at t = 0.187 s (3.7 turns).
-// Each frame also turns about n only, so its body coordinates of n stay
-// what they were and neighbouring frames do not twist against each other.
-// When a frame could turn about its tangent (free with torsion off), that
-// mode grew from rounding here: twist 1.3e-2 rad/m, n in body axes moved 3.6e-5
-// after 4 turns; in the matrix's planar_drum (2 mm segments) the wire blew
-// up after 8.5 turns.
+// along its in-plane segment, so no frame may tilt out of the plane. Each
+// frame also turns about n only, so its body coordinates of n stay what
+// they were and neighbouring frames do not twist against each other. (How
+// both failed before they were built: docs/MODEL.md, "Planar mode".)
 TEST(Stability, PlanarDrumStaysInItsPlane) {
   cws::Simulation sim(
       scene({"wire.segment_length=5e-3", "core.cylinders=[{center: [0, 0], radius: 5e-3}]",
@@ -303,8 +297,7 @@ TEST(Stability, NewtonStepMethodsOnTheExtremeCases) {
 // the kinetic energy by exactly h f . (v + v_new) / 2, so the friction,
 // damping and applied-load work is booked at that mean velocity; the
 // balance then differs from RKF45's (2e-6) only by the method's bounded
-// O(h) shadow term. Booked at the step's start velocity it drifted: 2.5e-3
-// after 3 turns, 5e-3 after 10, 1.7e-2 after 100. Stated bound 2e-4.
+// O(h) shadow term (docs/MODEL.md, "Other integrators"). Stated bound 2e-4.
 TEST(Stability, EulerBooksFrictionWorkAtItsOwnVelocities) {
   cws::Simulation sim(scene(matrixCase("turns_100", 3.0), "symplectic_euler"));
   sim.run();

@@ -22,15 +22,13 @@
 // That linear constraint enters as the points' inverse mass (1/M) P with
 // P = I - n n^T: forces and constraint reactions move a point only in the
 // plane, and the frame constraints are solved for that motion, so the
-// reaction that keeps zeta along an in-plane segment acts on the frame too.
-// (Removing the out-of-plane point acceleration after the solve instead
-// left the frames' share of it unbalanced, and out-of-plane tilt grew.)
-// The frames likewise turn about n only: their inverse mass is (1/4I) Q,
-// Q projecting the quaternion rates onto scaling q and turning it about n.
-// Without it a frame's turn about its own tangent, which nothing stiffens
-// when torsion is off, was free; under symplectic Euler that mode grew from
-// rounding, a zigzag of frames with alternating twist, until the wire blew
-// up after 8 turns on a drum. With both, each frame's two direction rows
+// reaction that keeps zeta along an in-plane segment acts on the frame too
+// (removing the out-of-plane acceleration after the solve would leave the
+// frames' share of it unbalanced). The frames likewise turn about n only:
+// their inverse mass is (1/4I) Q, Q projecting the quaternion rates onto
+// scaling q and turning it about n, so that a frame's turn about its own
+// tangent, which nothing stiffens when torsion is off, cannot grow from
+// rounding (docs/MODEL.md, "Planar mode"). With both, each frame's two direction rows
 // reduce to one, d . (n x zeta) = 0: d . n is zero by construction and is
 // kept as a zero row with multiplier 0. Every integrator's update of q is a
 // sum of such rates, so zeta stays in the plane to rounding.
