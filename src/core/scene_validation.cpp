@@ -150,9 +150,11 @@ void setpointsWithinLimits(const Scene& s) {
   const SetpointLimits limits = SetpointLimits::of(s.process);
   std::string why = coreSpeedRefusal(limits, rpmToRadPerSec(s.process.core_speed_rpm));
   if (!why.empty())
-    throw SceneError("process.core_speed_rpm", fmt(s.process.core_speed_rpm) + " " + why);
+    throw SceneError("process.core_speed_rpm",
+                     fmt(s.process.core_speed_rpm) + " rpm, a " +
+                         coreSpeedText(rpmToRadPerSec(s.process.core_speed_rpm)) + ", " + why);
   why = tensionRefusal(limits, s.process.tension);
-  if (!why.empty()) throw SceneError("process.tension", fmt(s.process.tension) + " " + why);
+  if (!why.empty()) throw SceneError("process.tension", fmt(s.process.tension) + " N " + why);
 }
 
 // Without a duration the turns end the run: some, at a speed that ends them.
