@@ -3,7 +3,6 @@
 // simulation's lock: a burst of setpoints cannot hold up the simulation or
 // the services.
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "coil_winding_sim/core/setpoint_limits.hpp"

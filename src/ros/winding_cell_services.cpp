@@ -1,6 +1,6 @@
 // The winding cell's services: reset, pause, run_until, snapshot and
 // restore (winding_cell.hpp). A failing service leaves the run as it was.
-#include <cstdio>
+#include <cmath>
 
 #include "coil_winding_sim/core/setpoint_limits.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"

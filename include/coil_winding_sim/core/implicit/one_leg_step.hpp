@@ -45,7 +45,6 @@ struct CarriedRate {
   // x_hat of a frame the core carries: Q q (quaternions, scalar first).
   Eigen::Quaterniond q_past = Eigen::Quaterniond::Identity();
   double alpha = 0.0;  // 0: the exact rates (tangent velocity)
-  double omega = 0.0;  // the scheme's turn rate about the axis [rad/s]
 
   // [m/s] of the core material at p_world.
   Eigen::Vector3d velocity(const Eigen::Vector3d& p_world) const {
@@ -66,7 +65,7 @@ struct CarriedRate {
     c.g_world << 0.0, -axis_world.z(), axis_world.y(), axis_world.z(), 0.0, -axis_world.x(),
         -axis_world.y(), axis_world.x(), 0.0;
     c.g_world *= omega;
-    c.omega = c.omega_exact = omega;
+    c.omega_exact = omega;
     return c;
   }
 
@@ -85,7 +84,6 @@ struct CarriedRate {
     Eigen::Vector4d q = Eigen::Vector4d::Zero();  // w, x, y, z
     for (int j = 0; j < step.past; ++j) {
       const double turn = theta_past[j] - theta1;
-      c.omega -= step.alpha * step.w_past[j] * turn;
       m += step.w_past[j] * Eigen::AngleAxisd(turn, axis_world).toRotationMatrix();
       const double s = std::sin(0.5 * turn);
       q += step.w_past[j] * Eigen::Vector4d(std::cos(0.5 * turn), s * axis_world.x(),
