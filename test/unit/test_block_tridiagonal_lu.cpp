@@ -14,18 +14,24 @@
 namespace {
 
 constexpr int kB = 10;
+constexpr int kC = 7;  // the 3-D system's coupling: q and p, not the multipliers
 
 // Random block-tridiagonal matrix of size n: per block, rows 4..6 are
 // "multiplier" rows with a zero diagonal block, coupled to the other rows
 // both ways; the rest is diagonally heavy as inertia over h^2 makes it.
-void fill(int n, std::mt19937& rng, Eigen::MatrixXd& dense, cws::BlockTridiagonalLu<kB>& lu) {
+// With coupling C < B the off-diagonal blocks are zero beyond their first
+// C rows (above the diagonal) and columns (below it).
+template <int C>
+void fill(int n, std::mt19937& rng, Eigen::MatrixXd& dense, cws::BlockTridiagonalLu<kB, C>& lu) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   dense.setZero(n, n);
   lu.setZero(n);
-  auto multiplier = [](int i) { return i % kB >= 4 && i % kB < 7; };
+  auto multiplier = [](int i) { return C < kB ? i % kB >= C : i % kB >= 4 && i % kB < 7; };
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
       if (std::abs(i / kB - j / kB) > 1) continue;
+      if (i / kB < j / kB && i % kB >= C) continue;
+      if (i / kB > j / kB && j % kB >= C) continue;
       double a = u(rng);
       if (multiplier(i) && multiplier(j)) a = 0.0;
       if (i == j && !multiplier(i)) a += 20.0;
@@ -35,8 +41,9 @@ void fill(int n, std::mt19937& rng, Eigen::MatrixXd& dense, cws::BlockTridiagona
   }
 }
 
+template <int C = kB>
 void check(int n, std::mt19937& rng) {
-  cws::BlockTridiagonalLu<kB> lu;
+  cws::BlockTridiagonalLu<kB, C> lu;
   lu.resize(n + 25);  // room for more than this matrix, as in a run
   Eigen::MatrixXd dense;
   fill(n, rng, dense, lu);
@@ -50,8 +57,9 @@ void check(int n, std::mt19937& rng) {
   const double residual = (dense * x - b).norm() / b.norm();
   const double residual_dense = (dense * x_dense - b).norm() / b.norm();
   const double diff = (x - x_dense).norm() / x_dense.norm();
-  std::printf("block-tridiagonal LU n=%d: residual %.1e (dense LU's %.1e), vs dense LU %.1e\n", n,
-              residual, residual_dense, diff);
+  std::printf(
+      "block-tridiagonal LU n=%d, coupling %d: residual %.1e (dense LU's %.1e), vs dense LU %.1e\n",
+      n, C, residual, residual_dense, diff);
   // Random saddle points are not well conditioned: within rounding of the
   // dense LU's own result, far from any wrong elimination's O(1).
   EXPECT_LT(residual, 1e-9);
@@ -63,6 +71,11 @@ TEST(BlockTridiagonalLu, MatchesADenseLuOnSaddlePointBlocks) {
   check(10, rng);   // one block
   check(402, rng);  // 40 points and the port's two rows (a padded block)
   check(127, rng);  // a size that is no multiple of the block
+  // Coupling through the first 7 unknowns of a block only (multipliers in
+  // the last three rows of the block here, as the 3-D system orders them).
+  check<kC>(10, rng);
+  check<kC>(402, rng);
+  check<kC>(127, rng);
   // The same storage reused for a smaller and a larger matrix.
   cws::BlockTridiagonalLu<kB> lu;
   lu.resize(300);

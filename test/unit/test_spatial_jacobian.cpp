@@ -46,6 +46,20 @@ void checkOne(cws::SpatialState& s, const cws::ForceEffect* effect, int capacity
       if (a.matrix().inBand(r, c)) analytic(r, c) = a.matrix().at(r, c);
     }
   }
+  // The block LU relies on it: a point's block couples to its neighbours'
+  // only through its first kCoupled unknowns (no multiplier acts on the
+  // next point).
+  using A = cws::SpatialAssembly;
+  for (int r = 0; r < unknowns; ++r) {
+    for (int c = 0; c < unknowns; ++c) {
+      const int br = r / A::kPerPoint, bc = c / A::kPerPoint;
+      const bool coupled =
+          br == bc || (br < bc ? r % A::kPerPoint : c % A::kPerPoint) < A::kCoupled;
+      if (!coupled) {
+        EXPECT_EQ(analytic(r, c), 0.0) << name << " couples row " << r << " col " << c;
+      }
+    }
+  }
   const double global = analytic.cwiseAbs().maxCoeff();
   if (global == 0.0) return;
   // Which rows are constraint rows.
@@ -69,7 +83,7 @@ void checkOne(cws::SpatialState& s, const cws::ForceEffect* effect, int capacity
       if (k >= A::kMu && k < A::kMu + 3) {
         u = &s.mu(k - A::kMu, i);
         eps = 1e-4;
-      } else if (k >= A::kP) {
+      } else if (k >= A::kP && k < A::kP + 3) {
         u = &s.p(k - A::kP, i);
         rate = &s.v(k - A::kP, i);
       } else {

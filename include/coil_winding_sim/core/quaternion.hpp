@@ -31,6 +31,14 @@ inline Mat34 G(const Vec4& q) {
   return m;
 }
 
+// G(a) b = Im(conj(a) * b) without forming G (the hot path of the
+// rotational springs).
+inline Eigen::Vector3d gTimes(const Vec4& a, const Vec4& b) {
+  return {-a[1] * b[0] + a[0] * b[1] + a[3] * b[2] - a[2] * b[3],
+          -a[2] * b[0] - a[3] * b[1] + a[0] * b[2] + a[1] * b[3],
+          -a[3] * b[0] + a[2] * b[1] - a[1] * b[2] + a[0] * b[3]};
+}
+
 // E(q): world angular velocity omega_world = 2 E(q) qdot.
 inline Mat34 E(const Vec4& q) {
   Mat34 m;

@@ -116,7 +116,8 @@ double SpatialFormulation::residual(bool jacobian) {
         kappa_ * point_mass_ * (state_.v.col(i) - v_hat_.block<3, 1>(0, i)) - force.segment<3>(p);
     r_.segment<4>(q) =
         kappa_ * quat_mass_ * (state_.qd.col(i) - v_hat_.block<4, 1>(3, i)) - force.segment<4>(q);
-    norm = std::max({norm, r_.segment<6>(mu).lpNorm<Eigen::Infinity>(),
+    norm = std::max({norm, r_.segment<3>(p).lpNorm<Eigen::Infinity>(),
+                     r_.segment<3>(mu).lpNorm<Eigen::Infinity>(),
                      r_.segment<4>(q).lpNorm<Eigen::Infinity>() / segment_length_});
   }
   if (port_) {

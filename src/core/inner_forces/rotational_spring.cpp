@@ -25,7 +25,7 @@ double RotationalSpring::jointLength(int j) const {
 }
 
 Eigen::Vector3d RotationalSpring::darboux(const WireKinematics& k, int j) const {
-  return (2.0 / jointLength(j)) * (quat::G(k.q.col(j)) * k.q.col(j + 1));
+  return (2.0 / jointLength(j)) * quat::gTimes(k.q.col(j), k.q.col(j + 1));
 }
 
 double RotationalSpring::stressOf(double x, int idx) const {
@@ -82,14 +82,12 @@ bool RotationalSpring::recheckLines(int first, int n, Argument argument) {
 }
 
 Eigen::Vector3d RotationalSpring::darboux(const SpatialState& s, int j) const {
-  return (2.0 / jointLength(j)) * (quat::G(s.q.col(j)) * s.q.col(j + 1));
+  return (2.0 / jointLength(j)) * quat::gTimes(s.q.col(j), s.q.col(j + 1));
 }
 
 // The laws' arguments: in the plane, kappa n_material[c] (none for a
 // component with no part about n); in 3-D, the Darboux vector's components.
-void RotationalSpring::beginImplicitStep(const PlanarState& s0) {
-  beginLines(s0.first, s0.n);
-}
+void RotationalSpring::beginImplicitStep(const PlanarState& s0) { beginLines(s0.first, s0.n); }
 
 bool RotationalSpring::recheckFlags(const PlanarState& s) {
   return recheckLines(s.first, s.n,
@@ -107,8 +105,15 @@ bool RotationalSpring::planarArgument(const PlanarState& s, int j, int c, double
 void RotationalSpring::beginSpatialStep(const SpatialState& s0) { beginLines(s0.first, s0.n); }
 
 bool RotationalSpring::recheckSpatialFlags(const SpatialState& s) {
+  // One Darboux vector per joint for all of its components.
+  int joint = -1;
+  Eigen::Vector3d omega;
   return recheckLines(s.first, s.n, [&](int j, int c, double& x) {
-    x = darboux(s, j)[first_ + c];
+    if (j != joint) {
+      joint = j;
+      omega = darboux(s, j);
+    }
+    x = omega[first_ + c];
     return true;
   });
 }
@@ -130,7 +135,7 @@ void RotationalSpring::addForces(double, const WireKinematics& k, WireForces& f)
   for (int j = c_.first - 1; j + 1 < c_.n; ++j) {
     const quat::Vec4 qa = k.q.col(j);
     const quat::Vec4 qb = k.q.col(j + 1);
-    const Eigen::Vector3d omega = (2.0 / jointLength(j)) * (quat::G(qa) * qb);
+    const Eigen::Vector3d omega = (2.0 / jointLength(j)) * quat::gTimes(qa, qb);
     Eigen::Vector3d m = Eigen::Vector3d::Zero();
     for (int i = 0; i < count_; ++i) m[first_ + i] = stressOf(omega[first_ + i], j * count_ + i);
     // -lambda m . dOmega/dq with dOmega/dq_b = (2/lambda) G(q_a) and
@@ -228,7 +233,7 @@ void RotationalSpring::addSpatialForces(const SpatialState& s, SpatialAssembly& 
     const quat::Vec4 qb = s.q.col(j + 1);
     const double lambda = jointLength(j);
     const quat::Mat34 ga = quat::G(qa), gb = quat::G(qb);
-    const Eigen::Vector3d omega = (2.0 / lambda) * (ga * qb);
+    const Eigen::Vector3d omega = (2.0 / lambda) * quat::gTimes(qa, qb);
     Eigen::Vector3d m = Eigen::Vector3d::Zero(), dm = Eigen::Vector3d::Zero();
     for (int i = 0; i < count_; ++i) {
       double k;

@@ -63,6 +63,13 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     // zero-stable only for r < 1 + sqrt(2): after a step clipped at a ramp's
     // end, r can reach 1e5).
     const bool bdf2 = scheme_ == Scheme::kBdf2 && have_prev_ && h <= 2.0 * h_prev_;
+    // Points drawn in since the last step have no past: extrapolate back.
+    if (have_prev_) {
+      for (int i = n_prev_; i < n; ++i) {
+        x_prev_.col(i) = x0.col(i) - h_prev_ * v0.col(i).head(xr);
+        v_prev_.col(i) = v0.col(i);
+      }
+    }
     double alpha = 1.0 / h;
     OneLegStep step;
     step.t1 = t + h;
@@ -75,11 +82,6 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
       step.w_past[0] = c0;
       step.w_past[1] = -c1;
       step.t_past[1] = t_prev_;
-      // Points drawn in since the last step have no past: extrapolate back.
-      for (int i = n_prev_; i < n; ++i) {
-        x_prev_.col(i) = x0.col(i) - h_prev_ * v0.col(i).head(xr);
-        v_prev_.col(i) = v0.col(i);
-      }
       x_hat_.middleCols(first, m) =
           c0 * x0.middleCols(first, m) - c1 * x_prev_.middleCols(first, m);
       v_hat_.middleCols(first, m) =
@@ -88,7 +90,14 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
       x_hat_.middleCols(first, m) = x0.middleCols(first, m);
       v_hat_.middleCols(first, m) = v0.middleCols(first, m);
     }
+    // Newton starts from x0 + h v0 + h^2 / 2 a0, with a0 the last step's
+    // mean acceleration (where there is one): 11 % fewer iterations on the
+    // 3-D spiral than from x0 + h v0 (docs/PERFORMANCE.md).
     guess_.middleCols(first, m) = x0.middleCols(first, m) + h * v0.block(0, first, xr, m);
+    if (have_prev_) {
+      guess_.middleCols(first, m) +=
+          (0.5 * h * h / h_prev_) * (v0.block(0, first, xr, m) - v_prev_.block(0, first, xr, m));
+    }
     step.alpha = step.kappa = alpha;
     const NewtonStats st = f.solve(step, x_hat_, v_hat_, guess_);
     newton_.iterations += st.iterations;

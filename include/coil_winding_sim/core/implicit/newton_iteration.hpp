@@ -52,13 +52,17 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
   NewtonStats st;
   for (int round = 0; round <= c.flag_rounds; ++round) {
     bool converged = false;
-    double norm = p.residual(false);
+    // A round that will factor assembles the Jacobian with its first
+    // residual (`assembled`: the matrix holds the present iterate's).
+    bool assembled = !have_factor;
+    double norm = p.residual(assembled);
     double previous = std::numeric_limits<double>::infinity();
     bool fresh = false;
     for (int it = 0; it < c.max_iterations; ++it) {
       ++st.iterations;
       if (!have_factor) {
-        p.residual(true);
+        if (!assembled) p.residual(true);
+        assembled = false;
         if (!p.factor()) return st;
         have_factor = fresh = true;
         ++st.factorizations;

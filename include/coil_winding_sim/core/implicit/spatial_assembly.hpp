@@ -35,10 +35,12 @@ struct SpatialState {
 };
 
 // The Newton system over the integrated points' unknowns, in blocks of
-// kPerPoint per point: q_i, then the frame's three multipliers, then p_i;
+// kPerPoint per point: q_i, then p_i, then the frame's three multipliers;
 // with a supply the port's two multipliers last. Every effect couples a
 // point only to its neighbours, so the matrix is block-tridiagonal, one
-// block per point (the port's rows a block of their own). The matrix holds
+// block per point (the port's rows a block of their own); frame i's
+// multipliers act on p_i-1, p_i and q_i only, so a block couples to the next
+// through its first kCoupled unknowns (BlockTridiagonalLu's C). The matrix holds
 //   -(d F / d x + alpha d F / d v)
 // to which the formulation adds the inertia; a constraint row holds
 // -scale g and -scale dg/dx, and the multiplier's column -dg/dx (the
@@ -46,7 +48,8 @@ struct SpatialState {
 class SpatialAssembly {
  public:
   static constexpr int kPerPoint = 10;
-  static constexpr int kQ = 0, kMu = 4, kP = 7;  // offsets in a point's block
+  static constexpr int kQ = 0, kP = 4, kMu = 7;  // offsets in a point's block
+  static constexpr int kCoupled = 7;             // q and p
   // Storage for up to `capacity_points` points (once, before a run).
   void resize(int capacity_points);
   // Starts the system of points first..n-1 (with the port's multipliers if
@@ -101,7 +104,7 @@ class SpatialAssembly {
 
   Eigen::VectorXd& forces() { return force_; }
   const Eigen::VectorXd& forces() const { return force_; }
-  using Matrix = BlockTridiagonalLu<kPerPoint>;
+  using Matrix = BlockTridiagonalLu<kPerPoint, kCoupled>;
   Matrix& matrix() { return matrix_; }
 
   // Bookkeeping at the trial state, as WireForces does for the explicit

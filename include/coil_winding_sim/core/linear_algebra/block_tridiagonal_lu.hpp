@@ -8,6 +8,14 @@
 // blocks that the compiler unrolls and vectorizes. A size n that is not a
 // multiple of B is padded with identity rows. Storage is sized once; factor
 // and solve allocate nothing.
+//
+// Coupling C <= B: only the first C unknowns of a block couple to the
+// neighbouring blocks (an off-diagonal block is zero outside its first C
+// rows above the diagonal and its first C columns below it). The 3-D system
+// puts a point's positions and frame first and its frame multipliers last:
+// a multiplier acts on its own point and the one before, never on the next
+// point's unknowns. The elimination's products then run over C instead of B
+// (debug builds check the zeros).
 #pragma once
 
 #include <Eigen/Core>
@@ -17,8 +25,10 @@
 
 namespace cws {
 
-template <int B>
+template <int B, int C = B>
 class BlockTridiagonalLu {
+  static_assert(C > 0 && C <= B, "coupling within the block size");
+
  public:
   using Block = Eigen::Matrix<double, B, B>;
   using Segment = Eigen::Matrix<double, B, 1>;
@@ -59,11 +69,16 @@ class BlockTridiagonalLu {
   bool factor() {
     for (int r = n_; r < m_ * B; ++r) diag_[m_ - 1](r % B, r % B) = 1.0;
     for (int k = 0; k < m_; ++k) {
-      if (k > 0) diag_[k].noalias() -= lower_[k].lazyProduct(upper_[k - 1]);
+      assert(k == 0 || lower_[k].template rightCols<B - C>().isZero(0.0));
+      if (k > 0) {
+        diag_[k].noalias() -=
+            lower_[k].template leftCols<C>().lazyProduct(upper_[k - 1].template topRows<C>());
+      }
       if (!invert(diag_[k])) return false;
       if (k + 1 < m_) {
-        const Block u = upper_[k];
-        upper_[k].noalias() = diag_[k].lazyProduct(u);
+        assert(upper_[k].template bottomRows<B - C>().isZero(0.0));
+        const Eigen::Matrix<double, C, B> u = upper_[k].template topRows<C>();
+        upper_[k].noalias() = diag_[k].template leftCols<C>().lazyProduct(u);
       }
     }
     return true;
@@ -78,7 +93,7 @@ class BlockTridiagonalLu {
     work_.template segment<B>(0) = y;
     for (int k = 1; k < m_; ++k) {
       Segment r = work_.template segment<B>(k * B);
-      r.noalias() -= lower_[k].lazyProduct(y);
+      r.noalias() -= lower_[k].template leftCols<C>().lazyProduct(y.template head<C>());
       y.noalias() = diag_[k].lazyProduct(r);
       work_.template segment<B>(k * B) = y;
     }
@@ -92,12 +107,13 @@ class BlockTridiagonalLu {
 
  private:
   // Gauss-Jordan inversion in place with partial pivoting (rows of a
-  // row-major copy, so each update is one contiguous fixed-size row).
+  // row-major copy, so each update is one contiguous fixed-size row): the
+  // pivot column becomes the inverse's column as it is eliminated, and the
+  // row exchanges are undone as column exchanges at the end.
   static bool invert(Block& a_inout) {
-    using RowBlock = Eigen::Matrix<double, B, 2 * B, Eigen::RowMajor>;
-    RowBlock w;
-    w.template leftCols<B>() = a_inout;
-    w.template rightCols<B>().setIdentity();
+    using RowBlock = Eigen::Matrix<double, B, B, Eigen::RowMajor>;
+    RowBlock w = a_inout;
+    int pivot_row[B];
     for (int c = 0; c < B; ++c) {
       int p = c;
       double best = std::abs(w(c, c));
@@ -108,15 +124,23 @@ class BlockTridiagonalLu {
         }
       }
       if (!(best > 0.0) || !std::isfinite(best)) return false;
+      pivot_row[c] = p;
       if (p != c) w.row(p).swap(w.row(c));
-      w.row(c) *= 1.0 / w(c, c);
+      const double inv = 1.0 / w(c, c);
+      w(c, c) = 1.0;
+      w.row(c) *= inv;
       for (int r = 0; r < B; ++r) {
         if (r == c) continue;
         const double f = w(r, c);
-        if (f != 0.0) w.row(r) -= f * w.row(c);
+        if (f == 0.0) continue;
+        w(r, c) = 0.0;
+        w.row(r) -= f * w.row(c);
       }
     }
-    a_inout = w.template rightCols<B>();
+    for (int c = B - 1; c >= 0; --c) {
+      if (pivot_row[c] != c) w.col(c).swap(w.col(pivot_row[c]));
+    }
+    a_inout = w;
     return true;
   }
 
