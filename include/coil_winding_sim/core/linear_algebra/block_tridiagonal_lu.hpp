@@ -133,8 +133,10 @@ class BlockTridiagonalLu {
         if (r == c) continue;
         const double f = w(r, c);
         if (f == 0.0) continue;
-        w(r, c) = 0.0;
+        // (Its own column set after the row's update: a store before it
+        // would hold up the vectorized row.)
         w.row(r) -= f * w.row(c);
+        w(r, c) = -f * inv;
       }
     }
     for (int c = B - 1; c >= 0; --c) {
