@@ -114,6 +114,9 @@ std::vector<SceneKey> declareKeys() {
                                                   "tangential spring holding a stuck point"),
       key<&S::contact, &Contact::stick_speed>("contact.stick_speed", "m/s", kPositive,
                                               "a slipping point sticks again below this speed"),
+      key<&S::contact, &Contact::damping_ratio>("contact.damping_ratio", "-", kNonNegative,
+                                                "dashpots of the normal and stick springs, "
+                                                "fraction of critical; 0: the paper's"),
 
       key<&S::core, &Core::position_world>("core.position", "m", kAny,
                                            "a point of the core axis, world frame"),
@@ -167,8 +170,7 @@ std::vector<SceneKey> declareKeys() {
                                                       "Newton iterations before a retry at 1/4"),
       key<&S::solver, &Solver::flag_rounds>("solver.flag_rounds", "-", count(100),
                                             "solves again after a contact/stick/slip change"),
-      key<&S::solver, &Solver::line_search_halvings>("solver.line_search_halvings", "-",
-                                                     count(30),
+      key<&S::solver, &Solver::line_search_halvings>("solver.line_search_halvings", "-", count(30),
                                                      "halvings of a Newton step that does not "
                                                      "lower the residual"),
       key<&S::solver, &Solver::carry_stuck_wire>("solver.carry_stuck_wire", "", kAny,

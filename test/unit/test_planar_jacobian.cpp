@@ -62,11 +62,14 @@ void checkEffect(cws::PlanarFormulation& form, const cws::ForceEffect& effect, i
 
 // A state of the default scene at 1200 rpm after t_s, with the trial
 // positions moved by up to `jitter` [m] at random.
-void checkAllAt(double t_s, double jitter, unsigned seed) {
-  cws::Scene scene = cws::loadScene(
-      kDefault, {"process.core_speed_rpm=1200", "solver.carry_stuck_wire=false",
-                 "physics.damping=true", "damping.translational=0.5", "damping.rotational=1e-6",
-                 "process.duration=" + std::to_string(t_s)});
+void checkAllAt(double t_s, double jitter, unsigned seed,
+                const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> overrides = {
+      "process.core_speed_rpm=1200", "solver.carry_stuck_wire=false",
+      "physics.damping=true",        "damping.translational=0.5",
+      "damping.rotational=1e-6",     "process.duration=" + std::to_string(t_s)};
+  overrides.insert(overrides.end(), extra.begin(), extra.end());
+  cws::Scene scene = cws::loadScene(kDefault, overrides);
   cws::Simulation sim(scene);
   sim.run();
   cws::WireModel& model = sim.model();
@@ -96,4 +99,10 @@ void checkAllAt(double t_s, double jitter, unsigned seed) {
 TEST(PlanarJacobian, EveryEffectMatchesFiniteDifferencesWhileWinding) { checkAllAt(0.02, 1e-6, 1); }
 
 TEST(PlanarJacobian, EveryEffectMatchesFiniteDifferencesAtStart) { checkAllAt(1e-4, 1e-6, 2); }
+
+// The contact's dashpots (contact.damping_ratio) add velocity terms to the
+// normal force, the stick spring and the kinetic friction's normal force.
+TEST(PlanarJacobian, ContactDashpotsMatchFiniteDifferences) {
+  checkAllAt(0.02, 1e-6, 3, {"contact.damping_ratio=1.0"});
+}
 #endif

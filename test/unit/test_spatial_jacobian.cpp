@@ -207,6 +207,16 @@ TEST(SpatialJacobian, EveryEffectMatchesFiniteDifferencesWhileWinding) {
 
 TEST(SpatialJacobian, EveryEffectMatchesFiniteDifferencesAtStart) { checkAllAt(1e-4, 2); }
 
+// The contact's dashpots (contact.damping_ratio): velocity terms in the
+// normal force, the stick spring and the kinetic friction.
+TEST(SpatialJacobian, ContactDashpotsMatchFiniteDifferences) {
+  const Coverage c =
+      checkAllAt(0.03, 4, {"process.core_speed_rpm=1200", "contact.damping_ratio=1.0"});
+  std::printf("touching %d, stuck %d\n", c.touching, c.stuck);
+  EXPECT_GT(c.stuck, 0);
+  EXPECT_GT(c.touching - c.stuck, 0) << "no slipping point";
+}
+
 TEST(SpatialJacobian, EndLoadWithAMoment) {
   // A wire without supply whose tip carries a force and a moment.
   checkAllAt(1e-3, 3,

@@ -7,7 +7,13 @@
 namespace cws {
 
 Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& core)
-    : c_(c), p_(s.contact), core_(core), friction_(s.physics.friction) {
+    : c_(c),
+      p_(s.contact),
+      core_(core),
+      friction_(s.physics.friction),
+      c_normal_(2.0 * s.contact.damping_ratio * std::sqrt(s.contact.stiffness * c.point_mass)),
+      c_stick_(2.0 * s.contact.damping_ratio *
+               std::sqrt(s.contact.stick_stiffness * c.point_mass)) {
   for (const CylinderParams& cyl : s.core.cylinders) {
     centers_core_.emplace_back(cyl.center_core.x(), cyl.center_core.y(), 0.0);
     radii_.push_back(cyl.radius);
@@ -90,7 +96,8 @@ Eigen::Vector3d Contact::friction(int i, const Eigen::Vector3d& p_world,
     // Stick: a tangential spring to the anchor, within the static limit.
     const Eigen::Vector3d delta =
         p_world - (core_.originWorld() + rot_world_core_ * anchor_core_[i]);
-    const Eigen::Vector3d f_t = -p_.stick_stiffness * (delta - delta.dot(n_world) * n_world);
+    Eigen::Vector3d f_t = -p_.stick_stiffness * (delta - delta.dot(n_world) * n_world);
+    if (c_stick_ > 0.0) f_t -= c_stick_ * vh_world;
     if (f_t.norm() <= p_.static_friction * normal_force) {
       slipping = false;
       return f_t;
@@ -109,11 +116,18 @@ void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const 
     double h;
     Eigen::Vector3d n;
     if (touch(p, h, n) < 0) continue;
-    const double normal = p_.stiffness * h;
-    Eigen::Vector3d f_c = normal * n;
     const Eigen::Vector3d u = core_.velocityWorld(t, p);
+    const Eigen::Vector3d v_rel = k.v_world.col(i) - u;
+    const double normal = normalForce(h, v_rel.dot(n));
+    Eigen::Vector3d f_c = normal * n;
+    if (c_normal_ > 0.0) {
+      // The dashpot's part (with the spring's where it would pull)
+      // dissipates, as friction does.
+      const Eigen::Vector3d f_d = (normal - p_.stiffness * h) * n;
+      f.power_dissipated += f_d.dot(u);
+      f.f_dissipative_world.col(i) += f_d;
+    }
     if (friction_) {
-      const Eigen::Vector3d v_rel = k.v_world.col(i) - u;
       const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
       bool slipping;
       const Eigen::Vector3d f_t = friction(i, p, vh, n, normal, slipping);
@@ -158,7 +172,7 @@ void Contact::commit(double t, const WireKinematics& k) {
     const Eigen::Vector3d v_rel = k.v_world.col(i) - core_.velocityWorld(t, p);
     const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
     bool slipping;
-    friction_force_[i] = friction(i, p, vh, n, p_.stiffness * h, slipping);
+    friction_force_[i] = friction(i, p, vh, n, normalForce(h, v_rel.dot(n)), slipping);
     if (stuck_[i] && slipping) {
       stuck_[i] = 0;  // the static limit was exceeded
     } else if (!stuck_[i] && vh.norm() < p_.stick_speed) {

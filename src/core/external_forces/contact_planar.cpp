@@ -36,6 +36,12 @@ Eigen::Vector2d Contact::planarSurfaceVelocity(const PlanarState& s,
   return s.plane.vectorToPlane(s.carried.velocity(s.plane.toWorld(x)));
 }
 
+Eigen::Matrix2d Contact::planarCarriedGradient(const PlanarState& s) const {
+  Eigen::Matrix<double, 3, 2> e;
+  e << s.plane.e1_world, s.plane.e2_world;
+  return e.transpose() * s.carried.g_world * e;
+}
+
 void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
   placeSurfaces(s.t);
   const Eigen::Matrix2d rot90 = planar::perpMatrix();
@@ -49,34 +55,60 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
     Eigen::Matrix2d dn;
     if (!planarSurface(s, surface, x, nrm, h, dn)) continue;
     // Normal spring k h n, kept linear while the contact is active (the
-    // active set is rechecked after the solve).
-    const double normal = k * h;
-    Eigen::Vector2d f = normal * nrm;
-    Eigen::Matrix2d kx = -k * nrm * nrm.transpose() + normal * dn;
+    // active set is rechecked after the solve); with its dashpot, N =
+    // k h - c_n v_n, its gradients in x and v.
     const Eigen::Vector2d u = planarSurfaceVelocity(s, x);
+    const Eigen::Vector2d r = s.v.col(i) - u;
+    const double normal = normalForce(h, r.dot(nrm));
+    Eigen::RowVector2d dnormal_dx = -k * nrm.transpose(), dnormal_dv = Eigen::RowVector2d::Zero();
+    Eigen::Matrix2d du_dx = Eigen::Matrix2d::Zero();
+    if (c_normal_ > 0.0 || c_stick_ > 0.0) du_dx = planarCarriedGradient(s);
+    if (c_normal_ > 0.0) {
+      if (normal > 0.0) {
+        dnormal_dx -= c_normal_ * (r.transpose() * dn - nrm.transpose() * du_dx);
+        dnormal_dv = -c_normal_ * nrm.transpose();
+      } else {
+        dnormal_dx.setZero();
+      }
+      const Eigen::Vector2d f_d = (normal - k * h) * nrm;
+      a.f_dissipative.col(i) += f_d;
+      a.power_dissipated += f_d.dot(u);
+    }
+    Eigen::Vector2d f = normal * nrm;
+    Eigen::Matrix2d kx = nrm * dnormal_dx + normal * dn;
+    Eigen::Matrix2d cv = nrm * dnormal_dv;
     if (friction_) {
       // Tangent n x normal and its derivative.
       const Eigen::Vector2d tan = planar::perp(nrm);
       const Eigen::Matrix2d dtan = rot90 * dn;
       Eigen::Vector2d ft;
       if (trial_stuck_[i]) {
-        // Stick: the tangential spring to the anchor.
+        // Stick: the tangential spring to the anchor (and its dashpot
+        // against the sliding speed r . tan).
         const Eigen::Vector2d delta =
             x - s.plane.toPlane(core_.originWorld() + rot_world_core_ * trial_anchor_core_[i]);
         const double along = delta.dot(tan);
         ft = -p_.stick_stiffness * along * tan;
         kx += -p_.stick_stiffness *
               (tan * (tan + dtan.transpose() * delta).transpose() + along * dtan);
+        if (c_stick_ > 0.0) {
+          const double vt = r.dot(tan);
+          ft -= c_stick_ * vt * tan;
+          kx -= c_stick_ * (tan * (r.transpose() * dtan - tan.transpose() * du_dx) + vt * dtan);
+          cv -= c_stick_ * tan * tan.transpose();
+        }
       } else {
         // Slip: mu_d N against the frozen sliding direction.
         const double sign = trial_sign_[i];
         ft = -p_.kinetic_friction * normal * sign * tan;
-        kx += -p_.kinetic_friction * sign * (-k * tan * nrm.transpose() + normal * dtan);
+        kx += -p_.kinetic_friction * sign * (tan * dnormal_dx + normal * dtan);
+        cv += -p_.kinetic_friction * sign * tan * dnormal_dv;
       }
       f += ft;
       a.f_dissipative.col(i) += ft;
       a.power_dissipated += ft.dot(u);
     }
+    if (c_normal_ > 0.0 || c_stick_ > 0.0) a.addDamping(i, i, cv);
     a.addForce(i, f);
     a.addStiffness(i, i, kx);
     // The moving surface does work on the wire (at its exact velocity).
@@ -124,15 +156,16 @@ bool Contact::recheckFlags(const PlanarState& s) {
     }
     if (!on || !friction_) continue;
     const Eigen::Vector2d tan = planar::perp(nrm);
-    const double vt = (s.v.col(i) - planarSurfaceVelocity(s, x)).dot(tan);
+    const Eigen::Vector2d r = s.v.col(i) - planarSurfaceVelocity(s, x);
+    const double vt = r.dot(tan);
     if (trial_stuck_[i]) {
-      // Stick holds while the spring stays within mu_s N.
+      // Stick holds while the spring (and its dashpot) stays within mu_s N.
       const Eigen::Vector2d delta =
           x - s.plane.toPlane(core_.originWorld() + rot_world_core_ * trial_anchor_core_[i]);
-      const double along = delta.dot(tan);
-      if (p_.stick_stiffness * std::abs(along) > p_.static_friction * p_.stiffness * h) {
+      const double pull = p_.stick_stiffness * delta.dot(tan) + c_stick_ * vt;
+      if (std::abs(pull) > p_.static_friction * normalForce(h, r.dot(nrm))) {
         trial_stuck_[i] = 0;
-        trial_sign_[i] = along < 0.0 ? -1 : 1;
+        trial_sign_[i] = pull < 0.0 ? -1 : 1;
         changed = true;
       }
     } else if (p_.static_friction > 0.0 &&

@@ -52,22 +52,49 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
     double h;
     Eigen::Matrix3d dn;
     if (!spatialSurface(surface, p, nrm, h, dn)) continue;
-    // Normal spring k h n, kept linear while the contact is active.
-    const double normal = k * h;
-    Eigen::Vector3d f = normal * nrm;
-    Eigen::Matrix3d kp = -k * nrm * nrm.transpose() + normal * dn;
-    // The core's velocity as the scheme gives it (one_leg_step.hpp).
+    // The core's velocity as the scheme gives it (one_leg_step.hpp), and
+    // the sliding velocity r = v - u with its normal part and their
+    // derivatives in p (through n and u).
     const Eigen::Vector3d u = s.carried.velocity(p);
+    const Eigen::Vector3d r = s.v.col(i) - u;
+    const double rn = r.dot(nrm);
+    const Eigen::Matrix3d pn = id - nrm * nrm.transpose();
+    const Eigen::Matrix3d& du = s.carried.g_world;
+    const Eigen::Matrix3d dvh_dp = -pn * du - (nrm * (r.transpose() * dn) + rn * dn);
+    // Normal spring k h n, kept linear while the contact is active; with its
+    // dashpot, N = k h - c_n r . n, never pulling.
+    const double normal = normalForce(h, rn);
+    Eigen::RowVector3d dnormal_dp = -k * nrm.transpose(), dnormal_dv = Eigen::RowVector3d::Zero();
+    if (c_normal_ > 0.0) {
+      if (normal > 0.0) {
+        dnormal_dp -= c_normal_ * (r.transpose() * dn - nrm.transpose() * du);
+        dnormal_dv = -c_normal_ * nrm.transpose();
+      } else {
+        dnormal_dp.setZero();
+      }
+      const Eigen::Vector3d f_d = (normal - k * h) * nrm;
+      a.f_dissipative.col(i) += f_d;
+      a.power_dissipated += f_d.dot(u);
+      a.addDampingPP(i, i, nrm * dnormal_dv);
+    }
+    Eigen::Vector3d f = normal * nrm;
+    Eigen::Matrix3d kp = nrm * dnormal_dp + normal * dn;
     if (friction_) {
       Eigen::Vector3d ft = Eigen::Vector3d::Zero();
       if (trial_stuck_[i]) {
-        // Stick: the spring to the anchor, its tangential part.
+        // Stick: the spring to the anchor, its tangential part (and its
+        // dashpot against the sliding velocity vh = P_n r).
         const Eigen::Vector3d delta =
             p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[i]);
         const double dnn = delta.dot(nrm);
         ft = -p_.stick_stiffness * (delta - dnn * nrm);
         kp += -p_.stick_stiffness *
               (id - nrm * (nrm.transpose() + delta.transpose() * dn) - dnn * dn);
+        if (c_stick_ > 0.0) {
+          ft -= c_stick_ * (r - rn * nrm);
+          kp -= c_stick_ * dvh_dp;
+          a.addDampingPP(i, i, -c_stick_ * pn);
+        }
       } else {
         // Slip: mu_d N against the sliding velocity vh = P_n (v - u),
         // u = G (p - o) the core's; with its derivatives in p
@@ -76,8 +103,6 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
         // a point sliding that slowly sticks it (recheckSpatialFlags), so
         // no accepted step uses that part, and Newton does not chase the
         // kink of vh / |vh| at rest.
-        const Eigen::Vector3d r = s.v.col(i) - u;
-        const double rn = r.dot(nrm);
         const Eigen::Vector3d vh = r - rn * nrm;
         const double speed = vh.norm();
         // (Without static friction nothing sticks: the law is kept whole.)
@@ -85,12 +110,9 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
         const double scale = std::max({speed, floor, kTinySlidingSpeed});
         const Eigen::Vector3d dir = vh / scale;
         ft = -p_.kinetic_friction * normal * dir;
-        const Eigen::Matrix3d pn = id - nrm * nrm.transpose();
-        const Eigen::Matrix3d& du = s.carried.g_world;
-        const Eigen::Matrix3d dvh_dp = -pn * du - (nrm * (r.transpose() * dn) + rn * dn);
         const Eigen::Matrix3d proj = (speed >= scale ? id - dir * dir.transpose() : id) / scale;
-        kp += -p_.kinetic_friction * (-k * dir * nrm.transpose() + normal * proj * dvh_dp);
-        a.addDampingPP(i, i, -p_.kinetic_friction * normal * proj * pn);
+        kp += -p_.kinetic_friction * (dir * dnormal_dp + normal * proj * dvh_dp);
+        a.addDampingPP(i, i, -p_.kinetic_friction * (normal * proj * pn + dir * dnormal_dv));
       }
       f += ft;
       a.f_dissipative.col(i) += ft;
@@ -148,13 +170,14 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
     const Eigen::Vector3d vh = v_rel - v_rel.dot(nrm) * nrm;
     const double speed = vh.norm();
     if (trial_stuck_[i]) {
-      // Stick holds while the spring stays within mu_s N.
+      // Stick holds while the spring (and its dashpot) stays within mu_s N.
       const Eigen::Vector3d delta =
           p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[i]);
-      const Eigen::Vector3d dt = delta - delta.dot(nrm) * nrm;
-      if (p_.stick_stiffness * dt.norm() > p_.static_friction * p_.stiffness * h) {
+      const Eigen::Vector3d pull =
+          p_.stick_stiffness * (delta - delta.dot(nrm) * nrm) + c_stick_ * vh;
+      if (pull.norm() > p_.static_friction * normalForce(h, v_rel.dot(nrm))) {
         trial_stuck_[i] = 0;
-        trial_slip_world_[i] = dt.normalized();
+        trial_slip_world_[i] = pull.normalized();
         changed = true;
       }
       continue;

@@ -15,11 +15,16 @@
 // that spring's force is within mu_s N (eqs. 19-20: the point does not move
 // along the surface). When it exceeds mu_s N the point slips and feels
 // mu_d N against v_h (eq. 18). A slipping point sticks again, with a new
-// anchor where it is, once |v_h| falls below contact.stick_speed. Stick and
+// anchor where it is, once |v_h| falls below contact.stick_speed.
+// With contact.damping_ratio > 0 a dashpot acts beside each spring: the
+// normal force is k h - c_n v_n (never pulling), v_n the speed away from the
+// surface, and a stuck point's force -k_s delta - c_s v_h; the limit mu_s N
+// applies to that sum. Stick and
 // slip change only on accepted steps; within a step the trial state follows
 // the committed one (the paper's "the calculation is redone").
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "coil_winding_sim/core/rotating_core.hpp"
@@ -74,6 +79,12 @@ class Contact : public ForceEffect {
   // Deepest surface touching point p (as placed): its index (cylinders, then
   // faces; -1 if none), the penetration [m] and the outward normal.
   int touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n_world) const;
+  // Normal force [N] at penetration h [m] and speed v_n [m/s] away from the
+  // surface: the spring, with the dashpot if damped, never pulling.
+  double normalForce(double h, double v_n) const {
+    if (c_normal_ == 0.0) return p_.stiffness * h;
+    return std::max(0.0, p_.stiffness * h - c_normal_ * v_n);
+  }
   // Tangential friction force on point i [N] given the committed stick state;
   // sets `slipping` when the stick spring would exceed mu_s N.
   Eigen::Vector3d friction(int i, const Eigen::Vector3d& p_world, const Eigen::Vector3d& vh_world,
@@ -87,6 +98,8 @@ class Contact : public ForceEffect {
                      Eigen::Vector2d& normal, double& depth, Eigen::Matrix2d& dnormal) const;
   // Velocity of the core material at plane point x [m/s].
   Eigen::Vector2d planarSurfaceVelocity(const PlanarState& s, const Eigen::Vector2d& x) const;
+  // Its gradient d u / d x in the plane [1/s].
+  Eigen::Matrix2d planarCarriedGradient(const PlanarState& s) const;
   // The same in 3-D: outward normal, penetration [m], d normal / dp [1/m].
   bool spatialSurface(int surface, const Eigen::Vector3d& p_world, Eigen::Vector3d& normal_world,
                       double& depth, Eigen::Matrix3d& dnormal) const;
@@ -103,6 +116,8 @@ class Contact : public ForceEffect {
   std::vector<double> face_length_;
   mutable std::vector<Eigen::Vector3d> face_from_world_, face_dir_world_, face_normal_world_;
   bool friction_;
+  // Dashpots of the normal and the stick spring [N s/m] (0: undamped).
+  double c_normal_ = 0.0, c_stick_ = 0.0;
   // Per point, committed: cylinder in contact (-1: none); with friction the
   // stick flag and the anchor in the core frame.
   std::vector<int> cylinder_;

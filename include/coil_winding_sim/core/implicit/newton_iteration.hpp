@@ -51,7 +51,7 @@ template <class Problem>
 NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) {
   NewtonStats st;
   for (int round = 0; round <= c.flag_rounds; ++round) {
-    bool converged = false;
+    bool converged = false, evaluated = true;
     // A round that will factor assembles the Jacobian with its first
     // residual (`assembled`: the matrix holds the present iterate's).
     bool assembled = !have_factor;
@@ -74,8 +74,17 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
         continue;
       }
       if (!std::isfinite(step)) return st;
-      // Line search: halve the step while the residual does not fall.
       p.keepStart();
+      // A step below the tolerance ends the solve; the residual there is
+      // evaluated only if the flags then hold (for the step's bookkeeping),
+      // as a changed flag starts a new round with an evaluation of its own.
+      if (step < c.tol) {
+        p.moveAlong(1.0);
+        converged = true;
+        evaluated = false;
+        break;
+      }
+      // Line search: halve the step while the residual does not fall.
       double s = 1.0, trial = 0.0;
       int ls = 0;
       for (;; ++ls) {
@@ -97,6 +106,7 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
     }
     if (!converged) return st;
     if (!p.recheckFlags()) {
+      if (!evaluated) p.residual(false);
       st.converged = true;
       return st;
     }
