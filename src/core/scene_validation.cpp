@@ -70,6 +70,17 @@ void kineticNotAboveStatic(const Scene& s) {
   }
 }
 
+// Dashpots beyond twice critical only slow a landing down, and stiffen the
+// explicit methods' step limit (2 zeta sqrt(k / M) h < 2).
+void dampingRatioInRange(const Scene& s) {
+  if (s.contact.damping_ratio > 2.0) {
+    throw SceneError("contact.damping_ratio",
+                     fmt(s.contact.damping_ratio) +
+                         " is above 2 (1: critical damping of one mass point on the contact "
+                         "and stick springs)");
+  }
+}
+
 void coreFitsEffects(const Scene& s) {
   if (s.core.hull_faces && s.core.cylinders.size() < 2) {
     throw SceneError("core.hull_faces", "needs at least two core.cylinders");
@@ -276,6 +287,7 @@ const CrossRule kCrossRules[] = {
     {"wire.torsion.plastic_rigidity",
      [](const Scene& s) { plasticNotAboveElastic(s.wire.torsion, "wire.torsion"); }},
     {"contact.kinetic_friction", kineticNotAboveStatic},
+    {"contact.damping_ratio", dampingRatioInRange},
     {"core.hull_faces", coreFitsEffects},
     {"core.hull_faces", segmentsWithinRadius},
     {"core.hull_faces", portPlacement},

@@ -327,6 +327,12 @@ TEST_F(SceneFiles, RefusesNonPositiveYield) {
   expectRefused("", {"wire.torsion.yield_twist=0"}, "wire.torsion.yield_twist", "positive");
 }
 
+TEST_F(SceneFiles, RefusesContactDampingOutOfRange) {
+  expectRefused("", {"contact.damping_ratio=-0.5"}, "contact.damping_ratio", "negative");
+  expectRefused("", {"contact.damping_ratio=3"}, "contact.damping_ratio", "above 2");
+  EXPECT_NO_THROW(cws::loadScene(write("z.yaml", "contact:\n  damping_ratio: 2.0\n"), {}));
+}
+
 TEST_F(SceneFiles, RefusesKineticFrictionAboveStatic) {
   expectRefused("contact:\n  static_friction: 0.2\n  kinetic_friction: 0.25\n", {},
                 "contact.kinetic_friction", "above static");
