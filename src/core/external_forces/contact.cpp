@@ -12,8 +12,8 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
       core_(core),
       friction_(s.physics.friction),
       c_normal_(2.0 * s.contact.damping_ratio * std::sqrt(s.contact.stiffness * c.point_mass)),
-      c_stick_(2.0 * s.contact.damping_ratio *
-               std::sqrt(s.contact.stick_stiffness * c.point_mass)) {
+      c_stick_(2.0 * s.contact.damping_ratio * std::sqrt(s.contact.stick_stiffness * c.point_mass)),
+      h_ramp_(kDashpotRamp * c.radius) {
   for (const CylinderParams& cyl : s.core.cylinders) {
     centers_core_.emplace_back(cyl.center_core.x(), cyl.center_core.y(), 0.0);
     radii_.push_back(cyl.radius);

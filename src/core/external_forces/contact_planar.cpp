@@ -59,17 +59,16 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
     // k h - c_n v_n, its gradients in x and v.
     const Eigen::Vector2d u = planarSurfaceVelocity(s, x);
     const Eigen::Vector2d r = s.v.col(i) - u;
-    const double normal = normalForce(h, r.dot(nrm));
-    Eigen::RowVector2d dnormal_dx = -k * nrm.transpose(), dnormal_dv = Eigen::RowVector2d::Zero();
+    const NormalForce law = normalLaw(h, r.dot(nrm));
+    const double normal = law.force;
+    Eigen::RowVector2d dnormal_dx = -law.d_h * nrm.transpose(),
+                       dnormal_dv = Eigen::RowVector2d::Zero();
     Eigen::Matrix2d du_dx = Eigen::Matrix2d::Zero();
     if (c_normal_ > 0.0 || c_stick_ > 0.0) du_dx = planarCarriedGradient(s);
     if (c_normal_ > 0.0) {
-      if (normal > 0.0) {
-        dnormal_dx -= c_normal_ * (r.transpose() * dn - nrm.transpose() * du_dx);
-        dnormal_dv = -c_normal_ * nrm.transpose();
-      } else {
-        dnormal_dx.setZero();
-      }
+      // v_n = r . n with r = v - u(x).
+      dnormal_dx += law.d_vn * (r.transpose() * dn - nrm.transpose() * du_dx);
+      dnormal_dv = law.d_vn * nrm.transpose();
       const Eigen::Vector2d f_d = (normal - k * h) * nrm;
       a.f_dissipative.col(i) += f_d;
       a.power_dissipated += f_d.dot(u);

@@ -63,15 +63,14 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
     const Eigen::Matrix3d dvh_dp = -pn * du - (nrm * (r.transpose() * dn) + rn * dn);
     // Normal spring k h n, kept linear while the contact is active; with its
     // dashpot, N = k h - c_n r . n, never pulling.
-    const double normal = normalForce(h, rn);
-    Eigen::RowVector3d dnormal_dp = -k * nrm.transpose(), dnormal_dv = Eigen::RowVector3d::Zero();
+    const NormalForce law = normalLaw(h, rn);
+    const double normal = law.force;
+    Eigen::RowVector3d dnormal_dp = -law.d_h * nrm.transpose(),
+                       dnormal_dv = Eigen::RowVector3d::Zero();
     if (c_normal_ > 0.0) {
-      if (normal > 0.0) {
-        dnormal_dp -= c_normal_ * (r.transpose() * dn - nrm.transpose() * du);
-        dnormal_dv = -c_normal_ * nrm.transpose();
-      } else {
-        dnormal_dp.setZero();
-      }
+      // v_n = r . n with r = v - u(p).
+      dnormal_dp += law.d_vn * (r.transpose() * dn - nrm.transpose() * du);
+      dnormal_dv = law.d_vn * nrm.transpose();
       const Eigen::Vector3d f_d = (normal - k * h) * nrm;
       a.f_dissipative.col(i) += f_d;
       a.power_dissipated += f_d.dot(u);

@@ -79,12 +79,26 @@ class Contact : public ForceEffect {
   // Deepest surface touching point p (as placed): its index (cylinders, then
   // faces; -1 if none), the penetration [m] and the outward normal.
   int touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n_world) const;
-  // Normal force [N] at penetration h [m] and speed v_n [m/s] away from the
-  // surface: the spring, with the dashpot if damped, never pulling.
-  double normalForce(double h, double v_n) const {
-    if (c_normal_ == 0.0) return p_.stiffness * h;
-    return std::max(0.0, p_.stiffness * h - c_normal_ * v_n);
+  // Normal force at penetration h [m] and speed v_n [m/s] away from the
+  // surface [N], with its derivatives in h [N/m] and v_n [N s/m]: the
+  // spring, with the dashpot if damped, never pulling. The dashpot grows
+  // over the first kDashpotRamp of the wire radius of penetration, so that
+  // the force does not jump by c v_n where a point first touches. (An
+  // implicit step keeps an active contact's spring linear below h = 0.)
+  struct NormalForce {
+    double force, d_h, d_vn;
+  };
+  static constexpr double kDashpotRamp = 1e-3;
+  NormalForce normalLaw(double h, double v_n) const {
+    const double k = p_.stiffness;
+    if (c_normal_ == 0.0 || h <= 0.0) return {k * h, k, 0.0};
+    const bool ramping = h < h_ramp_;
+    const double c = ramping ? c_normal_ * h / h_ramp_ : c_normal_;
+    const double f = k * h - c * v_n;
+    if (f <= 0.0) return {0.0, 0.0, 0.0};
+    return {f, ramping ? k - c_normal_ * v_n / h_ramp_ : k, -c};
   }
+  double normalForce(double h, double v_n) const { return normalLaw(h, v_n).force; }
   // Tangential friction force on point i [N] given the committed stick state;
   // sets `slipping` when the stick spring would exceed mu_s N.
   Eigen::Vector3d friction(int i, const Eigen::Vector3d& p_world, const Eigen::Vector3d& vh_world,
@@ -116,8 +130,9 @@ class Contact : public ForceEffect {
   std::vector<double> face_length_;
   mutable std::vector<Eigen::Vector3d> face_from_world_, face_dir_world_, face_normal_world_;
   bool friction_;
-  // Dashpots of the normal and the stick spring [N s/m] (0: undamped).
-  double c_normal_ = 0.0, c_stick_ = 0.0;
+  // Dashpots of the normal and the stick spring [N s/m] (0: undamped), and
+  // the penetration over which the normal one grows [m].
+  double c_normal_ = 0.0, c_stick_ = 0.0, h_ramp_ = 0.0;
   // Per point, committed: cylinder in contact (-1: none); with friction the
   // stick flag and the anchor in the core frame.
   std::vector<int> cylinder_;
