@@ -138,6 +138,11 @@ std::vector<SceneKey> declareKeys() {
                                           "supply tension F_T"),
       key<&S::process, &Process::traverse_pitch>("process.traverse_pitch", "m", kAny,
                                                  "port travel along the core axis per core turn"),
+      key<&S::process, &Process::winding_width>("process.winding_width", "m", kNonNegative,
+                                                "between the flanges; the traverse reverses at "
+                                                "its ends (0: never)"),
+      key<&S::process, &Process::layers>("process.layers", "-", count(100000),
+                                         "traverse passes before the port stops (0: no end)"),
       key<&S::process, &Process::max_core_speed_rpm>("process.max_core_speed_rpm", "rpm", kPositive,
                                                      "setpoints beyond +- this are refused"),
       key<&S::process, &Process::max_tension>("process.max_tension", "N", kPositive,

@@ -70,6 +70,21 @@ void kineticNotAboveStatic(const Scene& s) {
   }
 }
 
+// A traverse that reverses needs a pitch, and room for more than one turn.
+void traverseFits(const Scene& s) {
+  if (s.process.winding_width == 0.0) return;
+  if (s.process.traverse_pitch == 0.0) {
+    throw SceneError("process.winding_width",
+                     "needs a traverse: process.traverse_pitch is 0 (the port would not move)");
+  }
+  if (!(s.process.winding_width > s.wire.diameter)) {
+    throw SceneError("process.winding_width", fmt(s.process.winding_width) +
+                                                  " m leaves no travel for the port: it must be "
+                                                  "wider than the wire, wire.diameter = " +
+                                                  fmt(s.wire.diameter) + " m");
+  }
+}
+
 // Dashpots beyond twice critical only slow a landing down, and stiffen the
 // explicit methods' step limit (2 zeta sqrt(k / M) h < 2).
 void dampingRatioInRange(const Scene& s) {
@@ -231,8 +246,10 @@ void fixedStepStable(const Scene& s) {
     if (!(step > 0.0) || !std::isfinite(step)) {
       throw SceneError("solver.fixed_step",
                        "auto (1/4 of l / c) gives " + fmt(step) +
-                           " s for this wire: its wave speed c from wire.stretch.elastic_rigidity "
-                           "and wire.line_density (and the torsion's) is out of range");
+                           " s for this wire: its wave speed c (from wire.stretch.elastic_rigidity "
+                           "and wire.line_density; with physics.torsion also from "
+                           "wire.torsion.elastic_rigidity and wire.diameter) or its segment l "
+                           "(wire.segment_length) is out of range");
     }
     return;
   }
@@ -288,6 +305,7 @@ const CrossRule kCrossRules[] = {
      [](const Scene& s) { plasticNotAboveElastic(s.wire.torsion, "wire.torsion"); }},
     {"contact.kinetic_friction", kineticNotAboveStatic},
     {"contact.damping_ratio", dampingRatioInRange},
+    {"process.layers", traverseFits},
     {"core.hull_faces", coreFitsEffects},
     {"core.hull_faces", segmentsWithinRadius},
     {"core.hull_faces", portPlacement},

@@ -333,6 +333,17 @@ TEST_F(SceneFiles, RefusesContactDampingOutOfRange) {
   EXPECT_NO_THROW(cws::loadScene(write("z.yaml", "contact:\n  damping_ratio: 2.0\n"), {}));
 }
 
+TEST_F(SceneFiles, RefusesATraverseThatCannotMove) {
+  const std::string three_d = "physics:\n  planar: false\n";
+  expectRefused(three_d, {"process.winding_width=5e-3"}, "process.winding_width",
+                "traverse_pitch is 0");
+  expectRefused(three_d, {"process.traverse_pitch=1e-3", "process.winding_width=1e-4"},
+                "process.winding_width", "wider than the wire");
+  EXPECT_NO_THROW(cws::loadScene(
+      write("t.yaml", three_d),
+      {"process.traverse_pitch=1e-3", "process.winding_width=5e-3", "process.layers=2"}));
+}
+
 TEST_F(SceneFiles, RefusesKineticFrictionAboveStatic) {
   expectRefused("contact:\n  static_friction: 0.2\n  kinetic_friction: 0.25\n", {},
                 "contact.kinetic_friction", "above static");

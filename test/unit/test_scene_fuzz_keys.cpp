@@ -121,6 +121,7 @@ std::vector<Field> numberFields(const cws::Scene& like) {
       [](cws::Scene& s) -> double& { return s.contact.stick_stiffness; });
   add("contact.stick_speed", [](cws::Scene& s) -> double& { return s.contact.stick_speed; });
   add("contact.damping_ratio", [](cws::Scene& s) -> double& { return s.contact.damping_ratio; });
+  add("process.winding_width", [](cws::Scene& s) -> double& { return s.process.winding_width; });
   vec("core.position", 3, [](cws::Scene& s, int i) -> double& { return s.core.position_world[i]; });
   vec("core.axis", 3, [](cws::Scene& s, int i) -> double& { return s.core.axis_world[i]; });
   add("core.max_angular_acceleration",

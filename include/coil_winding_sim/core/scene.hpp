@@ -94,9 +94,12 @@ struct CoreParams {
 inline double rpmToRadPerSec(double rpm) { return rpm * 2.0 * M_PI / 60.0; }
 
 struct ProcessParams {
-  double core_speed_rpm = 600.0;       // [rpm]
-  double tension = 30.0;               // supply tension [N]
-  double traverse_pitch = 0.0;         // port travel along the core axis per core turn [m]
+  double core_speed_rpm = 600.0;  // [rpm]
+  double tension = 30.0;          // supply tension [N]
+  double traverse_pitch = 0.0;    // port travel along the core axis per core turn [m]
+  double winding_width =
+      0.0;         // between the flanges; the traverse reverses at its ends [m] (0: never)
+  int layers = 0;  // traverse passes before the port stops (0: no end)
   double max_core_speed_rpm = 6000.0;  // setpoints beyond +- this are refused [rpm]
   double max_tension = 300.0;          // setpoints above this are refused [N]
   double turns = 1.75;                 // core revolutions to run [-]
@@ -143,7 +146,7 @@ struct PhysicsSwitches {
 };
 
 // The wire supply (paper's section IV): the wire enters through a port at
-// p_s(t) = port_position + traverse_pitch * turns(t) * core axis.
+// p_s(t) = port_position + the traverse's offset (TraverseProfile) * core axis.
 struct SupplyParams {
   Eigen::Vector3d port_position_world{0.0, -0.03, 0.0};  // [m] at t = 0
   int max_points = 0;  // storage for this many points; 0: estimated from the scene

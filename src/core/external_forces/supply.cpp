@@ -12,7 +12,6 @@
 namespace cws {
 
 namespace {
-constexpr double kTwoPi = 6.283185307179586;
 
 // Strain on the virgin loading curve of the stretch law at axial force f.
 double virginStrain(const HysteresisParams& p, double f) {
@@ -27,7 +26,9 @@ Supply::Supply(const WireConstants& c, const Scene& s, const RotatingCore* core)
       core_(core),
       port0_world_(s.supply.port_position_world),
       axis_world_(s.core.axis_world.normalized()),
-      pitch_(s.process.traverse_pitch),
+      profile_{s.process.traverse_pitch,
+               s.process.winding_width > 0.0 ? s.process.winding_width - s.wire.diameter : 0.0,
+               s.process.layers},
       core_origin_world_(s.core.position_world),
       tension_(s.process.tension) {
   for (const CylinderParams& cyl : s.core.cylinders) {
@@ -66,11 +67,12 @@ PortMotion Supply::port(double t) const {
   if (command_.active()) return command_.at(t);
   PortMotion m;
   m.p_world = port0_world_;
-  if (core_ && pitch_ != 0.0) {
-    const double per_rad = pitch_ / kTwoPi;  // [m/rad]
-    m.p_world += per_rad * core_->angle(t) * axis_world_;
-    m.v_world = per_rad * core_->omega(t) * axis_world_;
-    m.a_world = per_rad * core_->angularAcceleration(t) * axis_world_;
+  if (core_ && profile_.pitch != 0.0) {
+    // The traverse, geared to the core's angle (traverse_profile.hpp).
+    const TraverseProfile::Position tp = profile_.at(core_->angle(t));
+    m.p_world += tp.offset * axis_world_;
+    m.v_world = tp.per_rad * core_->omega(t) * axis_world_;
+    m.a_world = tp.per_rad * core_->angularAcceleration(t) * axis_world_;
   }
   return m;
 }

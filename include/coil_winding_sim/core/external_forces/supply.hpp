@@ -8,8 +8,10 @@
 // segment's tension). When the outer point would pass the port, the model
 // appends it as a new mass point (WireModel::acceptStep), so the wire grows.
 // The port travels along the core axis by process.traverse_pitch per core
-// revolution, so the wire winds as a spiral, unless a caller commands its
-// path (commandPort): then it follows the commanded samples instead.
+// revolution, so the wire winds as a spiral, reversing at the ends of
+// process.winding_width for process.layers passes (TraverseProfile), unless
+// a caller commands its path (commandPort): then it follows the commanded
+// samples instead.
 #pragma once
 
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
@@ -17,6 +19,7 @@
 #include "coil_winding_sim/core/hysteresis.hpp"
 #include "coil_winding_sim/core/rotating_core.hpp"
 #include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/traverse_profile.hpp"
 #include "coil_winding_sim/core/wire_types.hpp"
 
 namespace cws {
@@ -57,7 +60,7 @@ class Supply : public ForceEffect {
   HysteresisParams stretch_;  // the law new wire is stretched along
   const RotatingCore* core_;  // null: the port does not traverse
   Eigen::Vector3d port0_world_, axis_world_;
-  double pitch_;  // [m per revolution]
+  TraverseProfile profile_;  // the port's travel along the core axis
   // The core's swept radius widened by the wire radius [m] (0: no cylinders):
   // a commanded port closer to the axis is inside the turning core.
   double swept_radius_ = 0.0;

@@ -1,0 +1,59 @@
+// The traverse of a linear winding machine: the wire guide (the supply's
+// port) moves along the core axis by a pitch per core turn, geared to the
+// spindle, and reverses at the ends of the winding width, layer after layer.
+//
+// The port starts over the first turn's centre, half a wire diameter from
+// the first flange; the turns' centres lie between d / 2 and W - d / 2 from
+// it, so the port travels W - d between reversals (W the winding width, d
+// the wire diameter). After `layers` passes it stays at the end of the last
+// one. With no width the port keeps going: a spiral (today's
+// process.traverse_pitch alone). Before the start (the core turned back
+// past its starting angle) the first pass's line continues.
+#pragma once
+
+#include <cmath>
+
+namespace cws {
+
+struct TraverseProfile {
+  double pitch = 0.0;   // port travel along the core axis per core turn [m]; its sign: the first
+                        // pass's direction
+  double travel = 0.0;  // port travel between reversals, W - d [m]; 0: no reversal
+  int layers = 0;       // passes before the port stops; 0: no end
+
+  struct Position {
+    double offset = 0.0;   // along the core axis from the start [m]
+    double per_rad = 0.0;  // d offset / d core angle [m/rad]
+    int layer = 0;         // 0 for the first pass
+  };
+
+  // Where the port is when the core has turned by angle_rad [rad] from the
+  // start.
+  Position at(double angle_rad) const {
+    const double per_rad = pitch / (2.0 * M_PI);
+    const double u = std::abs(per_rad) * angle_rad;  // travel so far [m]
+    const double sign = pitch < 0.0 ? -1.0 : 1.0;
+    Position p;
+    if (travel <= 0.0 || u <= 0.0) {
+      p.offset = sign * u;
+      p.per_rad = per_rad;
+      return p;
+    }
+    double pass = std::floor(u / travel);
+    double along = u - pass * travel;
+    double rate = std::abs(per_rad);
+    if (layers > 0 && pass >= layers) {
+      // Past the last layer: held at its end.
+      pass = layers - 1;
+      along = travel;
+      rate = 0.0;
+    }
+    const bool forward = static_cast<long long>(pass) % 2 == 0;
+    p.offset = sign * (forward ? along : travel - along);
+    p.per_rad = sign * (forward ? rate : -rate);
+    p.layer = static_cast<int>(pass);
+    return p;
+  }
+};
+
+}  // namespace cws
