@@ -154,7 +154,7 @@ inline Vec4 fromZetaDirection(const Eigen::Vector3d& dir) {
 
 // Rotation angle [rad] between two frames (relative rotation conj(a) * b).
 inline double relativeAngle(const Vec4& a, const Vec4& b) {
-  const Eigen::Vector3d v = G(a) * b;
+  const Eigen::Vector3d v = gTimes(a, b);
   const double w = a.dot(b);
   return 2.0 * std::atan2(v.norm(), std::abs(w));
 }

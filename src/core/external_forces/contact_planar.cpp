@@ -46,6 +46,10 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
   placeSurfaces(s.t);
   const Eigen::Matrix2d rot90 = planar::perpMatrix();
   const double k = p_.stiffness;
+  // d u / d x of the core's material, the same at every point (for the
+  // dashpots' velocity terms).
+  const Eigen::Matrix2d du_dx =
+      c_normal_ > 0.0 || c_stick_ > 0.0 ? planarCarriedGradient(s) : Eigen::Matrix2d::Zero();
   for (int i = s.first; i < s.n; ++i) {
     const int surface = trial_surface_[i];
     if (surface < 0) continue;
@@ -63,8 +67,6 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
     const double normal = law.force;
     Eigen::RowVector2d dnormal_dx = -law.d_h * nrm.transpose(),
                        dnormal_dv = Eigen::RowVector2d::Zero();
-    Eigen::Matrix2d du_dx = Eigen::Matrix2d::Zero();
-    if (c_normal_ > 0.0 || c_stick_ > 0.0) du_dx = planarCarriedGradient(s);
     if (c_normal_ > 0.0) {
       // v_n = r . n with r = v - u(x).
       dnormal_dx += law.d_vn * (r.transpose() * dn - nrm.transpose() * du_dx);

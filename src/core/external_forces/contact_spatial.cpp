@@ -53,14 +53,15 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
     Eigen::Matrix3d dn;
     if (!spatialSurface(surface, p, nrm, h, dn)) continue;
     // The core's velocity as the scheme gives it (one_leg_step.hpp), and
-    // the sliding velocity r = v - u with its normal part and their
-    // derivatives in p (through n and u).
+    // the relative velocity r = v - u with its normal part.
     const Eigen::Vector3d u = s.carried.velocity(p);
     const Eigen::Vector3d r = s.v.col(i) - u;
     const double rn = r.dot(nrm);
-    const Eigen::Matrix3d pn = id - nrm * nrm.transpose();
     const Eigen::Matrix3d& du = s.carried.g_world;
-    const Eigen::Matrix3d dvh_dp = -pn * du - (nrm * (r.transpose() * dn) + rn * dn);
+    // The sliding velocity vh = P_n r and its derivative in p (through n and
+    // u), for the laws that use it.
+    const Eigen::Matrix3d pn = id - nrm * nrm.transpose();
+    auto dvhDp = [&] { return Eigen::Matrix3d(-pn * du - (nrm * (r.transpose() * dn) + rn * dn)); };
     // Normal spring k h n, kept linear while the contact is active; with its
     // dashpot, N = k h - c_n r . n, never pulling.
     const NormalForce law = normalLaw(h, rn);
@@ -91,7 +92,7 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
               (id - nrm * (nrm.transpose() + delta.transpose() * dn) - dnn * dn);
         if (c_stick_ > 0.0) {
           ft -= c_stick_ * (r - rn * nrm);
-          kp -= c_stick_ * dvh_dp;
+          kp -= c_stick_ * dvhDp();
           a.addDampingPP(i, i, -c_stick_ * pn);
         }
       } else {
@@ -110,7 +111,7 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
         const Eigen::Vector3d dir = vh / scale;
         ft = -p_.kinetic_friction * normal * dir;
         const Eigen::Matrix3d proj = (speed >= scale ? id - dir * dir.transpose() : id) / scale;
-        kp += -p_.kinetic_friction * (dir * dnormal_dp + normal * proj * dvh_dp);
+        kp += -p_.kinetic_friction * (dir * dnormal_dp + normal * proj * dvhDp());
         a.addDampingPP(i, i, -p_.kinetic_friction * (normal * proj * pn + dir * dnormal_dv));
       }
       f += ft;
