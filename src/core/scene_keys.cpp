@@ -131,6 +131,9 @@ std::vector<SceneKey> declareKeys() {
       list("core.faces", "m", kFaceList, "flat faces: {from: [x, y], to: [x, y]}"),
       key<&S::core, &Core::hull_faces>("core.hull_faces", "", kAny,
                                        "add the flat sides between neighbouring cylinders"),
+      key<&S::core, &Core::flange_height>("core.flange_height", "m", kPositive,
+                                          "with physics.flanges: their reach beyond the "
+                                          "core's outermost surface"),
 
       key<&S::process, &Process::core_speed_rpm>("process.core_speed_rpm", "rpm", kAny,
                                                  "core speed, counter-clockwise positive"),
@@ -190,6 +193,12 @@ std::vector<SceneKey> declareKeys() {
                                           "wire against the core's cylinders and faces"),
       key<&S::physics, &Physics::friction>("physics.friction", "", kAny,
                                            "static/kinetic friction on contact"),
+      key<&S::physics, &Physics::flanges>("physics.flanges", "", kAny,
+                                          "the core's flanges at the ends of "
+                                          "process.winding_width (with contact, 3-D)"),
+      key<&S::physics, &Physics::wire_contact>("physics.wire_contact", "", kAny,
+                                               "wire against the wound wire the core carries, "
+                                               "as capsules (3-D)"),
       key<&S::physics, &Physics::supply>("physics.supply", "", kAny,
                                          "wire drawn in through a port at constant tension"),
       key<&S::physics, &Physics::planar>("physics.planar", "", kAny,

@@ -85,6 +85,37 @@ void traverseFits(const Scene& s) {
   }
 }
 
+// Flanges stand at the ends of the winding width, as contact surfaces of a
+// core that the wire can reach along its axis.
+void flangesFit(const Scene& s) {
+  if (!s.physics.flanges) return;
+  if (!s.physics.contact) throw SceneError("physics.flanges", "flanges need physics.contact");
+  if (s.physics.planar) {
+    throw SceneError("physics.flanges",
+                     "must be false with physics.planar (a flange is parallel to the plane)");
+  }
+  if (s.process.winding_width == 0.0) {
+    throw SceneError("physics.flanges",
+                     "flanges stand at the ends of process.winding_width, which is 0");
+  }
+}
+
+// Contact between segments acts against wire the core carries: wound wire
+// held by friction on a core that also holds the fixed end. (Two free
+// segments do not yet touch: docs/MODEL.md.)
+void wireContactFits(const Scene& s) {
+  if (!s.physics.wire_contact) return;
+  auto refuse = [](const std::string& why) { throw SceneError("physics.wire_contact", why); };
+  if (!s.physics.contact) refuse("wire contact needs physics.contact");
+  if (s.physics.planar) {
+    refuse("must be false with physics.planar (turns lie beside each other along the axis)");
+  }
+  if (!s.physics.friction || !s.solver.carry_stuck_wire || s.start.frame != "core") {
+    refuse("acts against the wound wire the core carries, which needs physics.friction, "
+           "solver.carry_stuck_wire and start.frame core");
+  }
+}
+
 // Dashpots beyond twice critical only slow a landing down, and stiffen the
 // explicit methods' step limit (2 zeta sqrt(k / M) h < 2).
 void dampingRatioInRange(const Scene& s) {
@@ -306,6 +337,8 @@ const CrossRule kCrossRules[] = {
     {"contact.kinetic_friction", kineticNotAboveStatic},
     {"contact.damping_ratio", dampingRatioInRange},
     {"process.layers", traverseFits},
+    {"physics.planar", flangesFit},
+    {"physics.planar", wireContactFits},
     {"core.hull_faces", coreFitsEffects},
     {"core.hull_faces", segmentsWithinRadius},
     {"core.hull_faces", portPlacement},

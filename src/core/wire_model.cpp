@@ -91,6 +91,7 @@ WireModel::WireModel(const Scene& s)
   if (s.physics.damping) external_.push_back(std::make_unique<Damping>(c_, s.damping));
   if (s.physics.contact) {
     auto contact = std::make_unique<Contact>(c_, s, *core_);
+    if (s.physics.wire_contact) contact->attachCarriedWire(carried_p_core_);
     contact_ = contact.get();
     external_.push_back(std::move(contact));
   }

@@ -87,6 +87,9 @@ struct CoreParams {
   std::vector<CylinderParams> cylinders;
   std::vector<FaceParams> faces;
   bool hull_faces = false;  // add the flat faces between neighbouring cylinders
+  // With physics.flanges: how far the flanges reach beyond the core's
+  // outermost surface (its swept radius) [m].
+  double flange_height = 3.0e-3;
 };
 
 // Keys whose name says rpm carry revolutions per minute; everything else is
@@ -141,6 +144,9 @@ struct PhysicsSwitches {
   bool damping = false;
   bool contact = false;   // virtual springs on the core's cylinders and faces
   bool friction = false;  // static/kinetic friction on contact (needs contact)
+  bool flanges = false;   // the core's flanges at the ends of process.winding_width (3-D)
+  // Wire against the wound wire the core carries, segments as capsules (3-D).
+  bool wire_contact = false;
   bool supply = false;    // wire drawn in through a port at constant tension
   bool planar = false;    // motion kept in the plane normal to the core axis
 };

@@ -1,5 +1,6 @@
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "coil_winding_sim/core/core_geometry.hpp"
@@ -29,18 +30,49 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
   face_from_world_.resize(face_length_.size());
   face_dir_world_.resize(face_length_.size());
   face_normal_world_.resize(face_length_.size());
-  cylinder_.assign(c_.capacity, -1);
-  depth_.assign(c_.capacity, 0.0);
-  friction_force_.assign(c_.capacity, Eigen::Vector3d::Zero());
-  if (friction_) {
-    stuck_.assign(c_.capacity, 0);
-    anchor_core_.assign(c_.capacity, Eigen::Vector3d::Zero());
+  if (s.physics.flanges) {
+    // The winding runs from half a wire diameter behind the port's start,
+    // in the traverse's first direction, over the winding width.
+    const Eigen::Vector3d axis = s.core.axis_world.normalized();
+    const double side = s.process.traverse_pitch < 0.0 ? -1.0 : 1.0;
+    const double first =
+        (s.supply.port_position_world - s.core.position_world).dot(axis) - side * c.radius;
+    flange_at_ = {first, first + side * s.process.winding_width};
+    flange_side_ = {side, -side};
+    // The core's swept radius: its farthest surface from the axis.
+    double swept = 0.0;
+    for (const CylinderParams& cyl : s.core.cylinders) {
+      swept = std::max(swept, cyl.center_core.norm() + cyl.radius);
+    }
+    for (const FaceParams& face : coreFaces(s.core)) {
+      swept = std::max({swept, face.from_core.norm(), face.to_core.norm()});
+    }
+    flange_radius_ = swept + s.core.flange_height;
+    flange_slot_ = slots_++;
   }
-  trial_surface_.assign(c_.capacity, -1);
-  trial_stuck_.assign(c_.capacity, 0);
-  trial_anchor_core_.assign(c_.capacity, Eigen::Vector3d::Zero());
-  trial_sign_.assign(c_.capacity, 1);
-  trial_slip_world_.assign(c_.capacity, Eigen::Vector3d::Zero());
+  wire_base_ = static_cast<int>(radii_.size() + face_length_.size() + flange_at_.size());
+  wire_slot_ = slots_;
+  if (s.physics.wire_contact) {
+    slots_ += kWireSlots;
+    // Points closer along the wire than three diameters never count as
+    // touching: the wire cannot bend that far back on itself.
+    skip_points_ =
+        std::max(3, static_cast<int>(std::ceil(3.0 * 2.0 * c.radius / c.segment_length)));
+    carried_index_.reserve(c_.capacity, 2.0 * c.radius);
+  }
+  const std::size_t slots = static_cast<std::size_t>(c_.capacity) * slots_;
+  surface_.assign(slots, -1);
+  depth_.assign(slots, 0.0);
+  friction_force_.assign(slots, Eigen::Vector3d::Zero());
+  if (friction_) {
+    stuck_.assign(slots, 0);
+    anchor_core_.assign(slots, Eigen::Vector3d::Zero());
+  }
+  trial_surface_.assign(slots, -1);
+  trial_stuck_.assign(slots, 0);
+  trial_anchor_core_.assign(slots, Eigen::Vector3d::Zero());
+  trial_sign_.assign(slots, 1);
+  trial_slip_world_.assign(slots, Eigen::Vector3d::Zero());
 }
 
 void Contact::placeSurfaces(double t) const {
@@ -88,6 +120,59 @@ int Contact::touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n
   return best;
 }
 
+bool Contact::touchAll(int i, const Eigen::Vector3d& p_world, const int* ref, Touch* out) const {
+  for (int s = 0; s < slots_; ++s) out[s].surface = -1;
+  out[0].surface = touch(p_world, out[0].h, out[0].n_world);
+  bool any = out[0].surface >= 0;
+  if (flange_slot_ < 0 && wire_slot_ == slots_) return any;
+  const Eigen::Vector3d& a = core_.axisWorld();
+  const Eigen::Vector3d r = p_world - core_.originWorld();
+  // Flanges: within a wire diameter of the winding's side, and within
+  // their reach from the axis.
+  if (flange_slot_ >= 0) {
+    const double along = r.dot(a);
+    if ((r - along * a).norm() <= flange_radius_) {
+      Touch& t = out[flange_slot_];
+      t.h = 0.0;
+      for (std::size_t j = 0; j < flange_at_.size(); ++j) {
+        const double depth = c_.radius - flange_side_[j] * (along - flange_at_[j]);
+        if (depth > t.h && depth < 2.0 * c_.radius) {
+          t = Touch{static_cast<int>(radii_.size() + face_length_.size() + j), depth,
+                    flange_side_[j] * a};
+        }
+      }
+      any = any || t.surface >= 0;
+    }
+  }
+  if (wire_slot_ == slots_) return any;
+  Touch runs[kWireSlots];
+  const int m = touchWire(i, rot_world_core_.transpose() * r, runs);
+  if (m == 0) return any;
+  // Each run keeps the slot whose surface it continues; new runs take the
+  // free slots.
+  bool used[kWireSlots] = {};
+  for (int s = wire_slot_; s < slots_; ++s) {
+    if (ref[s] < wire_base_) continue;
+    for (int g = 0; g < m; ++g) {
+      if (!used[g] && sameSurface(runs[g].surface, ref[s])) {
+        out[s] = runs[g];
+        used[g] = true;
+        break;
+      }
+    }
+  }
+  for (int g = 0; g < m; ++g) {
+    if (used[g]) continue;
+    for (int s = wire_slot_; s < slots_; ++s) {
+      if (out[s].surface < 0) {
+        out[s] = runs[g];
+        break;
+      }
+    }
+  }
+  return true;
+}
+
 Eigen::Vector3d Contact::friction(int i, const Eigen::Vector3d& p_world,
                                   const Eigen::Vector3d& vh_world, const Eigen::Vector3d& n_world,
                                   double normal_force, bool& slipping) const {
@@ -111,35 +196,40 @@ Eigen::Vector3d Contact::friction(int i, const Eigen::Vector3d& p_world,
 
 void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const {
   placeSurfaces(t);
+  syncCarriedWire();
+  Touch touches[kMaxSlots];
   for (int i = c_.first; i < c_.n; ++i) {
     const Eigen::Vector3d p = k.p_world.col(i);
-    double h;
-    Eigen::Vector3d n;
-    if (touch(p, h, n) < 0) continue;
+    if (!touchAll(i, p, &surface_[i * slots_], touches)) continue;
     const Eigen::Vector3d u = core_.velocityWorld(t, p);
     const Eigen::Vector3d v_rel = k.v_world.col(i) - u;
-    const double normal = normalForce(h, v_rel.dot(n));
-    Eigen::Vector3d f_c = normal * n;
-    if (c_normal_ > 0.0) {
-      // The dashpot's part (with the spring's where it would pull)
-      // dissipates, as friction does.
-      const Eigen::Vector3d f_d = (normal - p_.stiffness * h) * n;
-      f.power_dissipated += f_d.dot(u);
-      f.f_dissipative_world.col(i) += f_d;
+    for (int s = 0; s < slots_; ++s) {
+      const Touch& c = touches[s];
+      if (c.surface < 0) continue;
+      const Eigen::Vector3d& n = c.n_world;
+      const double normal = normalForce(c.h, v_rel.dot(n));
+      Eigen::Vector3d f_c = normal * n;
+      if (c_normal_ > 0.0) {
+        // The dashpot's part (with the spring's where it would pull)
+        // dissipates, as friction does.
+        const Eigen::Vector3d f_d = (normal - p_.stiffness * c.h) * n;
+        f.power_dissipated += f_d.dot(u);
+        f.f_dissipative_world.col(i) += f_d;
+      }
+      if (friction_) {
+        const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
+        bool slipping;
+        const Eigen::Vector3d f_t = friction(i * slots_ + s, p, vh, n, normal, slipping);
+        f_c += f_t;
+        // Friction power -f_t . (v - u), counted as dissipated (also what a
+        // stick spring holds; f_t is tangential, so f_t . vh = f_t . (v - u)).
+        f.power_dissipated += f_t.dot(u);
+        f.f_dissipative_world.col(i) += f_t;
+      }
+      f.f_world.col(i) += f_c;
+      // The moving surface does work on the wire.
+      f.power_external += f_c.dot(u);
     }
-    if (friction_) {
-      const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
-      bool slipping;
-      const Eigen::Vector3d f_t = friction(i, p, vh, n, normal, slipping);
-      f_c += f_t;
-      // Friction power -f_t . (v - u), counted as dissipated (also what a
-      // stick spring holds; f_t is tangential, so f_t . vh = f_t . (v - u)).
-      f.power_dissipated += f_t.dot(u);
-      f.f_dissipative_world.col(i) += f_t;
-    }
-    f.f_world.col(i) += f_c;
-    // The moving surface does work on the wire.
-    f.power_external += f_c.dot(u);
   }
 }
 
@@ -147,49 +237,54 @@ void Contact::commit(double t, const WireKinematics& k) {
   max_penetration_ = 0.0;
   elastic_committed_ = 0.0;
   placeSurfaces(t);
+  syncCarriedWire();
   // Carried points keep their contact and friction state: they move with
   // the core, so their penetration does not change.
-  for (int i = 1; i < c_.first; ++i) {
-    max_penetration_ = std::max(max_penetration_, depth_[i]);
-    elastic_committed_ += 0.5 * p_.stiffness * depth_[i] * depth_[i];
+  for (int x = slots_; x < c_.first * slots_; ++x) {
+    max_penetration_ = std::max(max_penetration_, depth_[x]);
+    elastic_committed_ += 0.5 * p_.stiffness * depth_[x] * depth_[x];
   }
+  Touch touches[kMaxSlots];
   for (int i = c_.first; i < c_.n; ++i) {
     const Eigen::Vector3d p = k.p_world.col(i);
-    double h;
-    Eigen::Vector3d n;
-    const int cyl = touch(p, h, n);
-    const bool changed_cylinder = cyl != cylinder_[i];
-    cylinder_[i] = cyl;
-    depth_[i] = cyl >= 0 ? h : 0.0;
-    if (cyl >= 0) {
-      max_penetration_ = std::max(max_penetration_, h);
-      elastic_committed_ += 0.5 * p_.stiffness * h * h;
-    }
-    friction_force_[i].setZero();
-    if (!friction_) continue;
-    if (cyl < 0 || changed_cylinder) stuck_[i] = 0;
-    if (cyl < 0) continue;
-    const Eigen::Vector3d v_rel = k.v_world.col(i) - core_.velocityWorld(t, p);
-    const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
-    bool slipping;
-    friction_force_[i] = friction(i, p, vh, n, normalForce(h, v_rel.dot(n)), slipping);
-    if (stuck_[i] && slipping) {
-      stuck_[i] = 0;  // the static limit was exceeded
-    } else if (!stuck_[i] && vh.norm() < p_.stick_speed) {
-      stuck_[i] = 1;  // slow enough: stick where it is
-      anchor_core_[i] = rot_world_core_.transpose() * (p - core_.originWorld());
+    touchAll(i, p, &surface_[i * slots_], touches);
+    for (int s = 0; s < slots_; ++s) {
+      const int x = i * slots_ + s;
+      const Touch& c = touches[s];
+      const bool changed_surface = !sameSurface(c.surface, surface_[x]);
+      surface_[x] = c.surface;
+      depth_[x] = c.surface >= 0 ? c.h : 0.0;
+      if (c.surface >= 0) {
+        max_penetration_ = std::max(max_penetration_, c.h);
+        elastic_committed_ += 0.5 * p_.stiffness * c.h * c.h;
+      }
+      friction_force_[x].setZero();
+      if (!friction_) continue;
+      if (c.surface < 0 || changed_surface) stuck_[x] = 0;
+      if (c.surface < 0) continue;
+      const Eigen::Vector3d& n = c.n_world;
+      const Eigen::Vector3d v_rel = k.v_world.col(i) - core_.velocityWorld(t, p);
+      const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
+      bool slipping;
+      friction_force_[x] = friction(x, p, vh, n, normalForce(c.h, v_rel.dot(n)), slipping);
+      if (stuck_[x] && slipping) {
+        stuck_[x] = 0;  // the static limit was exceeded
+      } else if (!stuck_[x] && vh.norm() < p_.stick_speed) {
+        stuck_[x] = 1;  // slow enough: stick where it is
+        anchor_core_[x] = rot_world_core_.transpose() * (p - core_.originWorld());
+      }
     }
   }
 }
 
 void Contact::appendHistory(std::vector<double>& out) const {
-  for (int i = 0; i < c_.n; ++i) {
-    out.push_back(cylinder_[i]);
-    out.push_back(depth_[i]);
+  for (int x = 0; x < c_.n * slots_; ++x) {
+    out.push_back(surface_[x]);
+    out.push_back(depth_[x]);
     if (friction_) {
-      out.push_back(stuck_[i]);
-      out.insert(out.end(), anchor_core_[i].data(), anchor_core_[i].data() + 3);
-      out.insert(out.end(), friction_force_[i].data(), friction_force_[i].data() + 3);
+      out.push_back(stuck_[x]);
+      out.insert(out.end(), anchor_core_[x].data(), anchor_core_[x].data() + 3);
+      out.insert(out.end(), friction_force_[x].data(), friction_force_[x].data() + 3);
     }
   }
   out.push_back(max_penetration_);
@@ -198,30 +293,34 @@ void Contact::appendHistory(std::vector<double>& out) const {
 
 void Contact::shrink(const WireKinematics&) {
   // The last point sits at the port, away from the core: nothing to book.
-  const int i = c_.n - 1;
-  cylinder_[i] = -1;
-  depth_[i] = 0.0;
-  if (friction_) {
-    stuck_[i] = 0;
-    anchor_core_[i].setZero();
-    friction_force_[i].setZero();
+  for (int x = (c_.n - 1) * slots_; x < c_.n * slots_; ++x) {
+    surface_[x] = -1;
+    depth_[x] = 0.0;
+    if (friction_) {
+      stuck_[x] = 0;
+      anchor_core_[x].setZero();
+      friction_force_[x].setZero();
+    }
   }
 }
 
 double Contact::elasticEnergy(const WireKinematics&) const { return elastic_committed_; }
 
 void Contact::restoreHistory(HistoryReader& in) {
-  for (int i = 0; i < c_.n; ++i) {
-    cylinder_[i] = static_cast<int>(in.next());
-    depth_[i] = in.next();
+  for (int x = 0; x < c_.n * slots_; ++x) {
+    surface_[x] = static_cast<int>(in.next());
+    depth_[x] = in.next();
     if (friction_) {
-      stuck_[i] = in.next() != 0.0;
-      for (int d = 0; d < 3; ++d) anchor_core_[i][d] = in.next();
-      for (int d = 0; d < 3; ++d) friction_force_[i][d] = in.next();
+      stuck_[x] = in.next() != 0.0;
+      for (int d = 0; d < 3; ++d) anchor_core_[x][d] = in.next();
+      for (int d = 0; d < 3; ++d) friction_force_[x][d] = in.next();
     }
   }
   max_penetration_ = in.next();
   elastic_committed_ = in.next();
+  // The carried wire may be another: hashed anew when next used.
+  carried_index_.clear();
+  indexed_segments_ = 0;
 }
 
 }  // namespace cws

@@ -2,7 +2,8 @@
 // springs, stick spring and static/kinetic friction as contact.cpp, with
 // their Jacobian blocks, and the flags an implicit step freezes within one
 // Newton solve and rechecks after it (docs/MODEL.md, "Implicit
-// integration").
+// integration"). Planar scenes have one slot per point (flanges and wire
+// contact are 3-D), so a slot's index is its point's.
 #include <cmath>
 
 #include "coil_winding_sim/core/external_forces/contact.hpp"
@@ -120,7 +121,7 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
 void Contact::beginImplicitStep(const PlanarState& s0) {
   placeSurfaces(s0.t);
   for (int i = s0.first; i < s0.n; ++i) {
-    trial_surface_[i] = cylinder_[i];
+    trial_surface_[i] = surface_[i];
     if (!friction_) continue;
     trial_stuck_[i] = stuck_[i];
     trial_anchor_core_[i] = anchor_core_[i];
@@ -130,7 +131,7 @@ void Contact::beginImplicitStep(const PlanarState& s0) {
     double h;
     Eigen::Matrix2d dn;
     const Eigen::Vector2d x = s0.x.col(i);
-    if (cylinder_[i] >= 0 && planarSurface(s0, cylinder_[i], x, nrm, h, dn)) {
+    if (surface_[i] >= 0 && planarSurface(s0, surface_[i], x, nrm, h, dn)) {
       const double vt = (s0.v.col(i) - planarSurfaceVelocity(s0, x)).dot(planar::perp(nrm));
       trial_sign_[i] = vt < 0.0 ? -1 : 1;
     }
@@ -187,11 +188,11 @@ bool Contact::recheckFlags(const PlanarState& s) {
 }
 
 void Contact::adoptFlags() {
-  for (int i = c_.first; i < c_.n; ++i) {
-    cylinder_[i] = trial_surface_[i];
+  for (int x = c_.first * slots_; x < c_.n * slots_; ++x) {
+    surface_[x] = trial_surface_[x];
     if (!friction_) continue;
-    stuck_[i] = trial_stuck_[i];
-    anchor_core_[i] = trial_anchor_core_[i];
+    stuck_[x] = trial_stuck_[x];
+    anchor_core_[x] = trial_anchor_core_[x];
   }
 }
 

@@ -15,7 +15,7 @@
 
 namespace cws {
 
-bool Contact::spatialSurface(int surface, const Eigen::Vector3d& p_world,
+bool Contact::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
                              Eigen::Vector3d& normal_world, double& depth,
                              Eigen::Matrix3d& dnormal) const {
   const int cylinders = static_cast<int>(radii_.size());
@@ -33,25 +33,60 @@ bool Contact::spatialSurface(int surface, const Eigen::Vector3d& p_world,
               dist;
     return true;
   }
+  if (surface >= wire_base_) {
+    // The nearest of the carried segments j-1..j+1 (as capsules): inside
+    // one, the distance from its line; past its ends, from the end point.
+    const int j = surface - wire_base_;
+    const int last = lastWireSegment(i);
+    const Eigen::Vector3d p_core = rot_world_core_.transpose() * (p_world - core_.originWorld());
+    double best = -1.0;
+    Eigen::Vector3d n_core, t_core = Eigen::Vector3d::Zero();
+    for (int m = std::max(1, j - 1); m <= std::min(j + 1, last); ++m) {
+      Eigen::Vector3d n;
+      bool inside;
+      const double dist = segmentDistance(m, p_core, n, inside);
+      if (best >= 0.0 && dist >= best) continue;
+      best = dist;
+      n_core = n;
+      t_core.setZero();
+      if (inside) t_core = ((*carried_p_core_)[m + 1] - (*carried_p_core_)[m]).normalized();
+    }
+    if (best <= 0.0) return false;
+    normal_world = rot_world_core_ * n_core;
+    depth = 2.0 * c_.radius - best;
+    const Eigen::Vector3d t_world = rot_world_core_ * t_core;
+    dnormal = (Eigen::Matrix3d::Identity() - t_world * t_world.transpose() -
+               normal_world * normal_world.transpose()) /
+              best;
+    return true;
+  }
+  dnormal.setZero();
   const int f = surface - cylinders;
+  if (f >= static_cast<int>(face_length_.size())) {
+    // A flange, normal to the core axis.
+    const int j = f - static_cast<int>(face_length_.size());
+    const Eigen::Vector3d& a = core_.axisWorld();
+    normal_world = flange_side_[j] * a;
+    depth = c_.radius - flange_side_[j] * ((p_world - core_.originWorld()).dot(a) - flange_at_[j]);
+    return true;
+  }
   normal_world = face_normal_world_[f];
   depth = c_.radius - (p_world - face_from_world_[f]).dot(normal_world);
-  dnormal.setZero();
   return true;
 }
-
 void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
   placeSurfaces(s.t);
   const double k = p_.stiffness;
   const Eigen::Matrix3d id = Eigen::Matrix3d::Identity();
-  for (int i = s.first; i < s.n; ++i) {
-    const int surface = trial_surface_[i];
+  for (int x = s.first * slots_; x < s.n * slots_; ++x) {
+    const int surface = trial_surface_[x];
     if (surface < 0) continue;
+    const int i = x / slots_;
     const Eigen::Vector3d p = s.p.col(i);
     Eigen::Vector3d nrm;
     double h;
     Eigen::Matrix3d dn;
-    if (!spatialSurface(surface, p, nrm, h, dn)) continue;
+    if (!spatialSurface(i, surface, p, nrm, h, dn)) continue;
     // The core's velocity as the scheme gives it (one_leg_step.hpp), and
     // the relative velocity r = v - u with its normal part.
     const Eigen::Vector3d u = s.carried.velocity(p);
@@ -81,11 +116,11 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
     Eigen::Matrix3d kp = nrm * dnormal_dp + normal * dn;
     if (friction_) {
       Eigen::Vector3d ft = Eigen::Vector3d::Zero();
-      if (trial_stuck_[i]) {
+      if (trial_stuck_[x]) {
         // Stick: the spring to the anchor, its tangential part (and its
         // dashpot against the sliding velocity vh = P_n r).
         const Eigen::Vector3d delta =
-            p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[i]);
+            p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[x]);
         const double dnn = delta.dot(nrm);
         ft = -p_.stick_stiffness * (delta - dnn * nrm);
         kp += -p_.stick_stiffness *
@@ -127,22 +162,24 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
 
 void Contact::beginSpatialStep(const SpatialState& s0) {
   placeSurfaces(s0.t);
-  for (int i = s0.first; i < s0.n; ++i) {
-    trial_surface_[i] = cylinder_[i];
+  syncCarriedWire();
+  for (int x = s0.first * slots_; x < s0.n * slots_; ++x) {
+    trial_surface_[x] = surface_[x];
     if (!friction_) continue;
-    trial_stuck_[i] = stuck_[i];
-    trial_anchor_core_[i] = anchor_core_[i];
+    trial_stuck_[x] = stuck_[x];
+    trial_anchor_core_[x] = anchor_core_[x];
     // The direction a slipping point slides in at the step's start: a
     // sliding that turns against it within the step sticks the point.
-    trial_slip_world_[i].setZero();
+    trial_slip_world_[x].setZero();
     Eigen::Vector3d nrm;
     double h;
     Eigen::Matrix3d dn;
+    const int i = x / slots_;
     const Eigen::Vector3d p = s0.p.col(i);
-    if (cylinder_[i] >= 0 && spatialSurface(cylinder_[i], p, nrm, h, dn)) {
+    if (surface_[x] >= 0 && spatialSurface(i, surface_[x], p, nrm, h, dn)) {
       const Eigen::Vector3d v_rel = s0.v.col(i) - s0.carried.velocity(p);
       const Eigen::Vector3d vh = v_rel - v_rel.dot(nrm) * nrm;
-      if (vh.norm() > 0.0) trial_slip_world_[i] = vh.normalized();
+      if (vh.norm() > 0.0) trial_slip_world_[x] = vh.normalized();
     }
   }
 }
@@ -150,50 +187,55 @@ void Contact::beginSpatialStep(const SpatialState& s0) {
 bool Contact::recheckSpatialFlags(const SpatialState& s) {
   placeSurfaces(s.t);
   bool changed = false;
+  Touch touches[kMaxSlots];
   for (int i = s.first; i < s.n; ++i) {
     const Eigen::Vector3d p = s.p.col(i);
-    double h_touch;
-    Eigen::Vector3d n_touch;
-    const int surface = touch(p, h_touch, n_touch);
-    Eigen::Vector3d nrm;
-    double h = 0.0;
-    Eigen::Matrix3d dn;
-    const bool on = surface >= 0 && spatialSurface(surface, p, nrm, h, dn);
-    const bool fresh = surface != trial_surface_[i];
-    if (fresh) {
-      trial_surface_[i] = surface;
-      trial_stuck_[i] = 0;
-      changed = true;
-    }
-    if (!on || !friction_) continue;
-    const Eigen::Vector3d v_rel = s.v.col(i) - s.carried.velocity(p);
-    const Eigen::Vector3d vh = v_rel - v_rel.dot(nrm) * nrm;
-    const double speed = vh.norm();
-    if (trial_stuck_[i]) {
-      // Stick holds while the spring (and its dashpot) stays within mu_s N.
-      const Eigen::Vector3d delta =
-          p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[i]);
-      const Eigen::Vector3d pull =
-          p_.stick_stiffness * (delta - delta.dot(nrm) * nrm) + c_stick_ * vh;
-      if (pull.norm() > p_.static_friction * normalForce(h, v_rel.dot(nrm))) {
-        trial_stuck_[i] = 0;
-        trial_slip_world_[i] = pull.normalized();
+    touchAll(i, p, &trial_surface_[i * slots_], touches);
+    for (int slot = 0; slot < slots_; ++slot) {
+      const int x = i * slots_ + slot;
+      const int surface = touches[slot].surface;
+      Eigen::Vector3d nrm;
+      double h = 0.0;
+      Eigen::Matrix3d dn;
+      const bool on = surface >= 0 && spatialSurface(i, surface, p, nrm, h, dn);
+      // Another segment of the same run of carried wire is the same
+      // surface (the solve already took the nearest of its neighbours).
+      const bool fresh = !sameSurface(surface, trial_surface_[x]);
+      trial_surface_[x] = surface;
+      if (fresh) {
+        trial_stuck_[x] = 0;
         changed = true;
       }
-      continue;
-    }
-    // Slow enough, or the sliding reversed against the direction it had at
-    // the step's start (kinetic friction stops a point, it does not push it
-    // back): stick where it is (as a commit of contact.cpp does).
-    const Eigen::Vector3d& dir = trial_slip_world_[i];
-    const bool known = !fresh && dir.squaredNorm() > 0.0;
-    if (p_.static_friction > 0.0 &&
-        (speed < p_.stick_speed || (known && vh.dot(dir) < p_.stick_speed))) {
-      trial_stuck_[i] = 1;
-      trial_anchor_core_[i] = rot_world_core_.transpose() * (p - core_.originWorld());
-      changed = true;
-    } else if (!known && speed > 0.0) {
-      trial_slip_world_[i] = vh / speed;
+      if (!on || !friction_) continue;
+      const Eigen::Vector3d v_rel = s.v.col(i) - s.carried.velocity(p);
+      const Eigen::Vector3d vh = v_rel - v_rel.dot(nrm) * nrm;
+      const double speed = vh.norm();
+      if (trial_stuck_[x]) {
+        // Stick holds while the spring (and its dashpot) stays within mu_s N.
+        const Eigen::Vector3d delta =
+            p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[x]);
+        const Eigen::Vector3d pull =
+            p_.stick_stiffness * (delta - delta.dot(nrm) * nrm) + c_stick_ * vh;
+        if (pull.norm() > p_.static_friction * normalForce(h, v_rel.dot(nrm))) {
+          trial_stuck_[x] = 0;
+          trial_slip_world_[x] = pull.normalized();
+          changed = true;
+        }
+        continue;
+      }
+      // Slow enough, or the sliding reversed against the direction it had
+      // at the step's start (kinetic friction stops a point, it does not
+      // push it back): stick where it is (as a commit of contact.cpp does).
+      const Eigen::Vector3d& dir = trial_slip_world_[x];
+      const bool known = !fresh && dir.squaredNorm() > 0.0;
+      if (p_.static_friction > 0.0 &&
+          (speed < p_.stick_speed || (known && vh.dot(dir) < p_.stick_speed))) {
+        trial_stuck_[x] = 1;
+        trial_anchor_core_[x] = rot_world_core_.transpose() * (p - core_.originWorld());
+        changed = true;
+      } else if (!known && speed > 0.0) {
+        trial_slip_world_[x] = vh / speed;
+      }
     }
   }
   return changed;

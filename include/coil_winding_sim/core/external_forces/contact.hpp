@@ -1,11 +1,26 @@
-// Contact of the wire's mass points with the core's cylinders and flat
-// faces: virtual springs on the surfaces and static/kinetic friction against
-// the moving surface, eqs. (16)-(20).
+// Contact of the wire's mass points with the core and what it carries:
+// virtual springs on the surfaces and static/kinetic friction against the
+// moving surface, eqs. (16)-(20).
 //
-// Penetration h is measured from the wire's surface: h = R + r - distance of
-// the point from the cylinder axis, or r - height of the point over a face;
-// the normal force is k h n (eq. 18). A point touching several surfaces
-// feels the deepest.
+// Surfaces, all rigid with the core:
+// - its cylinders and flat faces (the core body). Penetration h = R + r -
+//   distance of the point from the cylinder axis, or r - height of the
+//   point over a face. A point feels the deepest of them;
+// - with physics.flanges, two flanges: planes normal to the core axis at
+//   the ends of process.winding_width (the first half a wire diameter
+//   behind the port's start, facing the winding), discs reaching
+//   core.flange_height beyond the core's outermost surface; h = r - the
+//   point's distance from the flange on the winding's side;
+// - with physics.wire_contact, the wound wire the core carries, its
+//   segments as capsules of the wire's radius: h = 2 r - the point's
+//   distance from the segment (node against segment; docs/MODEL.md). A
+//   point feels the nearest segment of each run of touching segments (a
+//   run: one stretch of the carried wire; the groove between two turns is
+//   two runs), up to kWireSlots of them.
+// Each point keeps one slot per surface kind (core body, flange, each wire
+// run) with its own contact, stick and anchor, so that a point in a corner
+// of core and flange, or in the groove of two turns, holds each contact.
+// The normal force is k h n (eq. 18).
 // Friction (when switched on) uses the relative velocity to the surface,
 // v_h = tangential part of (v - u_j) (eqs. 16-17), with u_j the core's
 // rigid-body velocity at the mass point: wire carried round by the core (its
@@ -25,8 +40,10 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdlib>
 #include <vector>
 
+#include "coil_winding_sim/core/external_forces/carried_wire_index.hpp"
 #include "coil_winding_sim/core/rotating_core.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/wire_types.hpp"
@@ -60,15 +77,45 @@ class Contact : public ForceEffect {
   // Energy in the normal springs at the last commit [J].
   double elasticEnergy(const WireKinematics& k) const override;
 
-  // At the last commit: is point i touching the core, is it stuck.
-  bool inContact(int i) const { return cylinder_[i] >= 0; }
-  bool stuck(int i) const { return friction_ && stuck_[i] != 0; }
-  // The present implicit step's trial flags (tests).
-  int trialSurface(int i) const { return trial_surface_[i]; }
-  bool trialStuck(int i) const { return friction_ && trial_stuck_[i] != 0; }
+  // With physics.wire_contact: the carried wire's poses in the core frame
+  // (the model's, valid below c.first; kept by reference).
+  void attachCarriedWire(const std::vector<Eigen::Vector3d>& p_core) { carried_p_core_ = &p_core; }
+
+  // Slots per point: the core body, a flange, and the wire runs.
+  static constexpr int kWireSlots = 3;
+  static constexpr int kMaxSlots = 2 + kWireSlots;
+  int slots() const { return slots_; }
+  // At the last commit: is point i touching any surface, is it stuck on one.
+  bool inContact(int i) const {
+    for (int s = 0; s < slots_; ++s)
+      if (surface_[i * slots_ + s] >= 0) return true;
+    return false;
+  }
+  bool stuck(int i) const {
+    if (!friction_) return false;
+    for (int s = 0; s < slots_; ++s)
+      if (stuck_[i * slots_ + s]) return true;
+    return false;
+  }
+  // The surface of point i's slot s at the last commit (-1: none), and the
+  // first id of the carried wire's segments (segment j: wireSurface() + j).
+  int surface(int i, int s = 0) const { return surface_[i * slots_ + s]; }
+  int wireSurface() const { return wire_base_; }
+  // Penetration [m] of point i's slot s at the last commit.
+  double penetration(int i, int s = 0) const { return depth_[i * slots_ + s]; }
+  // The present implicit step's trial flags of the core body's slot (tests).
+  int trialSurface(int i, int s = 0) const { return trial_surface_[i * slots_ + s]; }
+  bool trialStuck(int i, int s = 0) const {
+    return friction_ && trial_stuck_[i * slots_ + s] != 0;
+  }
   double stickSpeed() const { return p_.stick_speed; }  // [m/s]
-  // Friction force on point i at the last commit [N], world frame.
-  const Eigen::Vector3d& frictionForce(int i) const { return friction_force_[i]; }
+  // Friction force on point i at the last commit, over its slots [N], world
+  // frame.
+  Eigen::Vector3d frictionForce(int i) const {
+    Eigen::Vector3d f = Eigen::Vector3d::Zero();
+    for (int s = 0; s < slots_; ++s) f += friction_force_[i * slots_ + s];
+    return f;
+  }
   // Deepest penetration over all points at the last commit [m].
   double maxPenetration() const { return max_penetration_; }
 
@@ -76,9 +123,41 @@ class Contact : public ForceEffect {
   // Places the cylinder axes and faces in the world at time t, once per
   // evaluation.
   void placeSurfaces(double t) const;
-  // Deepest surface touching point p (as placed): its index (cylinders, then
-  // faces; -1 if none), the penetration [m] and the outward normal.
+  // Deepest surface of the core body touching point p (as placed): its
+  // index (cylinders, then faces; -1 if none), the penetration [m] and the
+  // outward normal.
   int touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n_world) const;
+  // Every surface touching point i at p (as placed), one per slot (surface
+  // -1: none); the wire runs go to the slots whose surfaces in `ref` (the
+  // point's committed or trial slots) they continue. False: none touches.
+  struct Touch {
+    int surface = -1;
+    double h = 0.0;
+    Eigen::Vector3d n_world = Eigen::Vector3d::Zero();
+  };
+  bool touchAll(int i, const Eigen::Vector3d& p_world, const int* ref, Touch* out) const;
+  // The carried wire's runs touching point i (core-frame position), deepest
+  // first, at most kWireSlots; returns how many.
+  int touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const;
+  // Distance [m] of p_core from carried segment j (core frame), the unit
+  // normal from it, and whether the nearest point is inside the segment
+  // (else at an end).
+  double segmentDistance(int j, const Eigen::Vector3d& p_core, Eigen::Vector3d& n_core,
+                         bool& inside) const;
+  // Segments point i may touch: carried (both ends below c.first), and not
+  // its neighbours along the wire. Largest such j (-1: none).
+  int lastWireSegment(int i) const {
+    return std::min(c_.first - 2, i - 1 - skip_points_);
+  }
+  // Is `a` the same surface as `b` for stick (a run of the carried wire
+  // counts as one)?
+  bool sameSurface(int a, int b) const {
+    if (a == b) return true;
+    return a >= wire_base_ && b >= wire_base_ && std::abs(a - b) <= kSameRun;
+  }
+  static constexpr int kSameRun = 2;
+  // Hashes the carried segments not yet hashed (all again after a release).
+  void syncCarriedWire() const;
   // Normal force at penetration h [m] and speed v_n [m/s] away from the
   // surface [N], with its derivatives in h [N/m] and v_n [N s/m]: the
   // spring, with the dashpot if damped, never pulling. The dashpot grows
@@ -114,9 +193,12 @@ class Contact : public ForceEffect {
   Eigen::Vector2d planarSurfaceVelocity(const PlanarState& s, const Eigen::Vector2d& x) const;
   // Its gradient d u / d x in the plane [1/s].
   Eigen::Matrix2d planarCarriedGradient(const PlanarState& s) const;
-  // The same in 3-D: outward normal, penetration [m], d normal / dp [1/m].
-  bool spatialSurface(int surface, const Eigen::Vector3d& p_world, Eigen::Vector3d& normal_world,
-                      double& depth, Eigen::Matrix3d& dnormal) const;
+  // The same in 3-D for point i: outward normal, penetration [m], d normal /
+  // dp [1/m]. A carried segment j stands for the run j-1..j+1 (the nearest
+  // of the three).
+  bool spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
+                      Eigen::Vector3d& normal_world, double& depth,
+                      Eigen::Matrix3d& dnormal) const;
 
   const WireConstants& c_;  // the model's: n grows with a supply
   ContactParams p_;
@@ -129,20 +211,36 @@ class Contact : public ForceEffect {
   std::vector<Eigen::Vector3d> face_from_core_, face_dir_core_, face_normal_core_;
   std::vector<double> face_length_;
   mutable std::vector<Eigen::Vector3d> face_from_world_, face_dir_world_, face_normal_world_;
+  // Flanges: axial position from the core's origin [m] and the side the
+  // winding lies on (+1: along the core axis). They turn in their own plane.
+  std::vector<double> flange_at_;
+  std::vector<double> flange_side_;
+  double flange_radius_ = 0.0;  // their reach from the core axis [m]
+  // Carried wire: its poses (the model's), the broad phase, how many
+  // segments it holds, and the points next to a point along the wire that
+  // never count as touching it.
+  const std::vector<Eigen::Vector3d>* carried_p_core_ = nullptr;
+  mutable CarriedWireIndex carried_index_;
+  mutable int indexed_segments_ = 0;
+  int skip_points_ = 0;
+  // Slots per point and their roles; surface ids: cylinders, faces,
+  // flanges, then the carried segments from wire_base_.
+  int slots_ = 1, flange_slot_ = -1, wire_slot_ = 1, wire_base_ = 0;
   bool friction_;
   // Dashpots of the normal and the stick spring [N s/m] (0: undamped), and
   // the penetration over which the normal one grows [m].
   double c_normal_ = 0.0, c_stick_ = 0.0, h_ramp_ = 0.0;
-  // Per point, committed: cylinder in contact (-1: none); with friction the
-  // stick flag and the anchor in the core frame.
-  std::vector<int> cylinder_;
+  // Per point and slot (index i * slots_ + s; planar scenes have one slot,
+  // so there it is the point's index), committed: surface in contact (-1:
+  // none); with friction the stick flag and the anchor in the core frame.
+  std::vector<int> surface_;
   std::vector<char> stuck_;
   std::vector<Eigen::Vector3d> anchor_core_;
   std::vector<Eigen::Vector3d> friction_force_;  // output only
   std::vector<double> depth_;                    // committed penetration [m]
   double max_penetration_ = 0.0;
   double elastic_committed_ = 0.0;
-  // Implicit steps' trial flags (capacity): surface, stick, anchor (core
+  // Implicit steps' trial flags (capacity, per slot): surface, stick, anchor (core
   // frame) and slip direction (+1 / -1 along the surface tangent n x normal).
   std::vector<int> trial_surface_;
   std::vector<char> trial_stuck_;

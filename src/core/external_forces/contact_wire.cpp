@@ -1,0 +1,94 @@
+// Contact against the wound wire the core carries (physics.wire_contact):
+// the carried segments as capsules of the wire's radius, found through a
+// grid of the core frame (carried_wire_index.hpp), and grouped into runs so
+// that a point lying on a turn feels it once, and a point in the groove of
+// two turns feels both.
+#include <algorithm>
+#include <cmath>
+
+#include "coil_winding_sim/core/external_forces/contact.hpp"
+
+namespace cws {
+
+void Contact::syncCarriedWire() const {
+  if (!carried_p_core_) return;
+  // Carried segments j join carried points j and j + 1 < c.first (from
+  // point 1: point 0 is the clamp); they are rigid in the core frame while
+  // carried. A release (c.first fell) moves some of them again: all are
+  // hashed anew.
+  const int carried = std::max(1, c_.first - 1);
+  if (carried < indexed_segments_) {
+    carried_index_.clear();
+    indexed_segments_ = 0;
+  }
+  const std::vector<Eigen::Vector3d>& p = *carried_p_core_;
+  for (int j = std::max(1, indexed_segments_); j < carried; ++j) {
+    carried_index_.add(j, p[j], p[j + 1]);
+  }
+  indexed_segments_ = carried;
+}
+
+double Contact::segmentDistance(int j, const Eigen::Vector3d& p_core, Eigen::Vector3d& n_core,
+                                bool& inside) const {
+  const std::vector<Eigen::Vector3d>& p = *carried_p_core_;
+  const Eigen::Vector3d d = p[j + 1] - p[j];
+  const double s = (p_core - p[j]).dot(d) / d.squaredNorm();
+  inside = s > 0.0 && s < 1.0;
+  const Eigen::Vector3d nearest = p[j] + std::clamp(s, 0.0, 1.0) * d;
+  n_core = p_core - nearest;
+  const double dist = n_core.norm();
+  if (dist > 0.0) n_core /= dist;
+  return dist;
+}
+
+int Contact::touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const {
+  const int last = lastWireSegment(i);
+  if (last < 0 || !carried_p_core_) return 0;
+  // The touching segments, by index (a point touches few).
+  constexpr int kMaxHits = 24;
+  int hit[kMaxHits];
+  double depth[kMaxHits];
+  Eigen::Vector3d normal[kMaxHits];
+  int hits = 0;
+  const double reach = 2.0 * c_.radius;
+  carried_index_.forEachNear(p_core, [&](int j) {
+    if (j > last || hits == kMaxHits) return;
+    Eigen::Vector3d n;
+    bool inside;
+    const double dist = segmentDistance(j, p_core, n, inside);
+    if (dist >= reach || dist == 0.0) return;
+    hit[hits] = j;
+    depth[hits] = reach - dist;
+    normal[hits] = n;
+    ++hits;
+  });
+  if (hits == 0) return 0;
+  // Sort by index (insertion: few), then split into runs of segments at
+  // most kSameRun apart; each run's deepest segment stands for it.
+  for (int a = 1; a < hits; ++a) {
+    for (int b = a; b > 0 && hit[b - 1] > hit[b]; --b) {
+      std::swap(hit[b - 1], hit[b]);
+      std::swap(depth[b - 1], depth[b]);
+      std::swap(normal[b - 1], normal[b]);
+    }
+  }
+  Touch all[kMaxHits];
+  int m = 0;
+  for (int a = 0; a < hits; ++a) {
+    if (m > 0 && hit[a] - hit[a - 1] <= kSameRun) {
+      if (depth[a] > all[m - 1].h) all[m - 1] = Touch{wire_base_ + hit[a], depth[a], normal[a]};
+      continue;
+    }
+    all[m++] = Touch{wire_base_ + hit[a], depth[a], normal[a]};
+  }
+  // The deepest runs, in the world frame.
+  std::sort(all, all + m, [](const Touch& x, const Touch& y) { return x.h > y.h; });
+  m = std::min(m, kWireSlots);
+  for (int g = 0; g < m; ++g) {
+    runs[g] = all[g];
+    runs[g].n_world = rot_world_core_ * all[g].n_world;
+  }
+  return m;
+}
+
+}  // namespace cws
