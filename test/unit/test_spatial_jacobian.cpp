@@ -121,6 +121,7 @@ void checkOne(cws::SpatialState& s, const cws::ForceEffect* effect, int capacity
 // joints at the committed state.
 struct Coverage {
   int touching = 0, stuck = 0, yielded_segments = 0, yielded_joints = 0;
+  int on_wire = 0, on_flange = 0;  // slots beyond the core body
 };
 
 // Makes every other stuck point slip: moved 50 um along the core's turning
@@ -171,6 +172,11 @@ Coverage checkAllAt(double t_s, unsigned seed, const std::vector<std::string>& e
       ++cover.touching;
       cover.stuck += model.contact()->trialStuck(i);
     }
+    for (int slot = 1; model.contact() && slot < model.contact()->slots(); ++slot) {
+      const int surface = model.contact()->trialSurface(i, slot);
+      if (surface < 0) continue;
+      ++(surface >= model.contact()->wireSurface() ? cover.on_wire : cover.on_flange);
+    }
     if (i + 1 < s.n && model.stretching().plasticStrain(i) != 0.0) ++cover.yielded_segments;
     if (i + 1 < s.n &&
         (model.bending().plasticValue(i, 0) != 0.0 || model.bending().plasticValue(i, 1) != 0.0)) {
@@ -215,6 +221,20 @@ TEST(SpatialJacobian, ContactDashpotsMatchFiniteDifferences) {
   std::printf("touching %d, stuck %d\n", c.touching, c.stuck);
   EXPECT_GT(c.stuck, 0);
   EXPECT_GT(c.touching - c.stuck, 0) << "no slipping point";
+}
+
+// Flanges and wound wire (physics.flanges, physics.wire_contact): a coil
+// whose second turn lies beside the first and whose first layer ends at a
+// flange.
+TEST(SpatialJacobian, FlangeAndWireContactMatchFiniteDifferences) {
+  const Coverage c = checkAllAt(0.1, 5,
+                                {"process.core_speed_rpm=1200", "solver.carry_stuck_wire=true",
+                                 "solver.integrator=bdf2", "process.winding_width=2.2e-3",
+                                 "physics.flanges=true", "physics.wire_contact=true"});
+  std::printf("touching %d, stuck %d, on wound wire %d, on a flange %d\n", c.touching, c.stuck,
+              c.on_wire, c.on_flange);
+  EXPECT_GT(c.on_wire, 0);
+  EXPECT_GT(c.on_flange, 0);
 }
 
 TEST(SpatialJacobian, EndLoadWithAMoment) {

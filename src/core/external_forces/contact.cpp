@@ -73,6 +73,7 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
   trial_anchor_core_.assign(slots, Eigen::Vector3d::Zero());
   trial_sign_.assign(slots, 1);
   trial_slip_world_.assign(slots, Eigen::Vector3d::Zero());
+  trial_releases_.assign(slots, 0);
 }
 
 void Contact::placeSurfaces(double t) const {

@@ -171,6 +171,7 @@ void Contact::beginSpatialStep(const SpatialState& s0) {
     // The direction a slipping point slides in at the step's start: a
     // sliding that turns against it within the step sticks the point.
     trial_slip_world_[x].setZero();
+    trial_releases_[x] = 0;
     Eigen::Vector3d nrm;
     double h;
     Eigen::Matrix3d dn;
@@ -219,6 +220,7 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
         if (pull.norm() > p_.static_friction * normalForce(h, v_rel.dot(nrm))) {
           trial_stuck_[x] = 0;
           trial_slip_world_[x] = pull.normalized();
+          ++trial_releases_[x];
           changed = true;
         }
         continue;
@@ -226,9 +228,12 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
       // Slow enough, or the sliding reversed against the direction it had
       // at the step's start (kinetic friction stops a point, it does not
       // push it back): stick where it is (as a commit of contact.cpp does).
+      // A point whose stick broke twice in this step keeps slipping: with
+      // almost no normal force (a point grazing a second surface in a
+      // corner) stick and slip would take turns without end.
       const Eigen::Vector3d& dir = trial_slip_world_[x];
       const bool known = !fresh && dir.squaredNorm() > 0.0;
-      if (p_.static_friction > 0.0 &&
+      if (p_.static_friction > 0.0 && trial_releases_[x] < 2 &&
           (speed < p_.stick_speed || (known && vh.dot(dir) < p_.stick_speed))) {
         trial_stuck_[x] = 1;
         trial_anchor_core_[x] = rot_world_core_.transpose() * (p - core_.originWorld());

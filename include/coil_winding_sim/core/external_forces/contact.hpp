@@ -249,6 +249,8 @@ class Contact : public ForceEffect {
   // 3-D: the world direction a slipping point slid in at the step's start,
   // or in which it began to slip (unit; zero: none yet).
   std::vector<Eigen::Vector3d> trial_slip_world_;
+  // 3-D: how often a slot's stick broke within the present step.
+  std::vector<signed char> trial_releases_;
 };
 
 }  // namespace cws

@@ -1,0 +1,246 @@
+// Contact with the flanges and with the wound wire the core carries,
+// against the penalty law's closed form: the force k h along the normal,
+// h the penetration from the geometry (a plane, a capsule of the wire's
+// radius), one contact per surface a point touches (a corner, a groove).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "coil_winding_sim/core/external_forces/contact.hpp"
+#include "coil_winding_sim/core/scene.hpp"
+
+#ifdef CWS_SOURCE_DIR
+namespace {
+
+const std::string k3d = std::string(CWS_SOURCE_DIR) + "/config/scenes/paper_case_3d.yaml";
+
+// A wire of n points at rest, all forces zero.
+struct Bench {
+  cws::WireConstants c;
+  cws::WireKinematics k;
+  cws::WireForces f;
+  Bench(const cws::Scene& s, int n, int first) {
+    c.n = n;
+    c.first = first;
+    c.capacity = n;
+    c.radius = 0.5 * s.wire.diameter;
+    c.point_mass = 1e-6;
+    c.segment_length = s.wire.segment_length;
+    k.resize(n);
+    k.p_world.setZero();
+    k.v_world.setZero();
+    k.q.setZero();
+    k.qd.setZero();
+    f.resize(n);
+  }
+  void evaluate(const cws::Contact& contact) {
+    f.f_world.setZero();
+    f.f_q.setZero();
+    contact.addForces(0.0, k, f);
+  }
+};
+
+}  // namespace
+
+// The flanges: k h along the normal into the winding, where h = r - the
+// distance from the flange, and nothing beyond a wire diameter on the other
+// side, between the flanges or beyond their reach from the axis.
+TEST(Flanges, PushIntoTheWindingByThePenaltyLaw) {
+  const double width = 4e-3;  // [m]
+  const cws::Scene s = cws::loadScene(k3d, {"process.winding_width=" + std::to_string(width),
+                                            "physics.flanges=true", "physics.friction=false"});
+  const cws::RotatingCore core(s.core, 0.0);
+  Bench b(s, 6, 1);
+  cws::Contact contact(b.c, s, core);
+  const Eigen::Vector3d axis = s.core.axis_world.normalized();
+  const double r = b.c.radius;
+  // The first flange half a wire diameter behind the port's start, the
+  // second the winding width further on (the pitch is positive).
+  const double at0 = (s.supply.port_position_world - s.core.position_world).dot(axis) - r;
+  const double at1 = at0 + width;
+  // Outside the core's cylinders, within the flanges' reach (1 mm beyond
+  // the core's swept radius): only the flanges can touch.
+  double swept = 0.0;
+  for (const cws::CylinderParams& cyl : s.core.cylinders) {
+    swept = std::max(swept, cyl.center_core.norm() + cyl.radius);
+  }
+  ASSERT_GT(s.core.flange_height, 1e-3);
+  const Eigen::Vector3d far = s.core.position_world + Eigen::Vector3d(swept + 1e-3, 0.0, 0.0);
+  auto at = [&](double axial) { return Eigen::Vector3d(far + (axial - far.dot(axis)) * axis); };
+  const double h1 = 1e-5, h2 = 2e-5;  // penetrations [m]
+  b.k.p_world.col(0) = at(0.5 * (at0 + at1));
+  b.k.p_world.col(1) = at(at0 + r - h1);   // into the first flange
+  b.k.p_world.col(2) = at(0.5 * (at0 + at1));  // between them
+  b.k.p_world.col(3) = at(at1 - r + h2);   // into the second
+  b.k.p_world.col(4) = at(at1 + 3.0 * r);  // beyond the second
+  b.k.p_world.col(5) = at(at0 - 3.0 * r);  // beyond the first
+  b.evaluate(contact);
+  const double k = s.contact.stiffness;
+  EXPECT_LT((b.f.f_world.col(1) - k * h1 * axis).norm(), 1e-9 * k * h1);
+  EXPECT_LT((b.f.f_world.col(3) + k * h2 * axis).norm(), 1e-9 * k * h2);
+  EXPECT_EQ(b.f.f_world.col(2).norm(), 0.0);
+  EXPECT_EQ(b.f.f_world.col(4).norm(), 0.0);
+  EXPECT_EQ(b.f.f_world.col(5).norm(), 0.0);
+  // Beyond the flanges' reach from the axis the same depth touches nothing.
+  b.k.p_world.col(1) += s.core.flange_height * Eigen::Vector3d::UnitX();
+  b.evaluate(contact);
+  EXPECT_EQ(b.f.f_world.col(1).norm(), 0.0);
+}
+
+// A point in the corner of a cylinder and a flange feels both: the sum of
+// the two penalty forces, each along its own normal.
+TEST(Flanges, ACornerPointFeelsTheCoreAndTheFlange) {
+  const cws::Scene s = cws::loadScene(
+      k3d, {"process.winding_width=4e-3", "physics.flanges=true", "physics.friction=false"});
+  const cws::RotatingCore core(s.core, 0.0);
+  Bench b(s, 2, 1);
+  cws::Contact contact(b.c, s, core);
+  const double r = b.c.radius;
+  const Eigen::Vector3d axis = s.core.axis_world.normalized();
+  const double at0 = (s.supply.port_position_world - s.core.position_world).dot(axis) - r;
+  // Over the first cylinder's outermost line (+x), h_c into the cylinder
+  // and h_f into the flange.
+  const cws::CylinderParams& cyl = s.core.cylinders[0];
+  const Eigen::Vector3d out(1.0, 0.0, 0.0);
+  const double h_c = 3e-6, h_f = 7e-6;
+  const Eigen::Vector3d radial =
+      Eigen::Vector3d(cyl.center_core.x(), cyl.center_core.y(), 0.0) +
+      (cyl.radius + r - h_c) * out;
+  b.k.p_world.col(1) = radial + (at0 + r - h_f) * axis;
+  b.evaluate(contact);
+  const double k = s.contact.stiffness;
+  const Eigen::Vector3d expected = k * h_c * out + k * h_f * axis;
+  EXPECT_LT((b.f.f_world.col(1) - expected).norm(), 1e-9 * expected.norm());
+  // Both are held at a commit, each in its own slot.
+  contact.commit(0.0, b.k);
+  EXPECT_EQ(contact.surface(1, 0), 0);
+  EXPECT_GE(contact.surface(1, 1), 0);
+  EXPECT_NEAR(contact.penetration(1, 0), h_c, 1e-15);
+  EXPECT_NEAR(contact.penetration(1, 1), h_f, 1e-15);
+}
+
+namespace {
+
+// Carried wire in two runs along x, 30 mm off the core's axis (out of the
+// core's reach): points 1..11 at z = 0, then one segment up to z = d, and
+// points 12..22 back at z = d. The free wire starts at point 23.
+struct TwoRuns {
+  cws::Scene s;
+  std::vector<Eigen::Vector3d> carried_core;
+  double y0 = 30e-3, d = 0.0;
+  explicit TwoRuns(const cws::Scene& scene) : s(scene), carried_core(40), d(scene.wire.diameter) {
+    for (int j = 1; j <= 11; ++j) carried_core[j] = Eigen::Vector3d((j - 1) * 1e-3, y0, 0.0);
+    for (int j = 12; j <= 22; ++j) carried_core[j] = Eigen::Vector3d((22 - j) * 1e-3, y0, d);
+  }
+};
+
+}  // namespace
+
+// Wires crossing at a right angle: a free point pressed onto a carried
+// segment feels k h along the line joining the two wire axes, h = d - that
+// distance; past a carried wire's end, the end point's sphere; nothing
+// from its neighbours along its own wire.
+TEST(WireContact, CrossingWiresFollowThePenaltyLaw) {
+  const cws::Scene s = cws::loadScene(k3d, {"physics.wire_contact=true"});
+  const cws::RotatingCore core(s.core, 0.0);
+  TwoRuns wire(s);
+  Bench b(s, 40, 23);
+  cws::Contact contact(b.c, s, core);
+  contact.attachCarriedWire(wire.carried_core);
+  const double d = wire.d, k = s.contact.stiffness;
+  const double h1 = 2e-5, h2 = 1e-5;  // [m]
+  // Point 30 crosses the first run (along x at z = 0) from below, along z:
+  // over the inside of segment 7.
+  b.k.p_world.col(30) = Eigen::Vector3d(7.5e-3, wire.y0 - (d - h1), 0.0);
+  // Point 31 beyond the first point of the carried wire, along -x.
+  b.k.p_world.col(31) = Eigen::Vector3d(-(d - h2), wire.y0, 0.0);
+  // Point 23, the first free point, right beside the last carried one.
+  b.k.p_world.col(23) = wire.carried_core[22] + Eigen::Vector3d(0.0, -0.9e-3, 0.0);
+  // The others far away.
+  for (int i = 24; i < 40; ++i) {
+    if (i != 30 && i != 31) b.k.p_world.col(i) = Eigen::Vector3d(0.0, -50e-3, i * 1e-3);
+  }
+  b.evaluate(contact);
+  EXPECT_LT((b.f.f_world.col(30) - Eigen::Vector3d(0.0, -k * h1, 0.0)).norm(), 1e-9 * k * h1);
+  // Point 31 also lies under the second run's end (z = d): d away from it,
+  // on the edge of touching: only the first run's end pushes.
+  EXPECT_LT((b.f.f_world.col(31) - Eigen::Vector3d(-k * h2, 0.0, 0.0)).norm(), 1e-6 * k * h2);
+  EXPECT_EQ(b.f.f_world.col(23).norm(), 0.0);
+  for (int i = 24; i < 40; ++i) {
+    if (i == 30 || i == 31) continue;
+    EXPECT_EQ(b.f.f_world.col(i).norm(), 0.0) << i;
+  }
+}
+
+// A point in the groove between two turns touches both: each pushes k h
+// along the line from its axis, h = d - the distance from it.
+TEST(WireContact, APointInTheGrooveFeelsBothTurns) {
+  const cws::Scene s = cws::loadScene(k3d, {"physics.wire_contact=true"});
+  const cws::RotatingCore core(s.core, 0.0);
+  TwoRuns wire(s);
+  Bench b(s, 40, 23);
+  cws::Contact contact(b.c, s, core);
+  contact.attachCarriedWire(wire.carried_core);
+  const double d = wire.d, k = s.contact.stiffness;
+  for (int i = 23; i < 40; ++i) b.k.p_world.col(i) = Eigen::Vector3d(0.0, -50e-3, i * 1e-3);
+  // Over the groove at x = 4.5 mm, a little below sqrt(3)/2 d, where it
+  // would rest on both.
+  const double height = 0.5 * std::sqrt(3.0) * d - 3e-5;
+  const Eigen::Vector3d p(4.5e-3, wire.y0 + height, 0.5 * d);
+  b.k.p_world.col(33) = p;
+  b.evaluate(contact);
+  Eigen::Vector3d expected = Eigen::Vector3d::Zero();
+  for (double z : {0.0, d}) {
+    const Eigen::Vector3d from_axis(0.0, height, p.z() - z);
+    expected += k * (d - from_axis.norm()) * from_axis.normalized();
+  }
+  EXPECT_LT((b.f.f_world.col(33) - expected).norm(), 1e-9 * expected.norm());
+  EXPECT_NEAR(expected.z(), 0.0, 1e-12 * expected.norm());  // symmetric: up only
+  contact.commit(0.0, b.k);
+  int runs = 0;
+  for (int slot = 0; slot < contact.slots(); ++slot) {
+    runs += contact.surface(33, slot) >= contact.wireSurface();
+  }
+  EXPECT_EQ(runs, 2);
+}
+
+TEST(WireContact, RefusedWhereThereIsNoCarriedWire) {
+  auto refusal = [&](const std::vector<std::string>& overrides) {
+    try {
+      cws::loadScene(k3d, overrides);
+    } catch (const cws::SceneError& e) {
+      return e.key() + ": " + e.what();
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal({"physics.wire_contact=true", "solver.carry_stuck_wire=false"})
+                .find("solver.carry_stuck_wire"),
+            std::string::npos);
+  EXPECT_NE(refusal({"physics.wire_contact=true", "physics.planar=true", "process.traverse_pitch=0",
+                     "physics.torsion=false"})
+                .find("physics.wire_contact"),
+            std::string::npos);
+  EXPECT_EQ(refusal({"physics.wire_contact=true"}), "accepted");
+}
+
+TEST(Flanges, NeedContactA3dSceneAndAWidth) {
+  auto refusal = [&](const std::vector<std::string>& overrides) {
+    try {
+      cws::loadScene(k3d, overrides);
+    } catch (const cws::SceneError& e) {
+      return e.key() + ": " + e.what();
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal({"physics.flanges=true"}).find("process.winding_width, which is 0"),
+            std::string::npos);
+  EXPECT_NE(refusal({"physics.flanges=true", "process.winding_width=4e-3", "physics.friction=false",
+                     "physics.contact=false"})
+                .find("flanges need physics.contact"),
+            std::string::npos);
+  EXPECT_EQ(refusal({"physics.flanges=true", "process.winding_width=4e-3"}), "accepted");
+}
+#endif
