@@ -4,6 +4,7 @@
 // methods -- and the stand-off and bulging reports of the wound wire.
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "coil_winding_sim/core/core_geometry.hpp"
@@ -52,10 +53,21 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
   // wound wire at most up to the start of the last group but one; that
   // group and the wire after it stay integrated.
   // (Found from the far end: a scan of the integrated wire, not the wound.)
-  int last_start = -1, prev_start = -1;
-  for (int i = c_.n - 1; i >= 1 && prev_start < 0; --i) {
+  // (A group reaching into the carried wire starts, for this purpose, at
+  // the first integrated point.)
+  int last_start = -1, prev_start = -1, last_end = -1;
+  for (int i = c_.n - 1; i >= std::max(1, c_.first) && prev_start < 0; --i) {
+    if (last_end < 0 && contact_->stuck(i)) last_end = i;
     if (contact_->stuck(i) && !contact_->stuck(i - 1))
       (last_start < 0 ? last_start : prev_start) = i;
+  }
+  if (last_start < 0 && last_end >= 0) last_start = std::max(1, c_.first);
+  // Wire that lies on the core without a free span (a drum, or a layer
+  // lying on the one below) forms one long group: the core carries it up
+  // to half a turn (about the core axis) behind that group's end.
+  if (last_start >= 0 && last_end - last_start > 2) {
+    const int half_turn = halfTurnBehind(t, last_end, last_start);
+    prev_start = std::max(prev_start, half_turn);
   }
   const int limit = std::min(prev_start, c_.n - 2);
   // Release: wound wire before that limit slips on the core (in contact,
@@ -65,6 +77,9 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
     if (contact_->inContact(i) && !contact_->stuck(i)) {
       int r = i;
       while (r > 1 && !(contact_->stuck(r) && !contact_->stuck(r - 1))) --r;
+      // On a long group (a drum, a layer on a layer) no further back than
+      // half a turn.
+      r = std::max(r, halfTurnBehind(t, i, r));
       // Released points are integrated again from their rigid poses now.
       if (r < c_.first) placeCarriedWire(y);
       c_.first = std::min(c_.first, r);
@@ -103,6 +118,23 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
     }
   }
   c_.first = target;
+}
+
+int WireModel::halfTurnBehind(double t, int from, int down_to) const {
+  constexpr double kPi = 3.14159265358979323846;
+  // (Carried points by their poses in the core frame.)
+  auto pointCore = [&](int i) -> Eigen::Vector3d {
+    return i < c_.first ? carried_p_core_[i] : core_->pointCore(t, committed_.p_world.col(i));
+  };
+  Eigen::Vector3d a = pointCore(from);
+  double turned = 0.0;
+  for (int i = from - 1; i >= down_to; --i) {
+    const Eigen::Vector3d b = pointCore(i);
+    turned += std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.x() * b.x() + a.y() * b.y()));
+    if (turned >= kPi) return i;
+    a = b;
+  }
+  return -1;
 }
 
 void WireModel::placeCarriedWire() const {

@@ -206,6 +206,9 @@ class WireModel : public OdeSystem {
   // i at time t, written into y and the committed kinematics; and the
   // decision, after an accepted step, of how much wire the core carries.
   void placeCarried(double t, int i, Eigen::VectorXd& y);
+  // The first point, going back from point `from` to `down_to`, where the
+  // wire has turned half a turn about the core axis (-1: it does not).
+  int halfTurnBehind(double t, int from, int down_to) const;
   void placeCarried(double t, int i);                    // the committed kinematics only
   void writeCommitted(int i, Eigen::VectorXd& y) const;  // point i's committed state into y
   // Throws std::logic_error where a reader of y comes before
