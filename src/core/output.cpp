@@ -124,26 +124,66 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
         << "  \"bulging_arc_length_m\": " << num(b.arc_length_m) << ",\n"
         << "  \"bulging_position_core_m\": [" << num(b.p_core.x()) << ", " << num(b.p_core.y())
         << ", " << num(b.p_core.z()) << "],\n"
-        << "  \"wound_points\": " << b.wound_points << "\n";
+        << "  \"wound_points\": " << b.wound_points << ",\n";
   } else {
     out << "  \"bulging_height_m\": null,\n"
         << "  \"bulging_index\": null,\n"
         << "  \"bulging_arc_length_m\": null,\n"
         << "  \"bulging_position_core_m\": null,\n"
-        << "  \"wound_points\": 0\n";
+        << "  \"wound_points\": 0,\n";
   }
-  out << "}\n";
+  // Turns, layers, gaps and overlaps (coil_report.hpp): null without a
+  // wound coil.
+  out << "  \"coil\": ";
+  writeCoilJson(reportCoil(m, sim.scene()), out);
+  out << "\n}\n";
+}
+
+void writeCoilJson(const CoilReport& r, std::ostream& out) {
+  if (!r.valid) {
+    out << "null";
+    return;
+  }
+  auto list = [&](const std::vector<double>& v) {
+    std::string s = "[";
+    for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + num(v[i]);
+    return s + "]";
+  };
+  out << "{\n    \"turns\": " << r.turns.size() << ",\n"
+      << "    \"layers\": " << r.layers << ",\n"
+      << "    \"gaps\": " << r.gaps << ",\n"
+      << "    \"largest_gap_m\": " << num(r.largest_gap_m) << ",\n"
+      << "    \"first_gap_turn\": " << r.first_gap_turn << ",\n"
+      << "    \"overlaps\": " << r.overlaps << ",\n"
+      << "    \"first_overlap_turn\": " << r.first_overlap_turn << ",\n"
+      << "    \"bulging_per_layer_m\": " << list(r.bulging_per_layer_m) << ",\n"
+      << "    \"per_turn\": [";
+  for (std::size_t i = 0; i < r.turns.size(); ++i) {
+    const TurnReport& t = r.turns[i];
+    out << (i ? "," : "") << "\n      {\"turn\": " << t.turn << ", \"layer\": " << t.layer
+        << ", \"planned_layers\": [" << t.planned_min << ", " << t.planned_max << "]"
+        << ", \"first_point\": " << t.first_point << ", \"points\": " << t.points
+        << ", \"axial_m\": " << num(t.axial_m) << ", \"stand_off_m\": " << num(t.stand_off_m)
+        << ", \"spacing_m\": " << (std::isnan(t.spacing_m) ? std::string("null") : num(t.spacing_m))
+        << ", \"gap_m\": " << num(t.gap_m) << ", \"overlap\": " << (t.overlap ? "true" : "false")
+        << "}";
+  }
+  out << "\n    ]\n  }";
 }
 
 void writeWireCsv(const Simulation& sim, std::ostream& out) {
   out << "index,x,y,z,axial_force_N,curvature_1pm,plastic_curvature_1pm,twist_rad_per_m,"
-         "in_contact,stick\n";
+         "in_contact,stick,turn,layer\n";
   out << std::setprecision(12);
+  // Turn and layer of the wound wire (0 beyond it, or without a coil).
+  const CoilReport coil = reportCoil(sim.model(), sim.scene());
   for (int i = 0; i < sim.model().constants().n; ++i) {
     const PointReport r = sim.model().point(i);
+    const bool wound = i < static_cast<int>(coil.point_turn.size());
     out << i << ',' << r.p_world.x() << ',' << r.p_world.y() << ',' << r.p_world.z() << ','
         << r.axial_force_N << ',' << r.curvature_1pm << ',' << r.plastic_curvature_1pm << ','
-        << r.twist_rad_per_m << ',' << int(r.in_contact) << ',' << int(r.stick) << '\n';
+        << r.twist_rad_per_m << ',' << int(r.in_contact) << ',' << int(r.stick) << ','
+        << (wound ? coil.point_turn[i] : 0) << ',' << (wound ? coil.point_layer[i] : 0) << '\n';
   }
 }
 

@@ -134,6 +134,9 @@ std::vector<SceneKey> declareKeys() {
       key<&S::core, &Core::flange_height>("core.flange_height", "m", kPositive,
                                           "with physics.flanges: their reach beyond the "
                                           "core's outermost surface"),
+      key<&S::core, &Core::flange_spacing>("core.flange_spacing", "m", kNonNegative,
+                                           "with physics.flanges: the distance between them "
+                                           "(0: process.winding_width)"),
 
       key<&S::process, &Process::core_speed_rpm>("process.core_speed_rpm", "rpm", kAny,
                                                  "core speed, counter-clockwise positive"),

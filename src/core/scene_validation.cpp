@@ -98,6 +98,11 @@ void flangesFit(const Scene& s) {
     throw SceneError("physics.flanges",
                      "flanges stand at the ends of process.winding_width, which is 0");
   }
+  if (s.core.flange_spacing != 0.0 && !(s.core.flange_spacing > s.wire.diameter)) {
+    throw SceneError("core.flange_spacing", fmt(s.core.flange_spacing) +
+                                                " m leaves no room for a wire of " +
+                                                fmt(s.wire.diameter) + " m between the flanges");
+  }
 }
 
 // Contact between segments acts against wire the core carries: wound wire

@@ -115,10 +115,10 @@ TEST_F(WireSimCli, ShortRunWritesSummaryAndCsv) {
   ASSERT_EQ(lines.size(), 7u);
   EXPECT_EQ(lines[0],
             "index,x,y,z,axial_force_N,curvature_1pm,plastic_curvature_1pm,twist_rad_per_m,"
-            "in_contact,stick");
+            "in_contact,stick,turn,layer");
   for (int i = 0; i < 6; ++i) {
     const std::vector<std::string> cells = splitCsv(lines[i + 1]);
-    ASSERT_EQ(cells.size(), 10u) << lines[i + 1];
+    ASSERT_EQ(cells.size(), 12u) << lines[i + 1];
     EXPECT_EQ(cells[0], std::to_string(i));
     // Clamped at the origin along +x, unloaded: node i stays at (2 mm i, 0, 0).
     EXPECT_NEAR(std::stod(cells[1]), 0.002 * i, 1e-12) << lines[i + 1];

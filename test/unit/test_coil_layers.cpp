@@ -1,7 +1,9 @@
 // Coils wound on a drum with wire-on-wire contact, against geometry: turns
 // at a pitch of one diameter lie side by side (spacing d, no deeper than
-// the penalty law allows), and a second layer lies in the grooves of the
-// first, its centres sqrt(3)/2 d further out.
+// the penalty law allows), a second layer lies in the grooves of the
+// first, its centres sqrt(3)/2 d further out; the coil report finds the
+// gaps of a pitch of 1.5 d and the overlap of a late reversal where the
+// geometry puts them.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "coil_winding_sim/core/coil_report.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 
@@ -133,5 +136,55 @@ TEST(CoilLayers, TheSecondLayerLiesInTheGroovesOfTheFirst) {
   const double rise = median(second) - median(first);
   std::printf("second layer %.4f d above the first (sqrt(3)/2 = 0.8660)\n", rise / d);
   EXPECT_NEAR(rise, 0.5 * std::sqrt(3.0) * d, 0.05 * 0.5 * std::sqrt(3.0) * d);
+}
+// A pitch of 1.5 d leaves a gap of 0.5 d beside every turn: reported at
+// each turn from the second on (the last, still being laid, aside), and
+// once the wire's lag behind the port has built up (from the fourth turn)
+// within 10 % of 0.5 d.
+TEST(CoilLayers, APitchOfOneAndAHalfDiametersLeavesGapsAtEveryTurn) {
+  std::vector<std::string> keys = drum(8.0);
+  keys.push_back("process.traverse_pitch=1.5e-3");
+  const cws::Scene s = cws::loadScene(k3d, keys);
+  cws::Simulation sim(s);
+  sim.run();
+  const cws::CoilReport r = cws::reportCoil(sim.model(), s);
+  ASSERT_TRUE(r.valid);
+  const double d = s.wire.diameter;
+  ASSERT_GE(r.turns.size(), 8u);
+  EXPECT_EQ(r.first_gap_turn, 2);
+  EXPECT_EQ(r.gaps, static_cast<int>(r.turns.size()) - 2);
+  EXPECT_EQ(r.overlaps, 0);
+  EXPECT_EQ(r.layers, 1);
+  for (std::size_t a = 1; a + 1 < r.turns.size(); ++a) {
+    const cws::TurnReport& t = r.turns[a];
+    std::printf("turn %d: gap %.3f d\n", t.turn, t.gap_m / d);
+    EXPECT_GT(t.gap_m, 0.25 * d) << "turn " << t.turn;
+    if (t.turn < 4) continue;
+    EXPECT_NEAR(t.gap_m, 0.5 * d, 0.05 * d) << "turn " << t.turn;
+  }
+}
+
+// A traverse set 1.5 mm wider than its bobbin reverses late: the flanges
+// leave room for turn centres up to S - d = 3.5 mm from the port's start,
+// and the helix (pitch d, starting at the port's start) reaches it 3.5
+// turns in: the fourth turn climbs onto the third, and the report names
+// it; no turn before it overlaps.
+TEST(CoilLayers, ALateReversalIsReportedAtTheTurnWhereTheWireClimbs) {
+  std::vector<std::string> keys = drum(7.0);
+  keys.insert(keys.end(), {"process.winding_width=6e-3", "core.flange_spacing=4.5e-3",
+                           "process.layers=2", "physics.flanges=true"});
+  const cws::Scene s = cws::loadScene(k3d, keys);
+  cws::Simulation sim(s);
+  sim.run();
+  const cws::CoilReport r = cws::reportCoil(sim.model(), s);
+  ASSERT_TRUE(r.valid);
+  const double room = s.core.flange_spacing - s.wire.diameter;
+  const int expected = 1 + static_cast<int>(std::floor(room / s.process.traverse_pitch));
+  EXPECT_EQ(expected, 4);
+  EXPECT_EQ(r.first_overlap_turn, expected);
+  for (const cws::TurnReport& t : r.turns) {
+    std::printf("turn %d: layer %d (planned %d-%d), overlap %d\n", t.turn, t.layer,
+                t.planned_min, t.planned_max, int(t.overlap));
+  }
 }
 #endif

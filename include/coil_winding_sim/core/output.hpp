@@ -4,6 +4,7 @@
 #include <ostream>
 #include <string>
 
+#include "coil_winding_sim/core/coil_report.hpp"
 #include "coil_winding_sim/core/error_estimate.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 
@@ -14,6 +15,8 @@ namespace cws {
 void writeSummaryJson(const Simulation& sim, std::ostream& out,
                       const ErrorEstimate* estimate = nullptr);
 void writeWireCsv(const Simulation& sim, std::ostream& out);
+// The coil report as a JSON object (null when not valid).
+void writeCoilJson(const CoilReport& r, std::ostream& out);
 
 // The wire in the core frame with each point's stand-off from the winding
 // surface (scenes with a core that has cylinders).

@@ -90,6 +90,9 @@ struct CoreParams {
   // With physics.flanges: how far the flanges reach beyond the core's
   // outermost surface (its swept radius) [m].
   double flange_height = 3.0e-3;
+  // With physics.flanges: the distance between them [m]; 0: the winding
+  // width (a traverse set wider than the bobbin reverses late).
+  double flange_spacing = 0.0;
 };
 
 // Keys whose name says rpm carry revolutions per minute; everything else is

@@ -27,6 +27,12 @@ struct TraverseProfile {
     int layer = 0;         // 0 for the first pass
   };
 
+  // The profile of a winding width [m] (0: none) for a wire of diameter
+  // [m]: its travel is W - d.
+  static TraverseProfile of(double pitch, double width, double diameter, int layers) {
+    return TraverseProfile{pitch, width > 0.0 ? width - diameter : 0.0, layers};
+  }
+
   // Where the port is when the core has turned by angle_rad [rad] from the
   // start.
   Position at(double angle_rad) const {

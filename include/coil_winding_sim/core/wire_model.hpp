@@ -169,6 +169,8 @@ class WireModel : public OdeSystem {
   // throws std::invalid_argument (also without a supply).
   void setPortCommand(const Eigen::Vector3d& p_world, double t_s);
 
+  // Time of the last accepted step [s].
+  double committedTime() const { return committed_time_; }
   // Natural length of wire drawn in through the port since the start [m].
   double fedLength() const;
   // Bulging of the wound wire at the last accepted step (needs contact).

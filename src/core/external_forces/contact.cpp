@@ -37,7 +37,9 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
     const double side = s.process.traverse_pitch < 0.0 ? -1.0 : 1.0;
     const double first =
         (s.supply.port_position_world - s.core.position_world).dot(axis) - side * c.radius;
-    flange_at_ = {first, first + side * s.process.winding_width};
+    const double spacing =
+        s.core.flange_spacing > 0.0 ? s.core.flange_spacing : s.process.winding_width;
+    flange_at_ = {first, first + side * spacing};
     flange_side_ = {side, -side};
     // The core's swept radius: its farthest surface from the axis.
     double swept = 0.0;

@@ -26,9 +26,8 @@ Supply::Supply(const WireConstants& c, const Scene& s, const RotatingCore* core)
       core_(core),
       port0_world_(s.supply.port_position_world),
       axis_world_(s.core.axis_world.normalized()),
-      profile_{s.process.traverse_pitch,
-               s.process.winding_width > 0.0 ? s.process.winding_width - s.wire.diameter : 0.0,
-               s.process.layers},
+      profile_(TraverseProfile::of(s.process.traverse_pitch, s.process.winding_width,
+                                   s.wire.diameter, s.process.layers)),
       core_origin_world_(s.core.position_world),
       tension_(s.process.tension) {
   for (const CylinderParams& cyl : s.core.cylinders) {

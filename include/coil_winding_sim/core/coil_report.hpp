@@ -1,0 +1,62 @@
+// Turns, layers, gaps and overlaps of the wound coil at the last accepted
+// step (docs/MODEL.md, "Turns, layers, gaps and overlaps").
+//
+// A point's turn counts its angle about the core axis from the fixed end
+// (core frame). Its layer: 1 on the core; 1 + the layer of the wire it
+// rests on, where it touches carried wire lying nearer the core; else the
+// layer of the point before it (a span between supports). The traverse
+// plans each turn's layer from the pass the port is on while it is laid
+// (half a turn of slack for the wire's lag behind the port).
+// - gap: a turn lies further than d (plus kGapTolerance d) along the axis
+//   from the turn before it in its layer;
+// - overlap: kOverlapPoints or more of a turn's points lie in a layer above
+//   the traverse's plan (on a neighbour where it should lie beside it, or
+//   crossing it);
+// - bulging per layer: the largest stand-off above the layer's ideal
+//   surface, the core's outline grown by (layer - 1) sqrt(3)/2 d
+//   (orthocyclic layers).
+#pragma once
+
+#include <limits>
+#include <vector>
+
+namespace cws {
+
+class WireModel;
+struct Scene;
+
+struct TurnReport {
+  int turn = 0;  // 1 from the fixed end
+  int first_point = 0, points = 0;
+  int layer = 1;                         // the layer most of its points lie in
+  int planned_min = 1, planned_max = 1;  // the traverse's layers for it
+  double axial_m = 0.0;      // mean position along the core axis from the port's start [m]
+  double stand_off_m = 0.0;  // largest stand-off above its layer's ideal surface [m]
+  double spacing_m = std::numeric_limits<double>::quiet_NaN();  // from the turn before in
+                                                                // its layer, axially [m]
+  double gap_m = 0.0;  // spacing beyond d (0: none) [m]
+  bool overlap = false;
+};
+
+struct CoilReport {
+  bool valid = false;  // false: no core contact, or nothing wound
+  std::vector<TurnReport> turns;
+  // Per point of the wound wire (index = point): its turn (1-based) and
+  // layer; points beyond the wound wire are left out.
+  std::vector<int> point_turn, point_layer;
+  int layers = 0;  // the highest layer reached
+  int gaps = 0, overlaps = 0;
+  double largest_gap_m = 0.0;
+  int first_gap_turn = 0, first_overlap_turn = 0;  // 0: none
+  std::vector<double> bulging_per_layer_m;         // index: layer - 1 [m]
+};
+
+// A gap is reported beyond (1 + kGapTolerance) d: the penalty law's
+// spacing error is far below it (docs/MODEL.md).
+constexpr double kGapTolerance = 0.05;
+constexpr int kOverlapPoints = 3;
+
+// The report of the model's wound wire; needs the scene's traverse and wire.
+CoilReport reportCoil(const WireModel& m, const Scene& s);
+
+}  // namespace cws
