@@ -13,10 +13,14 @@ namespace cws {
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
+// A point rests on wire it touches along a line less than 45 deg off the
+// radial plane: |cos| to the axis below this.
+constexpr double kRestingAxial = 0.7071;
 
-// The layer of each wound point 0..last from what it rests on.
-std::vector<int> layersOf(const WireModel& m, const std::vector<double>& stand_off, int last,
-                          double d) {
+// The layer of each wound point 0..last (core-frame positions, core axis
+// z) from what it rests on.
+std::vector<int> layersOf(const WireModel& m, const std::vector<Eigen::Vector3d>& p_core,
+                          int last) {
   const Contact& contact = *m.contact();
   std::vector<int> layer(last + 1, 1);
   for (int i = 1; i <= last; ++i) {
@@ -29,10 +33,15 @@ std::vector<int> layersOf(const WireModel& m, const std::vector<double>& stand_o
     for (int slot = 1; slot < contact.slots(); ++slot) {
       const int j = contact.surface(i, slot) - contact.wireSurface();
       if (j < 0 || j + 1 >= i) continue;
-      // Resting on it: the wire touched lies nearer the core (a neighbour
-      // in the same layer lies level with it).
-      const double below = stand_off[i] - 0.5 * (stand_off[j] + stand_off[j + 1]);
-      if (below > 0.25 * d) on = std::max(on, 1 + std::max(layer[j], layer[j + 1]));
+      // Resting on it: the line from the wire touched to the point is
+      // nearer the radial plane than the axis (in a groove it is 30 deg off
+      // the radial; a neighbour in the same layer lies along the axis).
+      const Eigen::Vector3d a = p_core[j], e = p_core[j + 1] - a;
+      const double u = std::clamp((p_core[i] - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
+      const Eigen::Vector3d from = p_core[i] - a - u * e;
+      if (std::abs(from.z()) < kRestingAxial * from.norm()) {
+        on = std::max(on, 1 + std::max(layer[j], layer[j + 1]));
+      }
     }
     if (on > 0) layer[i] = on;
   }
@@ -58,10 +67,11 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
 
   // Each point's stand-off, axial position and turn.
   std::vector<double> stand_off(last + 1), axial(last + 1);
+  std::vector<Eigen::Vector3d> p_core(last + 1);
   r.point_turn.assign(last + 1, 1);
   double unwrapped = 0.0, previous = 0.0;
   for (int i = 0; i <= last; ++i) {
-    const Eigen::Vector3d p = m.core()->pointCore(t, k.p_world.col(i));
+    const Eigen::Vector3d p = p_core[i] = m.core()->pointCore(t, k.p_world.col(i));
     stand_off[i] = m.standOff(i);
     axial[i] = p.z() - axial0;
     const double a = std::atan2(p.y(), p.x());
@@ -69,7 +79,7 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
     previous = a;
     r.point_turn[i] = 1 + static_cast<int>(std::floor(std::abs(unwrapped) / kTwoPi));
   }
-  r.point_layer = layersOf(m, stand_off, last, d);
+  r.point_layer = layersOf(m, p_core, last);
 
   // Turns: their points, layer (the most common), plan, position, stand-off.
   const TraverseProfile plan = TraverseProfile::of(s.process.traverse_pitch, s.process.winding_width,
@@ -104,8 +114,10 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
     if (static_cast<int>(r.bulging_per_layer_m.size()) < turn.layer) {
       r.bulging_per_layer_m.resize(turn.layer, 0.0);
     }
+    // (A turn on which the traverse changes layer crosses over: it bulges
+    // no layer.)
     double& bulge = r.bulging_per_layer_m[turn.layer - 1];
-    bulge = std::max(bulge, turn.stand_off_m);
+    if (turn.planned_min == turn.planned_max) bulge = std::max(bulge, turn.stand_off_m);
     turn.overlap = above >= kOverlapPoints;
     r.turns.push_back(turn);
   }
