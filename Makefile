@@ -4,6 +4,8 @@
 #   make build    build the package in the catkin workspace .ws/ (git-ignored)
 #   make run      run the wire_sim tool:  make run [SCENE=config/scenes/x.yaml] [OUT=out/x] [ARGS="..."]
 #   make study    the paper's 2 x 2 study: table and figure in docs/study (STUDY_OUT)
+#   make coil-study  gaps and overlaps of a two-layer coil against tension and pitch:
+#                 table and cross-sections in docs/study/coil (COIL_STUDY_OUT)
 #   make bench    per-step cost against the number of points (Google Benchmark)
 #   make work-precision   error against run time of every integrator (docs/performance)
 #   make stability        extreme cases x every integrator, checked (docs/STABILITY.md)
@@ -58,7 +60,7 @@ CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCATKIN_ENABLE_TESTING=ON \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON
 
-.PHONY: deps build run study bench work-precision stability compare compare-demo test format format-check clean
+.PHONY: deps build run study coil-study bench work-precision stability compare compare-demo test format format-check clean
 
 deps:
 ifeq ($(SKIP_DEPS),1)
@@ -151,6 +153,13 @@ STUDY_OUT ?= docs/study
 study: build
 	$(WIRE_SIM) study --out "$(STUDY_OUT)" $(if $(SCENE),--scene "$(SCENE)") $(ARGS)
 	$(PYTHON) src/tools/plot_study.py "$(STUDY_OUT)"
+
+# Gaps and overlaps of a two-layer coil (docs/COIL_STUDY.md): 3 tensions x 4
+# traverse pitches, the runs' outputs in out/coil_study.
+COIL_STUDY_OUT ?= docs/study/coil
+coil-study: build
+	$(PYTHON) src/tools/coil_study.py "$(WIRE_SIM)" "$(COIL_STUDY_OUT)" --jobs 2 \
+	  --runs out/coil_study
 
 # Builds the test binaries (catkin target `tests`), then runs every registered test
 # (gtest now, rostest later) through ctest. catkin registers each test for ctest via

@@ -118,7 +118,9 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
     // no layer.)
     double& bulge = r.bulging_per_layer_m[turn.layer - 1];
     if (turn.planned_min == turn.planned_max) bulge = std::max(bulge, turn.stand_off_m);
-    turn.overlap = above >= kOverlapPoints;
+    // (A crossover zone, where the next turn starts to climb, spans less
+    // than a quarter of a turn.)
+    turn.overlap = above >= std::max<double>(kOverlapPoints, kOverlapFraction * turn.points);
     r.turns.push_back(turn);
   }
 

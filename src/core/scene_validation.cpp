@@ -119,6 +119,14 @@ void wireContactFits(const Scene& s) {
     refuse("acts against the wound wire the core carries, which needs physics.friction, "
            "solver.carry_stuck_wire and start.frame core");
   }
+  // Each point acts as a sphere of the wire's radius: segments longer than
+  // the diameter leave room for a crossing wire to pass between two.
+  if (s.wire.segment_length > s.wire.diameter * (1.0 + 1e-12)) {
+    throw SceneError("wire.segment_length",
+                     fmt(s.wire.segment_length) + " m is longer than the wire's diameter " +
+                         fmt(s.wire.diameter) +
+                         " m: wire contact (physics.wire_contact) needs segments no longer");
+  }
 }
 
 // Dashpots beyond twice critical only slow a landing down, and stiffen the

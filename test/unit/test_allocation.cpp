@@ -84,3 +84,24 @@ TEST(Allocation, NewtonStepsAllocateNothing) {
   expectStepsAllocateNothing("bdf2", 300, false, "paper_case_3d.yaml");
 }
 #endif
+
+#ifdef CWS_SOURCE_DIR
+// Contact against the wound wire: a two-layer coil (flanges, wire on wire)
+// past its first turn, counted while the core takes on wire (each new
+// carried segment hashed into the broad phase) and the free wire lands on
+// the turn before.
+TEST(Allocation, WireContactStepsAllocateNothing) {
+  cws::Simulation sim(cws::loadScene(std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml",
+                                     {"process.turns=4"}));
+  while (sim.time() < 0.06) sim.step(sim.endTime());  // 1.2 turns at 1200 rpm
+  const int carried0 = sim.model().carriedPoints();
+  allocations = 0;
+  counting = true;
+  for (int i = 0; i < 1500; ++i) sim.step(sim.endTime());
+  counting = false;
+  std::printf("allocation: two layers, %ld allocations in 1500 steps, carried %d -> %d\n",
+              allocations.load(), carried0, sim.model().carriedPoints());
+  EXPECT_EQ(allocations.load(), 0);
+  EXPECT_GT(sim.model().carriedPoints(), carried0 + 50) << "the core should take on wire";
+}
+#endif

@@ -9,9 +9,10 @@
 // (half a turn of slack for the wire's lag behind the port).
 // - gap: a turn lies further than d (plus kGapTolerance d) along the axis
 //   from the turn before it in its layer;
-// - overlap: kOverlapPoints or more of a turn's points lie in a layer above
-//   the traverse's plan (on a neighbour where it should lie beside it, or
-//   crossing it);
+// - overlap: a quarter of a turn's points or more (at least kOverlapPoints)
+//   lie in a layer above the traverse's plan (on a neighbour where it should
+//   lie beside it, or crossing it); the next turn's climb beginning in the
+//   crossover zone at a turn's end is less;
 // - bulging per layer: the largest stand-off above the layer's ideal
 //   surface, the core's outline grown by (layer - 1) sqrt(3)/2 d
 //   (orthocyclic layers).
@@ -55,6 +56,7 @@ struct CoilReport {
 // spacing error is far below it (docs/MODEL.md).
 constexpr double kGapTolerance = 0.05;
 constexpr int kOverlapPoints = 3;
+constexpr double kOverlapFraction = 0.25;
 
 // The report of the model's wound wire; needs the scene's traverse and wire.
 CoilReport reportCoil(const WireModel& m, const Scene& s);

@@ -5,11 +5,13 @@
 
 namespace cws {
 
-void CarriedWireIndex::reserve(int segments, double reach) {
+void CarriedWireIndex::reserve(int segments, double reach, double longest) {
   cell_ = reach;
-  // A segment about as long as the reach overlaps some 36 cells when grown
-  // by it; buckets about twice the nodes.
-  const std::size_t nodes = static_cast<std::size_t>(std::max(segments, 1)) * 40;
+  // A segment's box grown by the reach spans at most ceil(longest / reach)
+  // + 3 cells along each axis; buckets about twice the nodes.
+  const std::size_t per_axis = static_cast<std::size_t>(std::ceil(longest / reach)) + 3;
+  const std::size_t nodes =
+      static_cast<std::size_t>(std::max(segments, 1)) * per_axis * per_axis * per_axis;
   nodes_.reserve(nodes);
   int bits = 1;
   while ((std::size_t{1} << bits) < 2 * nodes && bits < 40) ++bits;

@@ -60,7 +60,8 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
     // touching: the wire cannot bend that far back on itself.
     skip_points_ =
         std::max(3, static_cast<int>(std::ceil(3.0 * 2.0 * c.radius / c.segment_length)));
-    carried_index_.reserve(c_.capacity, 2.0 * c.radius);
+    // (Carried wire stretches little: half as long again is room enough.)
+    carried_index_.reserve(c_.capacity, 2.0 * c.radius, 1.5 * c.segment_length);
   }
   const std::size_t slots = static_cast<std::size_t>(c_.capacity) * slots_;
   surface_.assign(slots, -1);

@@ -13,9 +13,10 @@ namespace cws {
 
 class CarriedWireIndex {
  public:
-  // Storage for `segments` segments; `reach` is the largest distance [m] a
-  // query point may have from a segment it touches (the cell size).
-  void reserve(int segments, double reach);
+  // Storage for `segments` segments up to `longest` [m] long (more would
+  // allocate); `reach` is the largest distance [m] a query point may have
+  // from a segment it touches (the cell size).
+  void reserve(int segments, double reach, double longest);
   // Forgets every segment.
   void clear();
   // Segment j from a_core to b_core [m], core frame: hashed into every cell
