@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "coil_winding_sim/core/coil_report.hpp"
 #include "coil_winding_sim/core/core_geometry.hpp"
 
 namespace cws_ros {
@@ -50,6 +51,57 @@ visualization_msgs::Marker marker(const ros::Time& stamp, const std::string& fra
   k.action = visualization_msgs::Marker::ADD;
   k.pose.orientation.w = 1.0;
   return k;
+}
+
+// Layer 1 blue, 2 orange, 3 red, 4 and above brown.
+std_msgs::ColorRGBA layerColor(int layer) {
+  switch (layer) {
+    case 1: return color(0.62, 0.79, 0.88);
+    case 2: return color(0.99, 0.68, 0.42);
+    case 3: return color(0.90, 0.33, 0.05);
+    default: return color(0.65, 0.21, 0.01);
+  }
+}
+
+// The coil report when the scene winds wire onto wire (the only scenes
+// whose turns lie in layers).
+bool coilOf(const cws::Simulation& sim, cws::CoilReport& out) {
+  if (!sim.scene().physics.wire_contact) return false;
+  out = cws::reportCoil(sim.model(), sim.scene());
+  return out.valid;
+}
+
+// The wound wire as spheres coloured by layer ("coil_layers"), and its
+// defects ("coil_defects"): red around points of an overlapping turn that
+// lie above the traverse's plan, yellow around the turns after a gap.
+void addCoilMarkers(const cws::Simulation& sim, const cws::CoilReport& r, const ros::Time& stamp,
+                    const Frames& frames, visualization_msgs::MarkerArray& out) {
+  const cws::WireModel& m = sim.model();
+  const double diameter = 2.0 * m.constants().radius;
+  visualization_msgs::Marker layers =
+      marker(stamp, frames.world, "coil_layers", 0, visualization_msgs::Marker::SPHERE_LIST);
+  layers.scale.x = layers.scale.y = layers.scale.z = diameter;
+  visualization_msgs::Marker defects =
+      marker(stamp, frames.world, "coil_defects", 0, visualization_msgs::Marker::SPHERE_LIST);
+  defects.scale.x = defects.scale.y = defects.scale.z = 1.6 * diameter;
+  for (const cws::TurnReport& t : r.turns) {
+    for (int i = t.first_point; i < t.first_point + t.points; ++i) {
+      const geometry_msgs::Point p = point(m.point(i).p_world);
+      layers.points.push_back(p);
+      layers.colors.push_back(layerColor(r.point_layer[i]));
+      if (t.overlap && r.point_layer[i] > t.planned_max) {
+        defects.points.push_back(p);
+        defects.colors.push_back(color(1.0, 0.0, 0.0, 0.6));
+      } else if (t.gap_m > 0.0) {
+        defects.points.push_back(p);
+        defects.colors.push_back(color(1.0, 0.9, 0.0, 0.35));
+      }
+    }
+  }
+  out.markers.push_back(layers);
+  // (An empty list would leave the last defects on screen: DELETE them.)
+  if (defects.points.empty()) defects.action = visualization_msgs::Marker::DELETE;
+  out.markers.push_back(defects);
 }
 
 }  // namespace
@@ -104,6 +156,17 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
   msg.step_size = sim.stepper().lastStep();
   msg.max_constraint_residual = m.maxConstraintResidual();
   msg.points = m.constants().n;
+  cws::CoilReport coil;
+  if (coilOf(sim, coil)) {
+    msg.turns = static_cast<int>(coil.turns.size());
+    msg.layers = coil.layers;
+    msg.gaps = coil.gaps;
+    msg.largest_gap = coil.largest_gap_m;
+    msg.first_gap_turn = coil.first_gap_turn;
+    msg.overlaps = coil.overlaps;
+    msg.first_overlap_turn = coil.first_overlap_turn;
+    msg.bulging_per_layer = coil.bulging_per_layer_m;
+  }
   return msg;
 }
 
@@ -169,6 +232,8 @@ visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros:
     p.color = color(1.0, 0.8, 0.0, 0.8);
     out.markers.push_back(p);
   }
+  cws::CoilReport coil;
+  if (coilOf(sim, coil)) addCoilMarkers(sim, coil, stamp, frames, out);
   return out;
 }
 

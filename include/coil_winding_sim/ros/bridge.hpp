@@ -44,6 +44,8 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
 // The wire as line strips coloured by axial force (blue 0 N .. red at
 // `force_scale_N`), the core's cylinders and faces (in the core frame) and
 // the supply port. Strips are split to stay within `max_points_per_marker`.
+// With wire contact, also the wound wire coloured by layer ("coil_layers")
+// and its overlaps and gaps ("coil_defects").
 visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros::Time& stamp,
                                           const Frames& frames, double force_scale_N,
                                           std::size_t max_points_per_marker = 10000);
