@@ -153,6 +153,23 @@ void Simulation::step(double t_limit) {
     }
     throw IntegrationError(withRampCause(msg.str(), t_, ramp));
   }
+  // Wire deep in wound wire has passed into it: from where a sound coil
+  // rests (a few percent of the radius) it is pushed out with energy the
+  // run never had.
+  if (const Contact* contact = model_->contact()) {
+    const Contact::WireDepth& deep = contact->deepestInWire();
+    const double radius = model_->constants().radius;
+    if (deep.depth_m > kWireThroughWire * radius) {
+      std::ostringstream msg;
+      msg << "at t = " << t_ << " s wire passed into wound wire: point " << deep.point << " lies "
+          << deep.depth_m / radius << " wire radii deep in segment " << deep.segment
+          << " (a sound coil: below 0.1). Wound wire that the core does not yet carry is "
+             "free, and two free segments do not touch (docs/MODEL.md, \"Wire against wound "
+             "wire\"): a turn crossed a free turn with "
+          << stepper_->name() << "; use bdf2, which keeps more of the wound wire carried";
+      throw IntegrationError(msg.str());
+    }
+  }
 }
 
 // A method that fails inside a core speed ramp shorter than the time a wave

@@ -84,6 +84,9 @@ class Simulation {
   // bound is 1e-3; a tension setpoint jump from 30 to 300 N (the default
   // limit) peaks at 1.0e-2 and decays within 1 ms, so the stop is 10x that.
   static constexpr double kDivergedResidual = 0.1;
+  // Penetration of a point into carried wire, in wire radii, beyond which
+  // a run stops (the stability criteria's bound on any contact).
+  static constexpr double kWireThroughWire = 0.5;
 
   // One accepted step, not past t_limit [s]. Throws IntegrationError.
   void step(double t_limit);

@@ -239,6 +239,7 @@ void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const 
 
 void Contact::commit(double t, const WireKinematics& k) {
   max_penetration_ = 0.0;
+  deepest_in_wire_ = WireDepth();
   elastic_committed_ = 0.0;
   placeSurfaces(t);
   syncCarriedWire();
@@ -261,6 +262,9 @@ void Contact::commit(double t, const WireKinematics& k) {
       if (c.surface >= 0) {
         max_penetration_ = std::max(max_penetration_, c.h);
         elastic_committed_ += 0.5 * p_.stiffness * c.h * c.h;
+        if (c.surface >= wire_base_ && c.h > deepest_in_wire_.depth_m) {
+          deepest_in_wire_ = {c.h, i, c.surface - wire_base_};
+        }
       }
       friction_force_[x].setZero();
       if (!friction_) continue;

@@ -118,6 +118,13 @@ class Contact : public ForceEffect {
   }
   // Deepest penetration over all points at the last commit [m].
   double maxPenetration() const { return max_penetration_; }
+  // The integrated point deepest in carried wire at the last commit: its
+  // penetration [m] (0: none), the point and the carried segment.
+  struct WireDepth {
+    double depth_m = 0.0;
+    int point = -1, segment = -1;
+  };
+  const WireDepth& deepestInWire() const { return deepest_in_wire_; }
 
  private:
   // Places the cylinder axes and faces in the world at time t, once per
@@ -239,6 +246,7 @@ class Contact : public ForceEffect {
   std::vector<Eigen::Vector3d> friction_force_;  // output only
   std::vector<double> depth_;                    // committed penetration [m]
   double max_penetration_ = 0.0;
+  WireDepth deepest_in_wire_;
   double elastic_committed_ = 0.0;
   // Implicit steps' trial flags (capacity, per slot): surface, stick, anchor (core
   // frame) and slip direction (+1 / -1 along the surface tangent n x normal).
