@@ -153,9 +153,9 @@ void Simulation::step(double t_limit) {
     }
     throw IntegrationError(withRampCause(msg.str(), t_, ramp));
   }
-  // Wire deep in wound wire has passed into it: from where a sound coil
-  // rests (a few percent of the radius) it is pushed out with energy the
-  // run never had.
+  // Wire deeper than its radius in wound wire has passed into it: a sound
+  // coil rests a few percent of the radius deep, and from there it would be
+  // pushed out with energy the run never had.
   if (const Contact* contact = model_->contact()) {
     const Contact::WireDepth& deep = contact->deepestInWire();
     const double radius = model_->constants().radius;
@@ -166,7 +166,10 @@ void Simulation::step(double t_limit) {
           << " (a sound coil: below 0.1). Wound wire that the core does not yet carry is "
              "free, and two free segments do not touch (docs/MODEL.md, \"Wire against wound "
              "wire\"): a turn crossed a free turn with "
-          << stepper_->name() << "; use bdf2, which keeps more of the wound wire carried";
+          << stepper_->name() << "; "
+          << (scene_.solver.integrator == "bdf2"
+                  ? "lower solver.implicit_step"
+                  : "use bdf2, which keeps more of the wound wire carried");
       throw IntegrationError(msg.str());
     }
   }
