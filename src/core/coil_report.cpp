@@ -82,8 +82,8 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
   r.point_layer = layersOf(m, p_core, last);
 
   // Turns: their points, layer (the most common), plan, position, stand-off.
-  const TraverseProfile plan = TraverseProfile::of(s.process.traverse_pitch, s.process.winding_width,
-                                                   d, s.process.layers);
+  const TraverseProfile plan =
+      TraverseProfile::of(s.process.traverse_pitch, s.process.winding_width, d, s.process.layers);
   for (int i = 0; i <= last;) {
     TurnReport turn;
     turn.turn = r.point_turn[i];

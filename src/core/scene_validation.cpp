@@ -116,8 +116,9 @@ void wireContactFits(const Scene& s) {
     refuse("must be false with physics.planar (turns lie beside each other along the axis)");
   }
   if (!s.physics.friction || !s.solver.carry_stuck_wire || s.start.frame != "core") {
-    refuse("acts against the wound wire the core carries, which needs physics.friction, "
-           "solver.carry_stuck_wire and start.frame core");
+    refuse(
+        "acts against the wound wire the core carries, which needs physics.friction, "
+        "solver.carry_stuck_wire and start.frame core");
   }
   // Each point acts as a sphere of the wire's radius: segments longer than
   // the diameter leave room for a crossing wire to pass between two.

@@ -56,10 +56,14 @@ visualization_msgs::Marker marker(const ros::Time& stamp, const std::string& fra
 // Layer 1 blue, 2 orange, 3 red, 4 and above brown.
 std_msgs::ColorRGBA layerColor(int layer) {
   switch (layer) {
-    case 1: return color(0.62, 0.79, 0.88);
-    case 2: return color(0.99, 0.68, 0.42);
-    case 3: return color(0.90, 0.33, 0.05);
-    default: return color(0.65, 0.21, 0.01);
+    case 1:
+      return color(0.62, 0.79, 0.88);
+    case 2:
+      return color(0.99, 0.68, 0.42);
+    case 3:
+      return color(0.90, 0.33, 0.05);
+    default:
+      return color(0.65, 0.21, 0.01);
   }
 }
 

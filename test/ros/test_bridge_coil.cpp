@@ -40,11 +40,12 @@ TEST(BridgeCoil, OverlapOfALateReversalInMetricsAndMarkers) {
   // Flanges 4.5 mm apart, traverse 6 mm wide: turn 5 has no room and climbs
   // (test_coil_layers, ALateReversalIsReportedAtTheTurnWhereTheWireClimbs).
   const cws::Scene s = cws::loadScene(
-      kScene, {"core.cylinders=[{center: [0.0, 0.0], radius: 5.0e-3}]",
-               "start.position=[0.0, -5.5e-3, 0.0]", "supply.port_position=[-20.0e-3, -5.5e-3, 0.0]",
-               "process.core_speed_rpm=1200", "process.turns=7", "physics.wire_contact=true",
-               "solver.integrator=bdf2", "process.winding_width=6e-3", "core.flange_spacing=4.5e-3",
-               "process.layers=2", "physics.flanges=true"});
+      kScene,
+      {"core.cylinders=[{center: [0.0, 0.0], radius: 5.0e-3}]",
+       "start.position=[0.0, -5.5e-3, 0.0]", "supply.port_position=[-20.0e-3, -5.5e-3, 0.0]",
+       "process.core_speed_rpm=1200", "process.turns=7", "physics.wire_contact=true",
+       "solver.integrator=bdf2", "process.winding_width=6e-3", "core.flange_spacing=4.5e-3",
+       "process.layers=2", "physics.flanges=true"});
   cws::Simulation sim(s);
   sim.run();
   const double d = s.wire.diameter;

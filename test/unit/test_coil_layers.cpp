@@ -186,9 +186,8 @@ void expectLateReversalAt(double flange_spacing, double turns, int expected) {
   EXPECT_EQ(expected, static_cast<int>(std::floor(room / s.process.traverse_pitch)) + 2);
   EXPECT_EQ(r.first_overlap_turn, expected);
   for (const cws::TurnReport& t : r.turns) {
-    std::printf("S %.1f mm, turn %d: layer %d (planned %d-%d), overlap %d\n",
-                1e3 * flange_spacing, t.turn, t.layer, t.planned_min, t.planned_max,
-                int(t.overlap));
+    std::printf("S %.1f mm, turn %d: layer %d (planned %d-%d), overlap %d\n", 1e3 * flange_spacing,
+                t.turn, t.layer, t.planned_min, t.planned_max, int(t.overlap));
     if (t.turn < expected) {
       EXPECT_EQ(t.layer, 1) << "turn " << t.turn;
     } else if (t.turn == expected) {

@@ -35,7 +35,7 @@ struct TurnReport {
   double stand_off_m = 0.0;  // largest stand-off above its layer's ideal surface [m]
   double spacing_m = std::numeric_limits<double>::quiet_NaN();  // from the turn before in
                                                                 // its layer, axially [m]
-  double gap_m = 0.0;  // spacing beyond d (0: none) [m]
+  double gap_m = 0.0;                                           // spacing beyond d (0: none) [m]
   bool overlap = false;
 };
 

@@ -105,9 +105,7 @@ class Contact : public ForceEffect {
   double penetration(int i, int s = 0) const { return depth_[i * slots_ + s]; }
   // The present implicit step's trial flags of the core body's slot (tests).
   int trialSurface(int i, int s = 0) const { return trial_surface_[i * slots_ + s]; }
-  bool trialStuck(int i, int s = 0) const {
-    return friction_ && trial_stuck_[i * slots_ + s] != 0;
-  }
+  bool trialStuck(int i, int s = 0) const { return friction_ && trial_stuck_[i * slots_ + s] != 0; }
   double stickSpeed() const { return p_.stick_speed; }  // [m/s]
   // Friction force on point i at the last commit, over its slots [N], world
   // frame.
@@ -153,9 +151,7 @@ class Contact : public ForceEffect {
                          bool& inside) const;
   // Segments point i may touch: carried (both ends below c.first), and not
   // its neighbours along the wire. Largest such j (-1: none).
-  int lastWireSegment(int i) const {
-    return std::min(c_.first - 2, i - 1 - skip_points_);
-  }
+  int lastWireSegment(int i) const { return std::min(c_.first - 2, i - 1 - skip_points_); }
   // Is `a` the same surface as `b` for stick (a run of the carried wire
   // counts as one)?
   bool sameSurface(int a, int b) const {
@@ -204,8 +200,7 @@ class Contact : public ForceEffect {
   // dp [1/m]. A carried segment j stands for the run j-1..j+1 (the nearest
   // of the three).
   bool spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
-                      Eigen::Vector3d& normal_world, double& depth,
-                      Eigen::Matrix3d& dnormal) const;
+                      Eigen::Vector3d& normal_world, double& depth, Eigen::Matrix3d& dnormal) const;
 
   const WireConstants& c_;  // the model's: n grows with a supply
   ContactParams p_;
