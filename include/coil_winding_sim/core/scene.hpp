@@ -129,7 +129,7 @@ struct SolverParams {
   // limit, and how often a step is solved again after a contact, stick or
   // slip flag changed.
   double implicit_step = 1.0e-4;
-  double newton_tol = 1.0e-9;
+  double newton_tol = 1.0e-8;
   int newton_max_iterations = 30;
   int flag_rounds = 4;
   int line_search_halvings = 5;  // of a Newton step that does not lower the residual
