@@ -6,13 +6,19 @@
 //   wire_sim work-precision [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
 //   wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME] [--method M]
 //                      [--budget SECONDS] [--checkpoint SECONDS] [--fresh | --report]
+//   wire_sim sweep [--scene FILE] [--set ...] (--grid KEY=VALUES ... | --cases FILE)
+//                  [--out DIR] [--jobs N]
+//   wire_sim sweep-run DIR INDEX
+//   wire_sim sweep-gather DIR
 #include <signal.h>
 
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -24,6 +30,7 @@
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "stability.hpp"
 #include "study.hpp"
+#include "sweep.hpp"
 #include "work_precision.hpp"
 
 #ifndef CWS_DEFAULT_SCENE
@@ -40,6 +47,10 @@ const char* kUsage =
     "       wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]\n"
     "                          [--method INTEGRATOR] [--budget SECONDS] [--checkpoint SECONDS]\n"
     "                          [--fresh | --report]\n"
+    "       wire_sim sweep [--scene FILE] [--set ...] (--grid KEY=VALUES ... | --cases FILE)\n"
+    "                      [--out DIR] [--jobs N]\n"
+    "       wire_sim sweep-run DIR INDEX\n"
+    "       wire_sim sweep-gather DIR\n"
     "Without --scene the package's default scene is used; --out defaults to out/run\n"
     "(out/study for study). run --error-estimate runs the scene a second time with half\n"
     "the step (a tenth of the tolerances for rkf45 and rosenbrock2) and reports the\n"
@@ -58,6 +69,15 @@ const char* kUsage =
     "run's inputs: the same command after Ctrl-C, or with a larger --budget, continues\n"
     "where it was; --fresh starts over; --report writes the tables from what is kept\n"
     "(unfinished runs as PENDING) and runs nothing.\n"
+    "sweep runs the scene once per case, N processes at once (default 2), each case in\n"
+    "DIR/case_NNNN (default out/sweep), and writes DIR/results.csv and results.md. The\n"
+    "cases are the product of the --grid axes, each KEY=FROM:TO:COUNT or KEY=V1,V2,...,\n"
+    "or the rows of a --cases CSV file (a header of keys). Every case's scene is checked\n"
+    "before anything runs. A case whose result is kept in DIR from an earlier sweep of\n"
+    "the same build and scene is not run again; a failed case is a row with its error.\n"
+    "sweep-run runs case INDEX of the sweep in DIR (what each process, or each task of\n"
+    "a job array, runs); sweep-gather writes the table from what DIR holds, naming the\n"
+    "cases not finished.\n"
     "Exit status: 0 done; 1 the run failed; 2 bad command line, scene or --out (nothing\n"
     "is run); 130 / 143 a run stopped by SIGINT (Ctrl-C) / SIGTERM, which ends it after\n"
     "the current step and writes no results (a second signal ends it at once). Before\n"
@@ -72,6 +92,9 @@ struct Args {
   int jobs = 2;
   bool error_estimate = false;            // run: --error-estimate
   cws_tools::StabilityOptions stability;  // --only, --budget, --checkpoint, --fresh
+  std::vector<cws_tools::GridAxis> grid;  // sweep: --grid
+  std::string cases;                      // sweep: --cases
+  std::vector<std::string> positional;    // sweep-run DIR INDEX, sweep-gather DIR
 };
 
 // Exit codes: 0 success, 1 the run failed, 2 bad command line or scene,
@@ -141,6 +164,25 @@ int run(const Args& a) {
     o.stop = [] { return g_stop_signal != 0; };
     const int rc = cws_tools::runStability(scene_path, a.overrides, out, o);
     return rc < 0 ? 128 + g_stop_signal : rc;
+  }
+  if (a.command == "sweep") {
+    const std::string out = a.out.empty() ? "out/sweep" : a.out;
+    cws_tools::SweepPlan plan;
+    if (!a.cases.empty()) {
+      std::ifstream in(a.cases);
+      if (!in) throw cws_tools::SweepError("--cases: cannot read '" + a.cases + "'");
+      std::ostringstream text;
+      text << in.rdbuf();
+      plan = cws_tools::casesPlan(scene_path, a.overrides, text.str(), a.cases);
+    } else {
+      plan = cws_tools::gridPlan(scene_path, a.overrides, a.grid);
+    }
+    // A relative scene path would not hold for a case run elsewhere.
+    if (!plan.scene.empty()) plan.scene = std::filesystem::absolute(plan.scene).string();
+    cws_tools::checkPlan(plan);
+    checkOut(out);
+    return cws_tools::runSweepLocal(plan, out, a.jobs,
+                                    std::filesystem::read_symlink("/proc/self/exe").string());
   }
   if (a.command == "study") {
     const std::string out = a.out.empty() ? "out/study" : a.out;
@@ -237,13 +279,39 @@ int main(int argc, char** argv) {
   }
   Args a;
   a.command = args[0];
+  // sweep-run DIR INDEX and sweep-gather DIR: a sweep's case, its table.
+  if (a.command == "sweep-run" || a.command == "sweep-gather") {
+    const std::size_t want = a.command == "sweep-run" ? 3 : 2;
+    if (args.size() != want) {
+      return usageError(a.command + " takes " +
+                        (want == 3 ? "a sweep's directory and a case index"
+                                   : "a sweep's directory"));
+    }
+    try {
+      if (a.command == "sweep-gather") return cws_tools::gatherSweep(args[1]);
+      std::size_t used = 0;
+      const unsigned long index = std::stoul(args[2], &used);
+      if (used != args[2].size()) throw std::invalid_argument(args[2]);
+      return cws_tools::runSweepCase(args[1], index);
+    } catch (const cws_tools::SweepError& e) {
+      std::cerr << "wire_sim: " << e.what() << "\n";
+      return 2;
+    } catch (const std::invalid_argument&) {
+      return usageError("sweep-run: the case index '" + args[2] + "' is not a whole number");
+    } catch (const std::exception& e) {
+      std::cerr << "wire_sim: " << a.command << " failed: " << e.what() << "\n";
+      return 1;
+    }
+  }
   if (a.command != "run" && a.command != "print-scene" && a.command != "study" &&
-      a.command != "work-precision" && a.command != "stability") {
+      a.command != "work-precision" && a.command != "stability" && a.command != "sweep") {
     return usageError("unknown command '" + a.command + "'");
   }
   const bool takes_out = a.command != "print-scene";
-  const bool takes_jobs =
-      a.command == "study" || a.command == "work-precision" || a.command == "stability";
+  const bool takes_jobs = a.command == "study" || a.command == "work-precision" ||
+                          a.command == "stability" || a.command == "sweep";
+  const bool sweep = a.command == "sweep";
+  bool seen_cases = false;
   const bool stability = a.command == "stability";
   bool seen_scene = false, seen_out = false, seen_jobs = false, seen_only = false,
        seen_method = false, seen_budget = false, seen_checkpoint = false, seen_fresh = false,
@@ -321,6 +389,19 @@ int main(int argc, char** argv) {
           problem = opt + " needs a positive number of seconds, got '" + value + "'";
         }
       }
+    } else if (opt == "--grid" && sweep) {
+      problem = take("KEY=VALUES");
+      if (problem.empty()) {
+        try {
+          a.grid.push_back(cws_tools::parseGridAxis(value));
+        } catch (const cws_tools::SweepError& e) {
+          problem = e.what();
+        }
+      }
+    } else if (opt == "--cases" && sweep) {
+      problem = once(seen_cases);
+      if (problem.empty()) problem = take("a CSV file");
+      a.cases = value;
     } else if (opt == "--error-estimate" && a.command == "run") {
       problem = once(seen_estimate);
       a.error_estimate = true;
@@ -335,17 +416,24 @@ int main(int argc, char** argv) {
                 (takes_out ? ", --out" : "") + (takes_jobs ? ", --jobs" : "") +
                 (a.command == "run" ? ", --error-estimate" : "") +
                 (stability ? ", --only, --method, --budget, --checkpoint, --fresh, --report" : "") +
+                (sweep ? ", --grid, --cases" : "") +
                 ")";
     } else {
       problem = "unexpected argument '" + opt + "' (options come as --scene FILE, --set ...)";
     }
     if (!problem.empty()) return usageError(problem);
   }
+  if (sweep && !a.cases.empty() && !a.grid.empty()) {
+    return usageError("--grid and --cases exclude each other");
+  }
   if (a.command == "run" || stability) installStopHandlers();
   try {
     return run(a);
   } catch (const cws::SceneError& e) {
     std::cerr << "wire_sim: bad scene: " << e.what() << "\n";
+    return 2;
+  } catch (const cws_tools::SweepError& e) {
+    std::cerr << "wire_sim: " << e.what() << "\n";
     return 2;
   } catch (const OutDirError& e) {
     std::cerr << "wire_sim: " << e.what() << "\n";

@@ -1,0 +1,341 @@
+#include "sweep.hpp"
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "coil_winding_sim/core/output.hpp"
+#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/simulation.hpp"
+#include "run_store.hpp"
+
+namespace cws_tools {
+
+namespace fs = std::filesystem;
+
+const char* const kSweepPlanFile = "sweep_plan.tsv";
+const char* const kSweepStatusFile = "status.txt";
+const char* const kSweepResultsCsv = "results.csv";
+const char* const kSweepResultsMd = "results.md";
+
+namespace {
+
+struct CaseStatus {
+  bool present = false;
+  std::string identity, status, error;
+  double wall_s = 0.0;
+};
+
+std::string oneLine(std::string s) {
+  for (char& c : s) {
+    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+  }
+  return s;
+}
+
+std::string casePath(const std::string& dir, std::size_t i) {
+  return (fs::path(dir) / SweepPlan::caseDir(i)).string();
+}
+
+void writeStatus(const std::string& case_dir, const CaseStatus& s) {
+  std::ostringstream out;
+  out << "identity " << s.identity << "\nstatus " << s.status << "\nwall_s " << s.wall_s
+      << "\nerror " << oneLine(s.error) << "\n";
+  cws::writeFileAtomically((fs::path(case_dir) / kSweepStatusFile).string(), out.str());
+}
+
+CaseStatus readStatus(const std::string& case_dir) {
+  CaseStatus s;
+  std::ifstream in(fs::path(case_dir) / kSweepStatusFile);
+  if (!in) return s;
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::size_t sp = line.find(' ');
+    const std::string key = line.substr(0, sp);
+    const std::string value = sp == std::string::npos ? "" : line.substr(sp + 1);
+    if (key == "identity") s.identity = value;
+    if (key == "status") s.status = value;
+    if (key == "error") s.error = value;
+    if (key == "wall_s") s.wall_s = std::atof(value.c_str());
+  }
+  s.present = s.status == "ok" || s.status == "failed";
+  return s;
+}
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw SweepError("cannot read '" + path + "'");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+// The numbers of a case's summary.json: its top-level scalars, and those of
+// its objects as "object.key" (lists are left out).
+void summaryNumbers(const std::string& path, std::vector<std::pair<std::string, double>>& out) {
+  const YAML::Node root = YAML::LoadFile(path);
+  auto take = [&](const std::string& name, const YAML::Node& v) {
+    if (!v.IsScalar()) return;
+    try {
+      out.emplace_back(name, v.as<double>());
+    } catch (const YAML::Exception&) {
+    }
+  };
+  for (const auto& kv : root) {
+    const std::string key = kv.first.as<std::string>();
+    if (kv.second.IsMap()) {
+      for (const auto& inner : kv.second) take(key + "." + inner.first.as<std::string>(), inner.second);
+    } else {
+      take(key, kv.second);
+    }
+  }
+}
+
+}  // namespace
+
+void writePlan(const SweepPlan& plan, const std::string& dir) {
+  fs::create_directories(dir);
+  cws::writeFileAtomically((fs::path(dir) / kSweepPlanFile).string(), planText(plan));
+}
+
+SweepPlan readPlan(const std::string& dir) {
+  const std::string path = (fs::path(dir) / kSweepPlanFile).string();
+  if (!fs::exists(path)) {
+    throw SweepError("'" + dir + "' holds no sweep plan (" + kSweepPlanFile +
+                     "): run wire_sim sweep with --out " + dir + " first");
+  }
+  return parsePlanText(readText(path), path);
+}
+
+std::string caseIdentity(const SweepPlan& plan, std::size_t index) {
+  const cws::Scene scene = cws::loadScene(plan.scene, plan.caseOverrides(index));
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%016llx",
+                static_cast<unsigned long long>(fnv1a(std::to_string(coreBuildHash()) + "\n" +
+                                                      cws::sceneToYamlText(scene))));
+  return buf;
+}
+
+int runSweepCase(const std::string& dir, std::size_t index) {
+  SweepPlan plan;
+  try {
+    plan = readPlan(dir);
+  } catch (const std::exception& e) {
+    std::cerr << "wire_sim: sweep-run: " << e.what() << "\n";
+    return 2;
+  }
+  if (index >= plan.cases.size()) {
+    std::cerr << "wire_sim: sweep-run: case " << index << " is not in the sweep (it has "
+              << plan.cases.size() << " cases, 0 to " << plan.cases.size() - 1 << ")\n";
+    return 2;
+  }
+  const std::string case_dir = casePath(dir, index);
+  fs::create_directories(case_dir);
+  std::error_code ec;
+  fs::remove(fs::path(case_dir) / kSweepStatusFile, ec);
+  cws::removeOutputs(case_dir);
+  CaseStatus s;
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    s.identity = caseIdentity(plan, index);
+    cws::Simulation sim(cws::loadScene(plan.scene, plan.caseOverrides(index)));
+    std::cerr << "sweep-run: case " << index << " (" << plan.caseLabel(index)
+              << "), until t = " << sim.endTime() << " s\n";
+    sim.run();
+    cws::writeOutputs(sim, case_dir);
+    s.status = "ok";
+  } catch (const std::exception& e) {
+    s.status = "failed";
+    s.error = e.what();
+    std::cerr << "sweep-run: case " << index << " failed: " << e.what() << "\n";
+  }
+  s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  writeStatus(case_dir, s);
+  return s.status == "ok" ? 0 : 1;
+}
+
+int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs,
+                  const std::string& exe) {
+  writePlan(plan, dir);
+  const std::size_t n = plan.cases.size();
+  // Kept results: status ok under the same identity.
+  std::vector<std::size_t> todo;
+  std::vector<std::string> identity(n);
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    identity[i] = caseIdentity(plan, i);
+    const CaseStatus s = readStatus(casePath(dir, i));
+    if (s.present && s.status == "ok" && s.identity == identity[i]) {
+      ++kept;
+    } else {
+      todo.push_back(i);
+    }
+  }
+  std::cerr << "sweep: " << n << " cases in " << dir << ", " << kept
+            << " kept from an earlier sweep, " << todo.size() << " to run, " << jobs
+            << " at once\n";
+  std::map<pid_t, std::size_t> running;
+  std::size_t next = 0, finished = 0;
+  auto start = [&](std::size_t i) {
+    const std::string case_dir = casePath(dir, i);
+    fs::create_directories(case_dir);
+    const std::string log = (fs::path(case_dir) / "log.txt").string();
+    const std::string index = std::to_string(i);
+    const pid_t pid = fork();
+    if (pid == 0) {
+      const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (fd >= 0) {
+        dup2(fd, STDOUT_FILENO);
+        dup2(fd, STDERR_FILENO);
+        close(fd);
+      }
+      execl(exe.c_str(), exe.c_str(), "sweep-run", dir.c_str(), index.c_str(),
+            static_cast<char*>(nullptr));
+      std::perror("exec");
+      _exit(127);
+    }
+    if (pid < 0) throw std::runtime_error("sweep: cannot start a process for case " + index);
+    running[pid] = i;
+  };
+  while (next < todo.size() || !running.empty()) {
+    while (next < todo.size() && static_cast<int>(running.size()) < jobs) start(todo[next++]);
+    int wstatus = 0;
+    const pid_t pid = waitpid(-1, &wstatus, 0);
+    if (pid < 0) break;
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const std::size_t i = it->second;
+    running.erase(it);
+    ++finished;
+    const std::string case_dir = casePath(dir, i);
+    CaseStatus s = readStatus(case_dir);
+    if (!s.present) {
+      // The process ended without a result (a crash, a signal).
+      s.identity = identity[i];
+      s.status = "failed";
+      s.error = WIFSIGNALED(wstatus)
+                    ? "the case's process ended by signal " + std::to_string(WTERMSIG(wstatus))
+                    : "the case's process ended with status " +
+                          std::to_string(WEXITSTATUS(wstatus)) + " and no result";
+      writeStatus(case_dir, s);
+    }
+    char wall[32];
+    std::snprintf(wall, sizeof wall, "%.1f", s.wall_s);
+    std::cerr << "sweep: [" << finished << "/" << todo.size() << "] " << SweepPlan::caseDir(i)
+              << " (" << plan.caseLabel(i) << "): "
+              << (s.status == "ok" ? std::string("ok in ") + wall + " s"
+                                   : "failed: " + s.error)
+              << "\n";
+  }
+  return gatherSweep(dir);
+}
+
+int gatherSweep(const std::string& dir) {
+  const SweepPlan plan = readPlan(dir);
+  const std::size_t n = plan.cases.size();
+  std::vector<CaseStatus> status(n);
+  std::vector<std::vector<std::pair<std::string, double>>> numbers(n);
+  std::vector<std::string> columns;
+  std::map<std::string, bool> known;
+  std::vector<std::size_t> pending;
+  std::size_t failed = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string case_dir = casePath(dir, i);
+    status[i] = readStatus(case_dir);
+    if (!status[i].present) {
+      pending.push_back(i);
+      continue;
+    }
+    if (status[i].status != "ok") {
+      ++failed;
+      continue;
+    }
+    try {
+      summaryNumbers((fs::path(case_dir) / "summary.json").string(), numbers[i]);
+    } catch (const std::exception& e) {
+      status[i].status = "failed";
+      status[i].error = std::string("its summary.json cannot be read: ") + e.what();
+      ++failed;
+      continue;
+    }
+    for (const auto& kv : numbers[i]) {
+      if (!known[kv.first]) {
+        known[kv.first] = true;
+        columns.push_back(kv.first);
+      }
+    }
+  }
+  // results.csv: every figure; results.md: the ones an engineer reads first.
+  std::ostringstream csv, md;
+  csv << "case";
+  for (const std::string& k : plan.keys) csv << "," << csvField(k);
+  csv << ",status,error";
+  for (const std::string& c : columns) csv << "," << c;
+  csv << "\n";
+  md << "| case |";
+  for (const std::string& k : plan.keys) md << " " << k << " |";
+  md << " status | bulging height [mm] | max penetration / r | real-time factor | wall time [s] |\n|---|";
+  for (std::size_t k = 0; k < plan.keys.size(); ++k) md << "---|";
+  md << "---|---|---|---|---|\n";
+  char buf[64];
+  for (std::size_t i = 0; i < n; ++i) {
+    const CaseStatus& s = status[i];
+    const std::string state = s.present ? s.status : "pending";
+    csv << SweepPlan::caseDir(i);
+    for (const std::string& v : plan.cases[i]) csv << "," << csvField(v);
+    csv << "," << state << "," << csvField(s.error);
+    std::map<std::string, double> values(numbers[i].begin(), numbers[i].end());
+    for (const std::string& c : columns) {
+      csv << ",";
+      const auto it = values.find(c);
+      if (it != values.end()) {
+        std::snprintf(buf, sizeof buf, "%.10g", it->second);
+        csv << buf;
+      }
+    }
+    csv << "\n";
+    md << "| " << SweepPlan::caseDir(i) << " |";
+    for (const std::string& v : plan.cases[i]) md << " " << v << " |";
+    if (state != "ok") {
+      md << " " << state << (s.error.empty() ? "" : ": " + s.error) << " | | | | |\n";
+      continue;
+    }
+    auto cell = [&](const char* key, double scale, const char* format) {
+      const auto it = values.find(key);
+      if (it == values.end()) return std::string(" |");
+      std::snprintf(buf, sizeof buf, format, scale * it->second);
+      return std::string(" ") + buf + " |";
+    };
+    md << " ok |" << cell("bulging_height_m", 1e3, "%.4f") << cell("max_penetration_ratio", 1.0, "%.3f")
+       << cell("real_time_factor", 1.0, "%.3g") << cell("wall_time_s", 1.0, "%.2f") << "\n";
+  }
+  cws::writeFileAtomically((fs::path(dir) / kSweepResultsCsv).string(), csv.str());
+  cws::writeFileAtomically((fs::path(dir) / kSweepResultsMd).string(), md.str());
+  std::cerr << "sweep: " << n - pending.size() - failed << " of " << n << " cases ok, " << failed
+            << " failed, " << pending.size() << " not finished; table in "
+            << (fs::path(dir) / kSweepResultsCsv).string() << "\n";
+  if (!pending.empty()) {
+    std::cerr << "sweep: not finished:";
+    for (std::size_t i : pending) std::cerr << " " << SweepPlan::caseDir(i);
+    std::cerr << "\n";
+  }
+  return pending.empty() && failed == 0 ? 0 : 1;
+}
+
+}  // namespace cws_tools

@@ -1,0 +1,49 @@
+// Parameter sweeps (wire_sim sweep): one mechanism that runs a plan's cases
+// as separate processes, locally N at once, each case into a folder of its
+// own, and gathers their summaries into one table. A case is always run by
+// `wire_sim sweep-run DIR INDEX`, whoever starts it (this machine, or a
+// Slurm array task), and leaves DIR/case_NNNN/status.txt: the case's
+// identity (the core build and the resolved scene), ok or failed, and the
+// error. A later sweep in the same DIR reuses a case whose status is ok and
+// whose identity is unchanged.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "sweep_plan.hpp"
+
+namespace cws_tools {
+
+// File names in a sweep's directory.
+extern const char* const kSweepPlanFile;     // the plan (sweep_plan.tsv)
+extern const char* const kSweepStatusFile;   // per case: status.txt
+extern const char* const kSweepResultsCsv;   // results.csv
+extern const char* const kSweepResultsMd;    // results.md
+
+// Writes the plan to DIR (created if need be); throws naming the file.
+void writePlan(const SweepPlan& plan, const std::string& dir);
+SweepPlan readPlan(const std::string& dir);
+
+// The identity a case's results are kept under: the core build and the
+// case's resolved scene (hex).
+std::string caseIdentity(const SweepPlan& plan, std::size_t index);
+
+// Runs case INDEX of the plan in DIR (wire_sim sweep-run): its outputs and
+// status.txt in DIR/case_NNNN. Returns 0 when it ran, 1 when it failed (the
+// status says why), 2 for a bad DIR or INDEX.
+int runSweepCase(const std::string& dir, std::size_t index);
+
+// Runs the plan's cases in DIR as `exe sweep-run DIR i`, `jobs` at once,
+// each one's console output in its folder (log.txt), reusing kept results;
+// progress on stderr; then gathers. Returns gatherSweep's code.
+int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs,
+                  const std::string& exe);
+
+// The results table: DIR/results.csv (one row per case: its keys, its
+// status and error, and every number of its summary.json) and
+// DIR/results.md. Cases without a status are pending, named on stderr.
+// Returns 0 when every case ran, 1 when one failed or is pending.
+int gatherSweep(const std::string& dir);
+
+}  // namespace cws_tools

@@ -1,0 +1,62 @@
+// A sweep's plan (wire_sim sweep): its cases, each a list of scene-key
+// overrides applied to one base scene after the sweep's own --set
+// overrides. The cases come from a grid (the cartesian product of --grid
+// axes) or from a cases file (CSV, one column per key), and the plan is
+// kept as a text file in the sweep's directory, so that each case can be
+// run by its index alone (a local process or a Slurm array task).
+#pragma once
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace cws_tools {
+
+// A malformed grid, cases file or plan; the message names what is wrong.
+class SweepError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// One key's values: "key=a:b:n" (n values from a to b, evenly spaced),
+// "key=v1,v2,..." (a list) or "key=v" (one value).
+struct GridAxis {
+  std::string key;
+  std::vector<std::string> values;
+};
+GridAxis parseGridAxis(const std::string& arg);
+
+struct SweepPlan {
+  std::string scene;                            // base scene file ("": built-in defaults)
+  std::vector<std::string> overrides;           // the sweep's --set, before each case's keys
+  std::vector<std::string> keys;                // the swept keys
+  std::vector<std::vector<std::string>> cases;  // per case, one value per key
+
+  // The overrides of case i: the sweep's, then "key=value" per swept key.
+  std::vector<std::string> caseOverrides(std::size_t i) const;
+  // "key=value, key=value" for messages.
+  std::string caseLabel(std::size_t i) const;
+  // The case's folder in the sweep's directory: case_0000, case_0001, ...
+  static std::string caseDir(std::size_t i);
+};
+
+// The cartesian product of the axes, the first axis varying slowest.
+SweepPlan gridPlan(const std::string& scene, const std::vector<std::string>& overrides,
+                   const std::vector<GridAxis>& axes);
+// A cases file: a header of keys, then one row of values per case ("..."
+// quotes a value holding commas); `file` names it in messages.
+SweepPlan casesPlan(const std::string& scene, const std::vector<std::string>& overrides,
+                    const std::string& csv_text, const std::string& file);
+
+// Every case's scene loads and passes validation; otherwise throws
+// cws::SceneError naming the case and the key. Throws SweepError for a
+// plan without cases.
+void checkPlan(const SweepPlan& plan);
+
+// The plan as text (tab-separated lines) and back; `file` names it in
+// messages.
+std::string planText(const SweepPlan& plan);
+SweepPlan parsePlanText(const std::string& text, const std::string& file);
+
+}  // namespace cws_tools
