@@ -100,7 +100,8 @@ void summaryNumbers(const std::string& path, std::vector<std::pair<std::string, 
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
     if (kv.second.IsMap()) {
-      for (const auto& inner : kv.second) take(key + "." + inner.first.as<std::string>(), inner.second);
+      for (const auto& inner : kv.second)
+        take(key + "." + inner.first.as<std::string>(), inner.second);
     } else {
       take(key, kv.second);
     }
@@ -127,8 +128,8 @@ std::string caseIdentity(const SweepPlan& plan, std::size_t index) {
   const cws::Scene scene = cws::loadScene(plan.scene, plan.caseOverrides(index));
   char buf[40];
   std::snprintf(buf, sizeof buf, "%016llx",
-                static_cast<unsigned long long>(fnv1a(std::to_string(coreBuildHash()) + "\n" +
-                                                      cws::sceneToYamlText(scene))));
+                static_cast<unsigned long long>(
+                    fnv1a(std::to_string(coreBuildHash()) + "\n" + cws::sceneToYamlText(scene))));
   return buf;
 }
 
@@ -170,8 +171,7 @@ int runSweepCase(const std::string& dir, std::size_t index) {
   return s.status == "ok" ? 0 : 1;
 }
 
-int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs,
-                  const std::string& exe) {
+int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const std::string& exe) {
   writePlan(plan, dir);
   const std::size_t n = plan.cases.size();
   // Kept results: status ok under the same identity.
@@ -239,8 +239,7 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs,
     std::snprintf(wall, sizeof wall, "%.1f", s.wall_s);
     std::cerr << "sweep: [" << finished << "/" << todo.size() << "] " << SweepPlan::caseDir(i)
               << " (" << plan.caseLabel(i) << "): "
-              << (s.status == "ok" ? std::string("ok in ") + wall + " s"
-                                   : "failed: " + s.error)
+              << (s.status == "ok" ? std::string("ok in ") + wall + " s" : "failed: " + s.error)
               << "\n";
   }
   return gatherSweep(dir);
@@ -290,7 +289,8 @@ int gatherSweep(const std::string& dir) {
   csv << "\n";
   md << "| case |";
   for (const std::string& k : plan.keys) md << " " << k << " |";
-  md << " status | bulging height [mm] | max penetration / r | real-time factor | wall time [s] |\n|---|";
+  md << " status | bulging height [mm] | max penetration / r | real-time factor | wall time [s] "
+        "|\n|---|";
   for (std::size_t k = 0; k < plan.keys.size(); ++k) md << "---|";
   md << "---|---|---|---|---|\n";
   char buf[64];
@@ -322,8 +322,9 @@ int gatherSweep(const std::string& dir) {
       std::snprintf(buf, sizeof buf, format, scale * it->second);
       return std::string(" ") + buf + " |";
     };
-    md << " ok |" << cell("bulging_height_m", 1e3, "%.4f") << cell("max_penetration_ratio", 1.0, "%.3f")
-       << cell("real_time_factor", 1.0, "%.3g") << cell("wall_time_s", 1.0, "%.2f") << "\n";
+    md << " ok |" << cell("bulging_height_m", 1e3, "%.4f")
+       << cell("max_penetration_ratio", 1.0, "%.3f") << cell("real_time_factor", 1.0, "%.3g")
+       << cell("wall_time_s", 1.0, "%.2f") << "\n";
   }
   cws::writeFileAtomically((fs::path(dir) / kSweepResultsCsv).string(), csv.str());
   cws::writeFileAtomically((fs::path(dir) / kSweepResultsMd).string(), md.str());

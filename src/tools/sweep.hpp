@@ -16,10 +16,10 @@
 namespace cws_tools {
 
 // File names in a sweep's directory.
-extern const char* const kSweepPlanFile;     // the plan (sweep_plan.tsv)
-extern const char* const kSweepStatusFile;   // per case: status.txt
-extern const char* const kSweepResultsCsv;   // results.csv
-extern const char* const kSweepResultsMd;    // results.md
+extern const char* const kSweepPlanFile;    // the plan (sweep_plan.tsv)
+extern const char* const kSweepStatusFile;  // per case: status.txt
+extern const char* const kSweepResultsCsv;  // results.csv
+extern const char* const kSweepResultsMd;   // results.md
 
 // Writes the plan to DIR (created if need be); throws naming the file.
 void writePlan(const SweepPlan& plan, const std::string& dir);
@@ -37,8 +37,7 @@ int runSweepCase(const std::string& dir, std::size_t index);
 // Runs the plan's cases in DIR as `exe sweep-run DIR i`, `jobs` at once,
 // each one's console output in its folder (log.txt), reusing kept results;
 // progress on stderr; then gathers. Returns gatherSweep's code.
-int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs,
-                  const std::string& exe);
+int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const std::string& exe);
 
 // The results table: DIR/results.csv (one row per case: its keys, its
 // status and error, and every number of its summary.json) and

@@ -32,7 +32,7 @@ double rangeNumber(const std::string& text, const std::string& arg, const char* 
 
 std::string formatValue(double v) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
+  std::snprintf(buf, sizeof buf, "%.15g", v);
   return buf;
 }
 
@@ -197,7 +197,8 @@ SweepPlan casesPlan(const std::string& scene, const std::vector<std::string>& ov
                        std::to_string(p.keys.size()) + " keys");
     }
     for (const std::string& f : fields) {
-      if (f.empty()) throw SweepError(file + " line " + std::to_string(number) + ": an empty value");
+      if (f.empty())
+        throw SweepError(file + " line " + std::to_string(number) + ": an empty value");
     }
     p.cases.push_back(fields);
   }
@@ -213,8 +214,8 @@ void checkPlan(const SweepPlan& plan) {
     try {
       (void)cws::loadScene(plan.scene, plan.caseOverrides(i));
     } catch (const cws::SceneError& e) {
-      throw cws::SceneError(e.key(), e.why() + " (sweep case " + std::to_string(i) + ": " +
-                                         plan.caseLabel(i) + ")");
+      throw cws::SceneError(
+          e.key(), e.why() + " (sweep case " + std::to_string(i) + ": " + plan.caseLabel(i) + ")");
     }
   }
 }

@@ -18,8 +18,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -283,9 +283,9 @@ int main(int argc, char** argv) {
   if (a.command == "sweep-run" || a.command == "sweep-gather") {
     const std::size_t want = a.command == "sweep-run" ? 3 : 2;
     if (args.size() != want) {
-      return usageError(a.command + " takes " +
-                        (want == 3 ? "a sweep's directory and a case index"
-                                   : "a sweep's directory"));
+      return usageError(
+          a.command + " takes " +
+          (want == 3 ? "a sweep's directory and a case index" : "a sweep's directory"));
     }
     try {
       if (a.command == "sweep-gather") return cws_tools::gatherSweep(args[1]);
@@ -416,8 +416,7 @@ int main(int argc, char** argv) {
                 (takes_out ? ", --out" : "") + (takes_jobs ? ", --jobs" : "") +
                 (a.command == "run" ? ", --error-estimate" : "") +
                 (stability ? ", --only, --method, --budget, --checkpoint, --fresh, --report" : "") +
-                (sweep ? ", --grid, --cases" : "") +
-                ")";
+                (sweep ? ", --grid, --cases" : "") + ")";
     } else {
       problem = "unexpected argument '" + opt + "' (options come as --scene FILE, --set ...)";
     }
