@@ -110,6 +110,11 @@ void summaryNumbers(const std::string& path, std::vector<std::pair<std::string, 
 
 }  // namespace
 
+SweepPlan readCasesFile(const std::string& scene, const std::vector<std::string>& overrides,
+                        const std::string& path) {
+  return casesPlan(scene, overrides, readText(path), path);
+}
+
 void writePlan(const SweepPlan& plan, const std::string& dir) {
   fs::create_directories(dir);
   cws::writeFileAtomically((fs::path(dir) / kSweepPlanFile).string(), planText(plan));

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "sweep_plan.hpp"
 
@@ -20,6 +21,11 @@ extern const char* const kSweepPlanFile;    // the plan (sweep_plan.tsv)
 extern const char* const kSweepStatusFile;  // per case: status.txt
 extern const char* const kSweepResultsCsv;  // results.csv
 extern const char* const kSweepResultsMd;   // results.md
+
+// The plan of a cases file (casesPlan); throws SweepError naming the file
+// when it cannot be read.
+SweepPlan readCasesFile(const std::string& scene, const std::vector<std::string>& overrides,
+                        const std::string& path);
 
 // Writes the plan to DIR (created if need be); throws naming the file.
 void writePlan(const SweepPlan& plan, const std::string& dir);

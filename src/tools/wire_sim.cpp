@@ -169,11 +169,7 @@ int run(const Args& a) {
     const std::string out = a.out.empty() ? "out/sweep" : a.out;
     cws_tools::SweepPlan plan;
     if (!a.cases.empty()) {
-      std::ifstream in(a.cases);
-      if (!in) throw cws_tools::SweepError("--cases: cannot read '" + a.cases + "'");
-      std::ostringstream text;
-      text << in.rdbuf();
-      plan = cws_tools::casesPlan(scene_path, a.overrides, text.str(), a.cases);
+      plan = cws_tools::readCasesFile(scene_path, a.overrides, a.cases);
     } else {
       plan = cws_tools::gridPlan(scene_path, a.overrides, a.grid);
     }
