@@ -176,22 +176,32 @@ int runSweepCase(const std::string& dir, std::size_t index) {
   return s.status == "ok" ? 0 : 1;
 }
 
-int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const std::string& exe) {
-  writePlan(plan, dir);
-  const std::size_t n = plan.cases.size();
-  // Kept results: status ok under the same identity.
+std::vector<std::size_t> casesToRun(const SweepPlan& plan, const std::string& dir,
+                                    std::size_t& kept) {
   std::vector<std::size_t> todo;
-  std::vector<std::string> identity(n);
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    identity[i] = caseIdentity(plan, i);
+  kept = 0;
+  for (std::size_t i = 0; i < plan.cases.size(); ++i) {
     const CaseStatus s = readStatus(casePath(dir, i));
-    if (s.present && s.status == "ok" && s.identity == identity[i]) {
+    if (s.present && s.status == "ok" && s.identity == caseIdentity(plan, i)) {
       ++kept;
     } else {
       todo.push_back(i);
     }
   }
+  return todo;
+}
+
+void clearCaseStatus(const std::string& dir, std::size_t i) {
+  std::error_code ec;
+  fs::remove(fs::path(casePath(dir, i)) / kSweepStatusFile, ec);
+  if (ec) throw SweepError("cannot remove '" + casePath(dir, i) + "/" + kSweepStatusFile + "'");
+}
+
+int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const std::string& exe) {
+  writePlan(plan, dir);
+  const std::size_t n = plan.cases.size();
+  std::size_t kept = 0;
+  const std::vector<std::size_t> todo = casesToRun(plan, dir, kept);
   std::cerr << "sweep: " << n << " cases in " << dir << ", " << kept
             << " kept from an earlier sweep, " << todo.size() << " to run, " << jobs
             << " at once\n";
@@ -232,7 +242,7 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const
     CaseStatus s = readStatus(case_dir);
     if (!s.present) {
       // The process ended without a result (a crash, a signal).
-      s.identity = identity[i];
+      s.identity = caseIdentity(plan, i);
       s.status = "failed";
       s.error = WIFSIGNALED(wstatus)
                     ? "the case's process ended by signal " + std::to_string(WTERMSIG(wstatus))

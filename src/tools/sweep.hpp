@@ -35,6 +35,13 @@ SweepPlan readPlan(const std::string& dir);
 // case's resolved scene (hex).
 std::string caseIdentity(const SweepPlan& plan, std::size_t index);
 
+// The cases of the plan whose results DIR does not keep (status ok under
+// the same identity), in order; `kept` counts the others.
+std::vector<std::size_t> casesToRun(const SweepPlan& plan, const std::string& dir,
+                                    std::size_t& kept);
+// Forgets case i's status, so that it reads as pending until it has run.
+void clearCaseStatus(const std::string& dir, std::size_t i);
+
 // Runs case INDEX of the plan in DIR (wire_sim sweep-run): its outputs and
 // status.txt in DIR/case_NNNN. Returns 0 when it ran, 1 when it failed (the
 // status says why), 2 for a bad DIR or INDEX.

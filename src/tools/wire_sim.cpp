@@ -7,7 +7,8 @@
 //   wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME] [--method M]
 //                      [--budget SECONDS] [--checkpoint SECONDS] [--fresh | --report]
 //   wire_sim sweep [--scene FILE] [--set ...] (--grid KEY=VALUES ... | --cases FILE)
-//                  [--out DIR] [--jobs N]
+//                  [--out DIR] [--jobs N | --slurm [--partition P] [--time T] [--mem M]
+//                  [--account A] [--max-running N] [--max-array-size N] [--dry-run]]
 //   wire_sim sweep-run DIR INDEX
 //   wire_sim sweep-gather DIR
 #include <signal.h>
@@ -31,6 +32,7 @@
 #include "stability.hpp"
 #include "study.hpp"
 #include "sweep.hpp"
+#include "sweep_slurm.hpp"
 #include "work_precision.hpp"
 
 #ifndef CWS_DEFAULT_SCENE
@@ -48,7 +50,8 @@ const char* kUsage =
     "                          [--method INTEGRATOR] [--budget SECONDS] [--checkpoint SECONDS]\n"
     "                          [--fresh | --report]\n"
     "       wire_sim sweep [--scene FILE] [--set ...] (--grid KEY=VALUES ... | --cases FILE)\n"
-    "                      [--out DIR] [--jobs N]\n"
+    "                      [--out DIR] [--jobs N | --slurm [--partition P] [--time T] [--mem M]\n"
+    "                      [--account A] [--max-running N] [--max-array-size N] [--dry-run]]\n"
     "       wire_sim sweep-run DIR INDEX\n"
     "       wire_sim sweep-gather DIR\n"
     "Without --scene the package's default scene is used; --out defaults to out/run\n"
@@ -75,6 +78,10 @@ const char* kUsage =
     "or the rows of a --cases CSV file (a header of keys). Every case's scene is checked\n"
     "before anything runs. A case whose result is kept in DIR from an earlier sweep of\n"
     "the same build and scene is not run again; a failed case is a row with its error.\n"
+    "--slurm submits the cases to run as Slurm job arrays (one task per case, at most N\n"
+    "at once with --max-running; --time and --mem per task) and a gather job that\n"
+    "writes the table once they have ended; DIR must be on storage the nodes share.\n"
+    "--dry-run writes the scripts (DIR/slurm) without submitting them.\n"
     "sweep-run runs case INDEX of the sweep in DIR (what each process, or each task of\n"
     "a job array, runs); sweep-gather writes the table from what DIR holds, naming the\n"
     "cases not finished.\n"
@@ -95,6 +102,8 @@ struct Args {
   std::vector<cws_tools::GridAxis> grid;  // sweep: --grid
   std::string cases;                      // sweep: --cases
   std::vector<std::string> positional;    // sweep-run DIR INDEX, sweep-gather DIR
+  bool slurm = false;                     // sweep: --slurm
+  cws_tools::SlurmOptions slurm_options;  // --partition, --time, ... --dry-run
 };
 
 // Exit codes: 0 success, 1 the run failed, 2 bad command line or scene,
@@ -177,8 +186,9 @@ int run(const Args& a) {
     if (!plan.scene.empty()) plan.scene = std::filesystem::absolute(plan.scene).string();
     cws_tools::checkPlan(plan);
     checkOut(out);
-    return cws_tools::runSweepLocal(plan, out, a.jobs,
-                                    std::filesystem::read_symlink("/proc/self/exe").string());
+    const std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
+    if (a.slurm) return cws_tools::runSweepSlurm(plan, out, a.slurm_options, exe);
+    return cws_tools::runSweepLocal(plan, out, a.jobs, exe);
   }
   if (a.command == "study") {
     const std::string out = a.out.empty() ? "out/study" : a.out;
@@ -311,7 +321,9 @@ int main(int argc, char** argv) {
   const bool stability = a.command == "stability";
   bool seen_scene = false, seen_out = false, seen_jobs = false, seen_only = false,
        seen_method = false, seen_budget = false, seen_checkpoint = false, seen_fresh = false,
-       seen_estimate = false;
+       seen_estimate = false, seen_slurm = false, seen_dry_run = false;
+  const bool takes_slurm = sweep;
+  std::vector<std::string> slurm_given;  // Slurm's options, refused without --slurm
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& opt = args[i];
     // The option's value: present and not empty (an empty --scene or --out,
@@ -398,6 +410,17 @@ int main(int argc, char** argv) {
       problem = once(seen_cases);
       if (problem.empty()) problem = take("a CSV file");
       a.cases = value;
+    } else if (opt == "--slurm" && takes_slurm) {
+      problem = once(seen_slurm);
+      a.slurm = true;
+    } else if (opt == "--dry-run" && takes_slurm) {
+      problem = once(seen_dry_run);
+      a.slurm_options.dry_run = true;
+      slurm_given.push_back(opt);
+    } else if (cws_tools::isSlurmValueOption(opt) && takes_slurm) {
+      problem = take("a value");
+      if (problem.empty()) problem = cws_tools::setSlurmOption(a.slurm_options, opt, value);
+      slurm_given.push_back(opt);
     } else if (opt == "--error-estimate" && a.command == "run") {
       problem = once(seen_estimate);
       a.error_estimate = true;
@@ -412,7 +435,11 @@ int main(int argc, char** argv) {
                 (takes_out ? ", --out" : "") + (takes_jobs ? ", --jobs" : "") +
                 (a.command == "run" ? ", --error-estimate" : "") +
                 (stability ? ", --only, --method, --budget, --checkpoint, --fresh, --report" : "") +
-                (sweep ? ", --grid, --cases" : "") + ")";
+                (sweep ? ", --grid, --cases" : "") +
+                (takes_slurm ? ", --slurm, --partition, --time, --mem, --account, --max-running, "
+                               "--max-array-size, --dry-run"
+                             : "") +
+                ")";
     } else {
       problem = "unexpected argument '" + opt + "' (options come as --scene FILE, --set ...)";
     }
@@ -420,6 +447,15 @@ int main(int argc, char** argv) {
   }
   if (sweep && !a.cases.empty() && !a.grid.empty()) {
     return usageError("--grid and --cases exclude each other");
+  }
+  if (!a.slurm && !slurm_given.empty()) {
+    return usageError(slurm_given.front() +
+                      " is an option of --slurm (the sweep runs locally without it)");
+  }
+  if (a.slurm && seen_jobs) {
+    return usageError(
+        "--jobs runs cases on this machine; with --slurm, --max-running N limits the tasks at "
+        "once");
   }
   if (a.command == "run" || stability) installStopHandlers();
   try {
