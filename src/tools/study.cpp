@@ -1,16 +1,16 @@
 #include "study.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
-#include <mutex>
+#include <map>
 #include <sstream>
 
 #include "coil_winding_sim/core/output.hpp"
 #include "coil_winding_sim/core/scene.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
-#include "parallel.hpp"
+#include "sweep.hpp"
 
 namespace cws_tools {
 
@@ -18,99 +18,49 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Case {
-  double rpm = 0.0;
-  double tension_N = 0.0;
-  std::string name;
-  // Results.
-  bool ok = false;
-  std::string error;
-  double bulging_m = 0.0, bulging_arc_m = 0.0, fed_m = 0.0, penetration_ratio = 0.0;
-  double wall_s = 0.0, sim_s = 0.0, rtf = 0.0, imbalance_rel = 0.0, turns = 0.0;
-  long steps = 0, rejected = 0;
-  int points = 0;
-};
-
-void runCase(const std::string& scene_path, const std::vector<std::string>& overrides,
-             const std::string& dir, Case& c, std::mutex& log) {
-  try {
-    std::vector<std::string> o = overrides;
-    std::ostringstream rpm, tension;
-    rpm << std::setprecision(10) << c.rpm;
-    tension << std::setprecision(10) << c.tension_N;
-    o.push_back("process.core_speed_rpm=" + rpm.str());
-    o.push_back("process.tension=" + tension.str());
-    o.push_back("process.turns=1.75");
-    o.push_back("process.duration=~");
-    cws::Simulation sim(cws::loadScene(scene_path, o));
-    {
-      std::lock_guard<std::mutex> lock(log);
-      std::cerr << "study: " << c.name << " started (until t = " << sim.endTime() << " s)\n";
-    }
-    sim.run();
-    const std::string out = (fs::path(dir) / c.name).string();
-    cws::writeOutputs(sim, out);
-    const cws::BulgeReport b = sim.model().bulging();
-    const cws::EnergyReport e = sim.energy();
-    c.bulging_m = b.valid ? b.height_m : 0.0;
-    c.bulging_arc_m = b.valid ? b.arc_length_m : 0.0;
-    c.fed_m = sim.model().fedLength();
-    c.penetration_ratio = sim.maxPenetration() / sim.model().constants().radius;
-    c.wall_s = sim.wallTime();
-    c.sim_s = sim.time();
-    c.rtf = sim.realTimeFactor();
-    c.turns = sim.coreTurns();
-    c.imbalance_rel = std::abs(e.imbalance()) / std::max(1e-300, std::abs(e.work_done));
-    c.steps = sim.stepper().counts().accepted;
-    c.rejected = sim.stepper().counts().rejected;
-    c.points = sim.model().constants().n;
-    c.ok = true;
-    std::lock_guard<std::mutex> lock(log);
-    std::cerr << "study: " << c.name << " done in " << c.wall_s << " s, bulging "
-              << 1e3 * c.bulging_m << " mm\n";
-  } catch (const std::exception& e) {
-    c.error = e.what();
-    std::lock_guard<std::mutex> lock(log);
-    std::cerr << "study: " << c.name << " failed: " << e.what() << "\n";
-  }
-}
-
 // The study's tables in DIR.
 const char* const kTables[] = {"study.csv", "study.md", "core_cylinders.csv"};
+
 }  // namespace
 
-int runStudy(const std::string& scene_path, const std::vector<std::string>& overrides,
-             const std::string& dir, int jobs) {
-  // Refuse a bad scene or directory before anything runs.
+SweepPlan studyPlan(const std::string& scene_path, const std::vector<std::string>& overrides) {
   const cws::Scene scene = cws::loadScene(scene_path, overrides);
   if (!scene.physics.supply || !scene.physics.contact) {
     throw cws::SceneError("physics.supply", "the study needs a winding scene (supply and contact)");
   }
-  cws::checkOutputDir(dir);
-
-  std::vector<Case> cases;
-  for (double rpm : {600.0, 1200.0}) {
-    for (double tension : {30.0, 70.0}) {
-      Case c;
-      c.rpm = rpm;
-      c.tension_N = tension;
-      c.name = std::to_string(static_cast<int>(rpm)) + "rpm_" +
-               std::to_string(static_cast<int>(tension)) + "N";
-      cases.push_back(c);
+  SweepPlan p;
+  p.kind = "study";
+  p.scene = scene_path.empty() ? "" : fs::absolute(scene_path).string();
+  p.overrides = overrides;
+  p.overrides.push_back("process.turns=1.75");
+  p.overrides.push_back("process.duration=~");
+  p.keys = {"process.core_speed_rpm", "process.tension"};
+  for (const char* rpm : {"600", "1200"}) {
+    for (const char* tension : {"30", "70"}) {
+      p.cases.push_back({rpm, tension});
+      p.names.push_back(std::string(rpm) + "rpm_" + tension + "N");
     }
   }
-  // Results of an earlier study go first: a case that fails now, or a study
-  // that is stopped, must not leave an earlier case's summary or table.
-  for (const Case& c : cases) cws::removeOutputs((fs::path(dir) / c.name).string());
+  return p;
+}
+
+int runStudy(const std::string& scene_path, const std::vector<std::string>& overrides,
+             const std::string& dir, int jobs, const SlurmOptions* slurm, const std::string& exe) {
+  // Refuse a bad scene before anything runs.
+  const SweepPlan plan = studyPlan(scene_path, overrides);
+  checkPlan(plan);
+  // An earlier study's tables go first: a study that fails or is stopped
+  // must not leave them looking current.
   for (const char* t : kTables) {
     std::error_code ec;
     fs::remove(fs::path(dir) / t, ec);
     if (ec) throw std::runtime_error("cannot remove '" + (fs::path(dir) / t).string() + "'");
   }
-  std::mutex log;
-  forEachParallel(cases.size(), jobs,
-                  [&](std::size_t i) { runCase(scene_path, overrides, dir, cases[i], log); });
+  if (slurm) return runSweepSlurm(plan, dir, *slurm, exe);
+  return runSweepLocal(plan, dir, jobs, exe);
+}
 
+int writeStudyTables(const SweepPlan& plan, const std::string& dir) {
   std::ostringstream csv, md, cyl;
   csv << "case,core_speed_rpm,tension_N,core_turns,bulging_height_mm,bulging_arc_length_mm,"
          "fed_length_mm,points,max_penetration_ratio,steps_accepted,steps_rejected,sim_time_s,"
@@ -119,25 +69,48 @@ int runStudy(const std::string& scene_path, const std::vector<std::string>& over
         "fed [mm] | max penetration / r | steps | wall time [s] | real-time factor |\n"
      << "|---|---|---|---|---|---|---|---|---|\n";
   bool all_ok = true;
-  for (const Case& c : cases) {
-    if (!c.ok) {
+  for (std::size_t i = 0; i < plan.cases.size(); ++i) {
+    const std::string rpm = plan.cases[i][0], tension = plan.cases[i][1];
+    const SweepCaseStatus s = readCaseStatus(plan, dir, i);
+    std::map<std::string, double> v;
+    std::string problem = !s.present         ? "pending (not run yet)"
+                          : s.status != "ok" ? "failed: " + s.error
+                                             : "";
+    if (problem.empty()) {
+      try {
+        v = readSummaryNumbers((fs::path(dir) / plan.caseDir(i) / "summary.json").string());
+      } catch (const std::exception& e) {
+        problem = std::string("failed: its summary.json cannot be read: ") + e.what();
+      }
+    }
+    if (!problem.empty()) {
       all_ok = false;
-      md << "| " << c.rpm << " | " << c.tension_N << " | failed: " << c.error << " | | | | | | |\n";
+      md << "| " << rpm << " | " << tension << " | " << problem << " | | | | | | |\n";
       continue;
     }
+    // A figure the summary lacks reads as NaN, never as a plausible 0.
+    auto at = [&](const char* key) {
+      const auto it = v.find(key);
+      return it == v.end() ? std::nan("") : it->second;
+    };
+    const double imbalance_rel =
+        std::abs(at("energy_imbalance_J")) / std::max(1e-300, std::abs(at("work_done_J")));
     char line[512];
-    std::snprintf(line, sizeof line,
-                  "%s,%.0f,%.0f,%.4f,%.4f,%.2f,%.2f,%d,%.4f,%ld,%ld,%.6f,%.2f,%.3g,%.2e\n",
-                  c.name.c_str(), c.rpm, c.tension_N, c.turns, 1e3 * c.bulging_m,
-                  1e3 * c.bulging_arc_m, 1e3 * c.fed_m, c.points, c.penetration_ratio, c.steps,
-                  c.rejected, c.sim_s, c.wall_s, c.rtf, c.imbalance_rel);
+    std::snprintf(
+        line, sizeof line, "%s,%s,%s,%.4f,%.4f,%.2f,%.2f,%.0f,%.4f,%.0f,%.0f,%.6f,%.2f,%.3g,%.2e\n",
+        plan.caseDir(i).c_str(), rpm.c_str(), tension.c_str(), at("core_turns"),
+        1e3 * at("bulging_height_m"), 1e3 * at("bulging_arc_length_m"), 1e3 * at("fed_length_m"),
+        at("nodes"), at("max_penetration_ratio"), at("steps_accepted"), at("steps_rejected"),
+        at("sim_time_s"), at("wall_time_s"), at("real_time_factor"), imbalance_rel);
     csv << line;
     std::snprintf(line, sizeof line,
-                  "| %.0f | %.0f | %.3f | %.1f | %.1f | %.3f | %ld | %.1f | %.3g |\n", c.rpm,
-                  c.tension_N, 1e3 * c.bulging_m, 1e3 * c.bulging_arc_m, 1e3 * c.fed_m,
-                  c.penetration_ratio, c.steps, c.wall_s, c.rtf);
+                  "| %s | %s | %.3f | %.1f | %.1f | %.3f | %.0f | %.1f | %.3g |\n", rpm.c_str(),
+                  tension.c_str(), 1e3 * at("bulging_height_m"), 1e3 * at("bulging_arc_length_m"),
+                  1e3 * at("fed_length_m"), at("max_penetration_ratio"), at("steps_accepted"),
+                  at("wall_time_s"), at("real_time_factor"));
     md << line;
   }
+  const cws::Scene scene = cws::loadScene(plan.scene, plan.overrides);
   cyl << "x_core,y_core,radius\n" << std::setprecision(12);
   for (const cws::CylinderParams& c : scene.core.cylinders) {
     cyl << c.center_core.x() << ',' << c.center_core.y() << ',' << c.radius << '\n';

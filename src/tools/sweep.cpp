@@ -17,6 +17,7 @@
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 #include "run_store.hpp"
+#include "study.hpp"
 
 namespace cws_tools {
 
@@ -29,11 +30,7 @@ const char* const kSweepResultsMd = "results.md";
 
 namespace {
 
-struct CaseStatus {
-  bool present = false;
-  std::string identity, status, error;
-  double wall_s = 0.0;
-};
+using CaseStatus = SweepCaseStatus;
 
 std::string oneLine(std::string s) {
   for (char& c : s) {
@@ -42,8 +39,8 @@ std::string oneLine(std::string s) {
   return s;
 }
 
-std::string casePath(const std::string& dir, std::size_t i) {
-  return (fs::path(dir) / SweepPlan::caseDir(i)).string();
+std::string casePath(const SweepPlan& plan, const std::string& dir, std::size_t i) {
+  return (fs::path(dir) / plan.caseDir(i)).string();
 }
 
 void writeStatus(const std::string& case_dir, const CaseStatus& s) {
@@ -110,6 +107,16 @@ void summaryNumbers(const std::string& path, std::vector<std::pair<std::string, 
 
 }  // namespace
 
+SweepCaseStatus readCaseStatus(const SweepPlan& plan, const std::string& dir, std::size_t i) {
+  return readStatus(casePath(plan, dir, i));
+}
+
+std::map<std::string, double> readSummaryNumbers(const std::string& path) {
+  std::vector<std::pair<std::string, double>> numbers;
+  summaryNumbers(path, numbers);
+  return std::map<std::string, double>(numbers.begin(), numbers.end());
+}
+
 SweepPlan readCasesFile(const std::string& scene, const std::vector<std::string>& overrides,
                         const std::string& path) {
   return casesPlan(scene, overrides, readText(path), path);
@@ -151,7 +158,7 @@ int runSweepCase(const std::string& dir, std::size_t index) {
               << plan.cases.size() << " cases, 0 to " << plan.cases.size() - 1 << ")\n";
     return 2;
   }
-  const std::string case_dir = casePath(dir, index);
+  const std::string case_dir = casePath(plan, dir, index);
   fs::create_directories(case_dir);
   std::error_code ec;
   fs::remove(fs::path(case_dir) / kSweepStatusFile, ec);
@@ -181,7 +188,7 @@ std::vector<std::size_t> casesToRun(const SweepPlan& plan, const std::string& di
   std::vector<std::size_t> todo;
   kept = 0;
   for (std::size_t i = 0; i < plan.cases.size(); ++i) {
-    const CaseStatus s = readStatus(casePath(dir, i));
+    const CaseStatus s = readStatus(casePath(plan, dir, i));
     if (s.present && s.status == "ok" && s.identity == caseIdentity(plan, i)) {
       ++kept;
     } else {
@@ -191,10 +198,11 @@ std::vector<std::size_t> casesToRun(const SweepPlan& plan, const std::string& di
   return todo;
 }
 
-void clearCaseStatus(const std::string& dir, std::size_t i) {
+void clearCaseStatus(const SweepPlan& plan, const std::string& dir, std::size_t i) {
   std::error_code ec;
-  fs::remove(fs::path(casePath(dir, i)) / kSweepStatusFile, ec);
-  if (ec) throw SweepError("cannot remove '" + casePath(dir, i) + "/" + kSweepStatusFile + "'");
+  fs::remove(fs::path(casePath(plan, dir, i)) / kSweepStatusFile, ec);
+  if (ec)
+    throw SweepError("cannot remove '" + casePath(plan, dir, i) + "/" + kSweepStatusFile + "'");
 }
 
 int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const std::string& exe) {
@@ -208,7 +216,7 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const
   std::map<pid_t, std::size_t> running;
   std::size_t next = 0, finished = 0;
   auto start = [&](std::size_t i) {
-    const std::string case_dir = casePath(dir, i);
+    const std::string case_dir = casePath(plan, dir, i);
     fs::create_directories(case_dir);
     const std::string log = (fs::path(case_dir) / "log.txt").string();
     const std::string index = std::to_string(i);
@@ -238,7 +246,7 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const
     const std::size_t i = it->second;
     running.erase(it);
     ++finished;
-    const std::string case_dir = casePath(dir, i);
+    const std::string case_dir = casePath(plan, dir, i);
     CaseStatus s = readStatus(case_dir);
     if (!s.present) {
       // The process ended without a result (a crash, a signal).
@@ -251,9 +259,9 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const
       writeStatus(case_dir, s);
     }
     char wall[32];
-    std::snprintf(wall, sizeof wall, "%.1f", s.wall_s);
-    std::cerr << "sweep: [" << finished << "/" << todo.size() << "] " << SweepPlan::caseDir(i)
-              << " (" << plan.caseLabel(i) << "): "
+    std::snprintf(wall, sizeof wall, "%.3g", s.wall_s);
+    std::cerr << "sweep: [" << finished << "/" << todo.size() << "] " << plan.caseDir(i) << " ("
+              << plan.caseLabel(i) << "): "
               << (s.status == "ok" ? std::string("ok in ") + wall + " s" : "failed: " + s.error)
               << "\n";
   }
@@ -270,7 +278,7 @@ int gatherSweep(const std::string& dir) {
   std::vector<std::size_t> pending;
   std::size_t failed = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const std::string case_dir = casePath(dir, i);
+    const std::string case_dir = casePath(plan, dir, i);
     status[i] = readStatus(case_dir);
     if (!status[i].present) {
       pending.push_back(i);
@@ -312,7 +320,7 @@ int gatherSweep(const std::string& dir) {
   for (std::size_t i = 0; i < n; ++i) {
     const CaseStatus& s = status[i];
     const std::string state = s.present ? s.status : "pending";
-    csv << SweepPlan::caseDir(i);
+    csv << plan.caseDir(i);
     for (const std::string& v : plan.cases[i]) csv << "," << csvField(v);
     csv << "," << state << "," << csvField(s.error);
     std::map<std::string, double> values(numbers[i].begin(), numbers[i].end());
@@ -325,7 +333,7 @@ int gatherSweep(const std::string& dir) {
       }
     }
     csv << "\n";
-    md << "| " << SweepPlan::caseDir(i) << " |";
+    md << "| " << plan.caseDir(i) << " |";
     for (const std::string& v : plan.cases[i]) md << " " << v << " |";
     if (state != "ok") {
       md << " " << state << (s.error.empty() ? "" : ": " + s.error) << " | | | | |\n";
@@ -348,10 +356,13 @@ int gatherSweep(const std::string& dir) {
             << (fs::path(dir) / kSweepResultsCsv).string() << "\n";
   if (!pending.empty()) {
     std::cerr << "sweep: not finished:";
-    for (std::size_t i : pending) std::cerr << " " << SweepPlan::caseDir(i);
+    for (std::size_t i : pending) std::cerr << " " << plan.caseDir(i);
     std::cerr << "\n";
   }
-  return pending.empty() && failed == 0 ? 0 : 1;
+  int rc = pending.empty() && failed == 0 ? 0 : 1;
+  // What the plan's kind adds to the table.
+  if (plan.kind == "study") rc = std::max(rc, writeStudyTables(plan, dir));
+  return rc;
 }
 
 }  // namespace cws_tools

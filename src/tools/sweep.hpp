@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstddef>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,19 @@ extern const char* const kSweepPlanFile;    // the plan (sweep_plan.tsv)
 extern const char* const kSweepStatusFile;  // per case: status.txt
 extern const char* const kSweepResultsCsv;  // results.csv
 extern const char* const kSweepResultsMd;   // results.md
+
+// A case's status.txt: present once its run has ended (status "ok" or
+// "failed", with the error).
+struct SweepCaseStatus {
+  bool present = false;
+  std::string identity, status, error;
+  double wall_s = 0.0;
+};
+SweepCaseStatus readCaseStatus(const SweepPlan& plan, const std::string& dir, std::size_t i);
+
+// The numbers of a summary.json: top-level scalars, and those of its
+// objects as "object.key"; throws when the file cannot be read.
+std::map<std::string, double> readSummaryNumbers(const std::string& path);
 
 // The plan of a cases file (casesPlan); throws SweepError naming the file
 // when it cannot be read.
@@ -40,7 +54,7 @@ std::string caseIdentity(const SweepPlan& plan, std::size_t index);
 std::vector<std::size_t> casesToRun(const SweepPlan& plan, const std::string& dir,
                                     std::size_t& kept);
 // Forgets case i's status, so that it reads as pending until it has run.
-void clearCaseStatus(const std::string& dir, std::size_t i);
+void clearCaseStatus(const SweepPlan& plan, const std::string& dir, std::size_t i);
 
 // Runs case INDEX of the plan in DIR (wire_sim sweep-run): its outputs and
 // status.txt in DIR/case_NNNN. Returns 0 when it ran, 1 when it failed (the

@@ -142,10 +142,18 @@ std::string SweepPlan::caseLabel(std::size_t i) const {
   return s;
 }
 
-std::string SweepPlan::caseDir(std::size_t i) {
+std::string SweepPlan::caseDir(std::size_t i) const {
+  if (i < names.size()) return names[i];
   char buf[32];
   std::snprintf(buf, sizeof buf, "case_%04zu", i);
   return buf;
+}
+
+std::string SweepPlan::option(const std::string& key, const std::string& fallback) const {
+  for (const auto& kv : options) {
+    if (kv.first == key) return kv.second;
+  }
+  return fallback;
 }
 
 SweepPlan gridPlan(const std::string& scene, const std::vector<std::string>& overrides,
@@ -224,7 +232,9 @@ std::string planText(const SweepPlan& plan) {
   std::ostringstream out;
   out << "# A sweep's plan, written by wire_sim sweep: the cases that wire_sim sweep-run\n"
          "# runs by index and wire_sim sweep-gather tabulates (tab-separated).\n";
+  out << "kind\t" << plan.kind << "\n";
   out << "scene\t" << plan.scene << "\n";
+  for (const auto& kv : plan.options) out << "option\t" << kv.first << "\t" << kv.second << "\n";
   for (const std::string& o : plan.overrides) out << "set\t" << o << "\n";
   out << "keys";
   for (const std::string& k : plan.keys) out << "\t" << k;
@@ -232,6 +242,11 @@ std::string planText(const SweepPlan& plan) {
   for (const std::vector<std::string>& row : plan.cases) {
     out << "case";
     for (const std::string& v : row) out << "\t" << v;
+    out << "\n";
+  }
+  if (!plan.names.empty()) {
+    out << "names";
+    for (const std::string& n : plan.names) out << "\t" << n;
     out << "\n";
   }
   return out.str();
@@ -255,7 +270,16 @@ SweepPlan parsePlanText(const std::string& text, const std::string& file) {
       start = tab + 1;
     }
     const std::string where = file + " line " + std::to_string(number);
-    if (f[0] == "scene" && f.size() == 2) {
+    if (f[0] == "kind" && f.size() == 2) {
+      if (f[1] != "sweep" && f[1] != "study" && f[1] != "stability") {
+        throw SweepError(where + ": unknown kind '" + f[1] + "' (sweep, study or stability)");
+      }
+      p.kind = f[1];
+    } else if (f[0] == "option" && f.size() == 3) {
+      p.options.emplace_back(f[1], f[2]);
+    } else if (f[0] == "names") {
+      p.names.assign(f.begin() + 1, f.end());
+    } else if (f[0] == "scene" && f.size() == 2) {
       p.scene = f[1];
       have_scene = true;
     } else if (f[0] == "set" && f.size() == 2) {
@@ -270,6 +294,10 @@ SweepPlan parsePlanText(const std::string& text, const std::string& file) {
     }
   }
   if (!have_scene || !have_keys) throw SweepError(file + ": not a sweep plan (no scene or keys)");
+  if (!p.names.empty() && p.names.size() != p.cases.size()) {
+    throw SweepError(file + ": " + std::to_string(p.names.size()) + " case names for " +
+                     std::to_string(p.cases.size()) + " cases");
+  }
   return p;
 }
 

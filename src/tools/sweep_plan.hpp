@@ -28,17 +28,27 @@ struct GridAxis {
 GridAxis parseGridAxis(const std::string& arg);
 
 struct SweepPlan {
+  // What the cases are and what the table adds: "sweep" (plain runs),
+  // "study" (the paper's 2 x 2 study, whose tables gather adds) or
+  // "stability" (the stability matrix: its runs and its report).
+  std::string kind = "sweep";
   std::string scene;                            // base scene file ("": built-in defaults)
   std::vector<std::string> overrides;           // the sweep's --set, before each case's keys
   std::vector<std::string> keys;                // the swept keys
   std::vector<std::vector<std::string>> cases;  // per case, one value per key
+  std::vector<std::string> names;               // per case, its folder (empty: case_NNNN)
+  // Settings of the kind (stability: the budget and checkpoint interval).
+  std::vector<std::pair<std::string, std::string>> options;
 
   // The overrides of case i: the sweep's, then "key=value" per swept key.
   std::vector<std::string> caseOverrides(std::size_t i) const;
   // "key=value, key=value" for messages.
   std::string caseLabel(std::size_t i) const;
-  // The case's folder in the sweep's directory: case_0000, case_0001, ...
-  static std::string caseDir(std::size_t i);
+  // The case's folder in the sweep's directory: its name, or case_0000,
+  // case_0001, ...
+  std::string caseDir(std::size_t i) const;
+  // An option's value, or `fallback`.
+  std::string option(const std::string& key, const std::string& fallback) const;
 };
 
 // The cartesian product of the axes, the first axis varying slowest.

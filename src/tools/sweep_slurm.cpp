@@ -245,7 +245,7 @@ int runSweepSlurm(const SweepPlan& plan, const std::string& dir_arg, const Slurm
   }
   try {
     // A case to run again reads as pending until its task has run.
-    for (std::size_t i : todo) clearCaseStatus(dir, i);
+    for (std::size_t i : todo) clearCaseStatus(plan, dir, i);
     std::string dependency;
     std::ostringstream jobs;
     for (const auto& a : arrays) {

@@ -2,7 +2,7 @@
 //
 //   wire_sim run [--scene FILE] [--set key.path=value ...] [--out DIR]
 //   wire_sim print-scene [--scene FILE] [--set key.path=value ...]
-//   wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
+//   wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N | --slurm ...]
 //   wire_sim work-precision [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]
 //   wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME] [--method M]
 //                      [--budget SECONDS] [--checkpoint SECONDS] [--fresh | --report]
@@ -44,7 +44,8 @@ namespace {
 const char* kUsage =
     "usage: wire_sim run [--scene FILE] [--set key.path=value ...] [--out DIR] [--error-estimate]\n"
     "       wire_sim print-scene [--scene FILE] [--set key.path=value ...]\n"
-    "       wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR] [--jobs N]\n"
+    "       wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR]\n"
+    "                      [--jobs N | --slurm [Slurm options as for sweep]]\n"
     "       wire_sim work-precision [--scene FILE] [--set ...] [--out DIR] [--jobs N]\n"
     "       wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]\n"
     "                          [--method INTEGRATOR] [--budget SECONDS] [--checkpoint SECONDS]\n"
@@ -58,8 +59,8 @@ const char* kUsage =
     "(out/study for study). run --error-estimate runs the scene a second time with half\n"
     "the step (a tenth of the tolerances for rkf45 and rosenbrock2) and reports the\n"
     "difference in shape and bulging beside both wall times (summary.json).\n"
-    "study runs the paper's 2 x 2 case study (600/1200 rpm x\n"
-    "30/70 N, 1 3/4 turns) on N threads (default 2) and writes tables of the results.\n"
+    "study runs the paper's 2 x 2 case study (600/1200 rpm x 30/70 N, 1 3/4 turns) as a\n"
+    "sweep (N processes at once, default 2, or on Slurm) and writes tables of the results.\n"
     "work-precision runs the scene with every integrator over a range of tolerances or\n"
     "steps against a tight reference and writes the errors and wall times (CSV).\n"
     "stability runs the extreme cases of docs/STABILITY.md (those whose name contains\n"
@@ -193,7 +194,9 @@ int run(const Args& a) {
   if (a.command == "study") {
     const std::string out = a.out.empty() ? "out/study" : a.out;
     checkOut(out);
-    return cws_tools::runStudy(scene_path, a.overrides, out, a.jobs);
+    return cws_tools::runStudy(scene_path, a.overrides, out, a.jobs,
+                               a.slurm ? &a.slurm_options : nullptr,
+                               std::filesystem::read_symlink("/proc/self/exe").string());
   }
   // Remove the results of an earlier run, so that a failed or stopped run
   // leaves no valid-looking summary.
@@ -322,7 +325,7 @@ int main(int argc, char** argv) {
   bool seen_scene = false, seen_out = false, seen_jobs = false, seen_only = false,
        seen_method = false, seen_budget = false, seen_checkpoint = false, seen_fresh = false,
        seen_estimate = false, seen_slurm = false, seen_dry_run = false;
-  const bool takes_slurm = sweep;
+  const bool takes_slurm = sweep || a.command == "study";
   std::vector<std::string> slurm_given;  // Slurm's options, refused without --slurm
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& opt = args[i];

@@ -70,7 +70,7 @@ TEST(SweepGrid, ProductRunsTheLastAxisFastest) {
   EXPECT_EQ(p.cases[3], (std::vector<std::string>{"70", "600"}));
   EXPECT_EQ(p.caseOverrides(4), (std::vector<std::string>{"process.turns=1", "process.tension=70",
                                                           "process.core_speed_rpm=1200"}));
-  EXPECT_EQ(SweepPlan::caseDir(4), "case_0004");
+  EXPECT_EQ(SweepPlan().caseDir(4), "case_0004");
   EXPECT_THROW(
       cws_tools::gridPlan(
           "", {}, {parseGridAxis("process.tension=1,2"), parseGridAxis("process.tension=3")}),
