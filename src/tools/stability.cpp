@@ -9,9 +9,7 @@
 #include <iomanip>
 #include <iostream>
 #include <iterator>
-#include <mutex>
 #include <sstream>
-#include <thread>
 
 #include "coil_winding_sim/core/command_schedule.hpp"
 #include "coil_winding_sim/core/output.hpp"
@@ -21,9 +19,9 @@
 #include "coil_winding_sim/core/stability_cases.hpp"
 #include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
-#include "parallel.hpp"
 #include "run_store.hpp"
 #include "stability_report.hpp"
+#include "sweep.hpp"
 
 namespace cws_tools {
 
@@ -34,21 +32,23 @@ namespace {
 using Case = cws::StabilityCase;
 using Run = StabilityRun;
 
-// What every run of one study shares.
+// What a run needs besides its case and method: the scene and base
+// overrides, its budget, where its files go, and when to stop.
 struct Study {
   std::string scene_path;
   std::vector<std::string> base;
   double budget_s = 0.0;
   double checkpoint_s = 0.0;
-  fs::path runs_dir;
+  fs::path run_dir;  // the run's folder: its result, checkpoint and status
   std::function<bool()> stop;
-  bool report_only = false;
-  std::mutex log;
 };
 
 // Bumped when the way a run is set up or measured changes, so that results
 // and checkpoints of the earlier way are not reused.
 constexpr int kRunProtocol = 1;
+
+const char* const kResultFile = "result.txt";
+const char* const kCheckpointFile = "checkpoint";
 
 // The run's identity: the core build, the scene file, every override, the
 // method and the speed events.
@@ -116,7 +116,23 @@ bool readResult(const std::string& path, uint64_t id, Run& r) {
   return true;
 }
 
-void execute(Study& st, Run& r) {
+// A run without a result: PENDING, with where its checkpoint is.
+void pendingRun(const Study& st, Run& r) {
+  r.outcome = Outcome::kPending;
+  Checkpoint c;
+  std::ostringstream msg;
+  if (readCheckpoint((st.run_dir / kCheckpointFile).string(), c) && c.identity == identity(st, r)) {
+    r.wall_s = c.wall_s;
+    r.sim_s = c.state.time_s;
+    msg << "not finished: checkpoint at t = " << c.state.time_s << " s after " << c.wall_s
+        << " s of wall time; `make stability` continues it";
+  } else {
+    msg << "not run yet";
+  }
+  r.message = msg.str();
+}
+
+void execute(const Study& st, Run& r) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   double wall_before = 0.0;  // of earlier studies, for a resumed run [s]
@@ -124,34 +140,15 @@ void execute(Study& st, Run& r) {
     return wall_before + std::chrono::duration<double>(Clock::now() - start).count();
   };
   const std::string key = r.c->name + "." + r.method;
-  const std::string result_path = (st.runs_dir / (key + ".result")).string();
-  const std::string checkpoint_path = (st.runs_dir / (key + ".checkpoint")).string();
+  const std::string result_path = (st.run_dir / kResultFile).string();
+  const std::string checkpoint_path = (st.run_dir / kCheckpointFile).string();
   const uint64_t id = identity(st, r);
   // A result of this run from an earlier study with the same core build is
   // kept; one that ran out of its budget continues from its checkpoint.
   if (readResult(result_path, id, r) && r.outcome != Outcome::kBudget) {
     r.kept = true;
-    std::lock_guard<std::mutex> lock(st.log);
     std::cerr << "stability: " << key << ": " << outcomeName(r.outcome)
               << " (kept from an earlier study of this build)\n";
-    return;
-  }
-  // Report only: what the kept files say, nothing run.
-  if (st.report_only) {
-    r.kept = true;
-    if (r.outcome == Outcome::kBudget) return;  // its result was read above
-    r.outcome = Outcome::kPending;
-    Checkpoint c;
-    std::ostringstream msg;
-    if (readCheckpoint(checkpoint_path, c) && c.identity == id) {
-      r.wall_s = c.wall_s;
-      r.sim_s = c.state.time_s;
-      msg << "not finished: checkpoint at t = " << c.state.time_s << " s after " << c.wall_s
-          << " s of wall time; `make stability` continues it";
-    } else {
-      msg << "not run yet";
-    }
-    r.message = msg.str();
     return;
   }
   r.message.clear();
@@ -171,7 +168,6 @@ void execute(Study& st, Run& r) {
     r.message = e.what();
     r.wall_s = wall();
     writeResult(result_path, id, r);
-    std::lock_guard<std::mutex> lock(st.log);
     std::cerr << "stability: " << key << ": refused: " << e.what() << "\n";
     return;
   }
@@ -193,11 +189,9 @@ void execute(Study& st, Run& r) {
         sim = cws::Simulation::fromState(c.state);
         wall_before = c.wall_s;
         scheduleFrom(c.next_event);
-        std::lock_guard<std::mutex> lock(st.log);
         std::cerr << "stability: " << key << ": resumed at t = " << sim->time() << " s after "
                   << c.wall_s << " s of wall time\n";
       } catch (const std::exception& e) {
-        std::lock_guard<std::mutex> lock(st.log);
         std::cerr << "stability: " << key << ": checkpoint not usable (" << e.what()
                   << "), starting afresh\n";
       }
@@ -230,7 +224,6 @@ void execute(Study& st, Run& r) {
       }
       const double w = wall();
       if (w > next_report_s) {
-        std::lock_guard<std::mutex> lock(st.log);
         std::cerr << "  " << key << ": t = " << sim->time() << " s of " << sim->endTime()
                   << " s, step " << sim->stepper().lastStep() << " s\n";
         next_report_s += 60.0;
@@ -273,66 +266,128 @@ void execute(Study& st, Run& r) {
   }
   writeResult(result_path, id, r);
   if (r.outcome != Outcome::kBudget) fs::remove(checkpoint_path);
-  std::lock_guard<std::mutex> lock(st.log);
   std::cerr << "stability: " << key << ": " << outcomeName(r.outcome) << " in " << r.wall_s << " s"
             << (r.message.empty() ? "" : ": ") << r.message << "\n";
 }
 
+const Case& caseNamed(const std::string& name) {
+  for (const Case& c : cws::stabilityCases()) {
+    if (c.name == name) return c;
+  }
+  throw SweepError("no stability case named '" + name + "'");
+}
+
+// Run i of the plan: its case and method (in `r`) and its settings.
+Study studyOf(const SweepPlan& plan, const std::string& dir, std::size_t i, Run& r) {
+  r.c = &caseNamed(plan.cases.at(i).at(0));
+  r.method = plan.cases.at(i).at(1);
+  Study st;
+  st.scene_path = plan.scene;
+  st.base = plan.overrides;
+  st.budget_s = std::stod(plan.option("budget_s", "18000"));
+  st.checkpoint_s = std::stod(plan.option("checkpoint_s", "300"));
+  st.run_dir = fs::path(dir) / plan.caseDir(i);
+  st.stop = [] { return false; };
+  return st;
+}
+
+std::string hex(uint64_t v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
 }  // namespace
 
-int runStability(const std::string& scene_path, const std::vector<std::string>& overrides,
-                 const std::string& dir, const StabilityOptions& opt) {
-  Study st;
-  st.scene_path = scene_path;
+SweepPlan stabilityPlan(const std::string& scene_path, const std::vector<std::string>& overrides,
+                        const StabilityOptions& opt) {
+  SweepPlan p;
+  p.kind = "stability";
+  p.scene = scene_path.empty() ? "" : fs::absolute(scene_path).string();
   // The base: the given scene with the study's segment length and speed.
-  st.base = {"wire.segment_length=2e-3", "process.core_speed_rpm=1200"};
-  st.base.insert(st.base.end(), overrides.begin(), overrides.end());
-  cws::loadScene(scene_path, st.base);  // refuse a bad base scene first
-  cws::checkOutputDir(dir);
-  st.budget_s = opt.budget_s;
-  st.checkpoint_s = opt.checkpoint_s;
-  st.stop = opt.stop ? opt.stop : [] { return false; };
-  st.report_only = opt.report_only;
-  st.runs_dir = fs::path(dir) / "runs";
-  if (opt.fresh) fs::remove_all(st.runs_dir);
-  fs::create_directories(st.runs_dir);
-
+  p.overrides = {"wire.segment_length=2e-3", "process.core_speed_rpm=1200"};
+  p.overrides.insert(p.overrides.end(), overrides.begin(), overrides.end());
+  cws::loadScene(p.scene, p.overrides);  // refuse a bad base scene first
+  p.keys = {"case", "method"};
+  // The last case and method first: the long run starts at once and the
+  // short ones fill in (the report lists them in the registry's order).
   const std::vector<Case>& cases = cws::stabilityCases();
-  std::vector<Run> runs;
-  for (const Case& c : cases) {
-    if (!opt.only.empty() && c.name.find(opt.only) == std::string::npos) continue;
-    // Every registered integrator.
-    for (const cws::IntegratorInfo& m : cws::integrators()) {
-      if (!opt.method.empty() && opt.method != m.name) continue;
-      Run r;
-      r.c = &c;
-      r.method = m.name;
-      runs.push_back(r);
+  const std::vector<cws::IntegratorInfo>& methods = cws::integrators();
+  for (auto c = cases.rbegin(); c != cases.rend(); ++c) {
+    if (!opt.only.empty() && c->name.find(opt.only) == std::string::npos) continue;
+    for (auto m = methods.rbegin(); m != methods.rend(); ++m) {
+      if (!opt.method.empty() && opt.method != m->name) continue;
+      p.cases.push_back({c->name, m->name});
+      p.names.push_back("runs/" + c->name + "." + m->name);
     }
   }
-  if (runs.empty()) {
-    std::cerr << "stability: no case name contains '" << opt.only << "'\n";
-    return 2;
+  if (p.cases.empty()) throw SweepError("stability: no case name contains '" + opt.only + "'");
+  std::ostringstream budget, checkpoint;
+  budget << std::setprecision(17) << opt.budget_s;
+  checkpoint << std::setprecision(17) << opt.checkpoint_s;
+  p.options = {{"budget_s", budget.str()},
+               {"checkpoint_s", checkpoint.str()},
+               {"jobs", std::to_string(opt.jobs)}};
+  return p;
+}
+
+std::string stabilityCaseIdentity(const SweepPlan& plan, std::size_t i) {
+  Run r;
+  const Study st = studyOf(plan, "", i, r);
+  return hex(identity(st, r));
+}
+
+int runStabilityCase(const SweepPlan& plan, const std::string& dir, std::size_t i,
+                     const std::function<bool()>& stop) {
+  Run r;
+  Study st = studyOf(plan, dir, i, r);
+  if (stop) st.stop = stop;
+  fs::create_directories(st.run_dir);
+  clearCaseStatus(plan, dir, i);
+  execute(st, r);
+  // Stopped by a signal: the checkpoint is kept, and no status (pending).
+  if (r.interrupted) return -1;
+  SweepCaseStatus s;
+  s.identity = hex(identity(st, r));
+  s.wall_s = r.wall_s;
+  // A run out of its budget runs on (from its checkpoint) in the next study.
+  s.status = r.outcome == Outcome::kBudget ? "failed" : "ok";
+  if (r.outcome != Outcome::kStable) {
+    s.error = std::string(outcomeName(r.outcome)) + (r.message.empty() ? "" : ": " + r.message);
   }
-  // Last case first: the long run starts at once and the short ones fill in.
-  const auto study_start = std::chrono::steady_clock::now();
-  forEachParallel(runs.size(), opt.jobs, [&](std::size_t i) {
-    if (!st.stop()) execute(st, runs[runs.size() - 1 - i]);
-  });
-  const double study_min =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - study_start).count() / 60.0;
-  // Stopped by a signal: no tables; what is done stays for the next study.
-  if (st.stop()) {
-    std::cerr << "stability: stopped; finished runs and checkpoints of unfinished ones are kept "
-                 "in "
-              << st.runs_dir.string() << " (the same command continues the study)\n";
-    return -1;
+  writeCaseStatus(plan, dir, i, s);
+  return s.status == "ok" ? 0 : 1;
+}
+
+int writeStabilityTables(const SweepPlan& plan, const std::string& dir, bool report_only) {
+  const fs::path plan_file = fs::path(dir) / kSweepPlanFile;
+  const fs::file_time_type planned = fs::last_write_time(plan_file);
+  std::vector<Run> runs;
+  for (std::size_t k = plan.cases.size(); k-- > 0;) {
+    Run r;
+    const Study st = studyOf(plan, dir, k, r);
+    const SweepCaseStatus s = readCaseStatus(plan, dir, k);
+    if (s.present && readResult((st.run_dir / kResultFile).string(), identity(st, r), r)) {
+      // Kept: its result is older than this study's plan.
+      std::error_code ec;
+      const fs::file_time_type t = fs::last_write_time(st.run_dir / kSweepStatusFile, ec);
+      r.kept = !ec && t < planned;
+    } else if (s.present) {
+      // Its process ended without a result (a crash, a signal).
+      r.outcome = Outcome::kStopped;
+      r.message = s.error;
+      r.wall_s = s.wall_s;
+    } else {
+      pendingRun(st, r);
+    }
+    runs.push_back(r);
   }
   ReportInfo info;
-  info.budget_s = opt.budget_s;
-  info.jobs = opt.jobs;
-  info.study_min = study_min;
-  info.report_only = opt.report_only;
+  info.budget_s = std::stod(plan.option("budget_s", "18000"));
+  info.jobs = std::stoi(plan.option("jobs", "0"));
+  info.study_min =
+      std::chrono::duration<double>(fs::file_time_type::clock::now() - planned).count() / 60.0;
+  info.report_only = report_only;
   int bad = 0;
   const std::string csv = writeStabilityReport(dir, runs, info, bad);
   std::cout << csv;
@@ -342,6 +397,27 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
     return 1;
   }
   return 0;
+}
+
+int runStability(const std::string& scene_path, const std::vector<std::string>& overrides,
+                 const std::string& dir, const StabilityOptions& opt, const SlurmOptions* slurm,
+                 const std::string& exe) {
+  StabilityOptions o = opt;
+  if (slurm) o.jobs = 0;  // the report says: tasks of a job array
+  const SweepPlan plan = stabilityPlan(scene_path, overrides, o);
+  if (opt.fresh) fs::remove_all(fs::path(dir) / "runs");
+  if (opt.report_only) {
+    writePlan(plan, dir);
+    return writeStabilityTables(plan, dir, true);
+  }
+  if (slurm) return runSweepSlurm(plan, dir, *slurm, exe);
+  const int rc = runSweepLocal(plan, dir, opt.jobs, exe, opt.stop);
+  if (rc < 0) {
+    std::cerr << "stability: stopped; finished runs and checkpoints of unfinished ones are kept "
+                 "in "
+              << (fs::path(dir) / "runs").string() << " (the same command continues the study)\n";
+  }
+  return rc;
 }
 
 }  // namespace cws_tools

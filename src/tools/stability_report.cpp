@@ -133,8 +133,10 @@ std::string writeStabilityReport(const std::string& dir, const std::vector<Stabi
         "use the scene's tolerances (rtol 1e-6, atol 1e-11); implicit_euler and bdf2 take "
         "Newton steps of solver.implicit_step (1e-4 s), the first ones smaller (a run starts "
         "at 1/64 of it). Wall-time budget per run: "
-     << info.budget_s << " s. Machine: " << machine() << "; " << info.jobs
-     << " runs in parallel.\n\n"
+     << info.budget_s << " s. Machine: " << machine() << "; "
+     << (info.jobs > 0 ? std::to_string(info.jobs) + " runs in parallel"
+                       : std::string("runs as tasks of Slurm job arrays"))
+     << ".\n\n"
         "| case | method | outcome | energy error | max residual | max penetration / r | "
         "steps | mean step [s] | wall [s] | message |\n"
         "|---|---|---|---|---|---|---|---|---|---|\n";

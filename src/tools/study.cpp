@@ -45,7 +45,8 @@ SweepPlan studyPlan(const std::string& scene_path, const std::vector<std::string
 }
 
 int runStudy(const std::string& scene_path, const std::vector<std::string>& overrides,
-             const std::string& dir, int jobs, const SlurmOptions* slurm, const std::string& exe) {
+             const std::string& dir, int jobs, const SlurmOptions* slurm, const std::string& exe,
+             const std::function<bool()>& stop) {
   // Refuse a bad scene before anything runs.
   const SweepPlan plan = studyPlan(scene_path, overrides);
   checkPlan(plan);
@@ -57,7 +58,7 @@ int runStudy(const std::string& scene_path, const std::vector<std::string>& over
     if (ec) throw std::runtime_error("cannot remove '" + (fs::path(dir) / t).string() + "'");
   }
   if (slurm) return runSweepSlurm(plan, dir, *slurm, exe);
-  return runSweepLocal(plan, dir, jobs, exe);
+  return runSweepLocal(plan, dir, jobs, exe, stop);
 }
 
 int writeStudyTables(const SweepPlan& plan, const std::string& dir) {

@@ -4,6 +4,7 @@
 // Slurm), and gathering the sweep adds the study's tables.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,9 +20,10 @@ SweepPlan studyPlan(const std::string& scene_path, const std::vector<std::string
 
 // Runs the study into DIR: locally on `jobs` processes, or submitted to
 // Slurm when `slurm` is given. Returns the exit code (0 when every case ran,
-// or when submitted).
+// or when submitted; -1 when `stop` turned true).
 int runStudy(const std::string& scene_path, const std::vector<std::string>& overrides,
-             const std::string& dir, int jobs, const SlurmOptions* slurm, const std::string& exe);
+             const std::string& dir, int jobs, const SlurmOptions* slurm, const std::string& exe,
+             const std::function<bool()>& stop);
 
 // The study's tables from its cases in DIR: DIR/study.csv (the cases that
 // ran), DIR/study.md (every case, a failed or pending one with its status)

@@ -5,7 +5,9 @@
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +19,7 @@
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 #include "run_store.hpp"
+#include "stability.hpp"
 #include "study.hpp"
 
 namespace cws_tools {
@@ -107,6 +110,11 @@ void summaryNumbers(const std::string& path, std::vector<std::pair<std::string, 
 
 }  // namespace
 
+void writeCaseStatus(const SweepPlan& plan, const std::string& dir, std::size_t i,
+                     const SweepCaseStatus& s) {
+  writeStatus(casePath(plan, dir, i), s);
+}
+
 SweepCaseStatus readCaseStatus(const SweepPlan& plan, const std::string& dir, std::size_t i) {
   return readStatus(casePath(plan, dir, i));
 }
@@ -137,6 +145,7 @@ SweepPlan readPlan(const std::string& dir) {
 }
 
 std::string caseIdentity(const SweepPlan& plan, std::size_t index) {
+  if (plan.kind == "stability") return stabilityCaseIdentity(plan, index);
   const cws::Scene scene = cws::loadScene(plan.scene, plan.caseOverrides(index));
   char buf[40];
   std::snprintf(buf, sizeof buf, "%016llx",
@@ -145,7 +154,7 @@ std::string caseIdentity(const SweepPlan& plan, std::size_t index) {
   return buf;
 }
 
-int runSweepCase(const std::string& dir, std::size_t index) {
+int runSweepCase(const std::string& dir, std::size_t index, const std::function<bool()>& stop) {
   SweepPlan plan;
   try {
     plan = readPlan(dir);
@@ -158,6 +167,7 @@ int runSweepCase(const std::string& dir, std::size_t index) {
               << plan.cases.size() << " cases, 0 to " << plan.cases.size() - 1 << ")\n";
     return 2;
   }
+  if (plan.kind == "stability") return runStabilityCase(plan, dir, index, stop);
   const std::string case_dir = casePath(plan, dir, index);
   fs::create_directories(case_dir);
   std::error_code ec;
@@ -170,7 +180,12 @@ int runSweepCase(const std::string& dir, std::size_t index) {
     cws::Simulation sim(cws::loadScene(plan.scene, plan.caseOverrides(index)));
     std::cerr << "sweep-run: case " << index << " (" << plan.caseLabel(index)
               << "), until t = " << sim.endTime() << " s\n";
-    sim.run();
+    sim.run({}, stop);
+    // Stopped: no result and no status, so the case reads as pending.
+    if (stop && stop()) {
+      std::cerr << "sweep-run: case " << index << " stopped at t = " << sim.time() << " s\n";
+      return -1;
+    }
     cws::writeOutputs(sim, case_dir);
     s.status = "ok";
   } catch (const std::exception& e) {
@@ -205,7 +220,8 @@ void clearCaseStatus(const SweepPlan& plan, const std::string& dir, std::size_t 
     throw SweepError("cannot remove '" + casePath(plan, dir, i) + "/" + kSweepStatusFile + "'");
 }
 
-int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const std::string& exe) {
+int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const std::string& exe,
+                  const std::function<bool()>& stop) {
   writePlan(plan, dir);
   const std::size_t n = plan.cases.size();
   std::size_t kept = 0;
@@ -222,6 +238,9 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const
     const std::string index = std::to_string(i);
     const pid_t pid = fork();
     if (pid == 0) {
+      // A process group of its own: a Ctrl-C reaches the sweep, which
+      // passes it on once (a second SIGINT would end a run unsaved).
+      setpgid(0, 0);
       const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       if (fd >= 0) {
         dup2(fd, STDOUT_FILENO);
@@ -237,9 +256,23 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const
     running[pid] = i;
   };
   while (next < todo.size() || !running.empty()) {
+    // Stopped: the running cases stop too (a run of the stability study
+    // keeps a checkpoint), and what has finished is kept.
+    if (stop && stop()) {
+      for (const auto& r : running) kill(r.first, SIGINT);
+      for (const auto& r : running) waitpid(r.first, nullptr, 0);
+      std::cerr << "sweep: stopped; " << finished << " of " << todo.size()
+                << " cases had finished, the others are pending (the same command goes on)\n";
+      return -1;
+    }
     while (next < todo.size() && static_cast<int>(running.size()) < jobs) start(todo[next++]);
+    // Polled, so that a stop is seen within 50 ms whenever it comes.
     int wstatus = 0;
-    const pid_t pid = waitpid(-1, &wstatus, 0);
+    const pid_t pid = waitpid(-1, &wstatus, WNOHANG);
+    if (pid == 0 || (pid < 0 && errno == EINTR)) {
+      usleep(50000);
+      continue;
+    }
     if (pid < 0) break;
     const auto it = running.find(pid);
     if (it == running.end()) continue;
@@ -262,7 +295,9 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const
     std::snprintf(wall, sizeof wall, "%.3g", s.wall_s);
     std::cerr << "sweep: [" << finished << "/" << todo.size() << "] " << plan.caseDir(i) << " ("
               << plan.caseLabel(i) << "): "
-              << (s.status == "ok" ? std::string("ok in ") + wall + " s" : "failed: " + s.error)
+              << (s.status == "ok" ? std::string("ok in ") + wall + " s" +
+                                         (s.error.empty() ? "" : ": " + s.error)
+                                   : "failed: " + s.error)
               << "\n";
   }
   return gatherSweep(dir);
@@ -270,6 +305,8 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const
 
 int gatherSweep(const std::string& dir) {
   const SweepPlan plan = readPlan(dir);
+  // The stability study's table is its report.
+  if (plan.kind == "stability") return writeStabilityTables(plan, dir, false);
   const std::size_t n = plan.cases.size();
   std::vector<CaseStatus> status(n);
   std::vector<std::vector<std::pair<std::string, double>>> numbers(n);

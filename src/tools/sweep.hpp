@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -31,6 +32,8 @@ struct SweepCaseStatus {
   double wall_s = 0.0;
 };
 SweepCaseStatus readCaseStatus(const SweepPlan& plan, const std::string& dir, std::size_t i);
+void writeCaseStatus(const SweepPlan& plan, const std::string& dir, std::size_t i,
+                     const SweepCaseStatus& s);
 
 // The numbers of a summary.json: top-level scalars, and those of its
 // objects as "object.key"; throws when the file cannot be read.
@@ -58,13 +61,17 @@ void clearCaseStatus(const SweepPlan& plan, const std::string& dir, std::size_t 
 
 // Runs case INDEX of the plan in DIR (wire_sim sweep-run): its outputs and
 // status.txt in DIR/case_NNNN. Returns 0 when it ran, 1 when it failed (the
-// status says why), 2 for a bad DIR or INDEX.
-int runSweepCase(const std::string& dir, std::size_t index);
+// status says why), 2 for a bad DIR or INDEX, -1 when `stop` turned true
+// (no status: the case is pending).
+int runSweepCase(const std::string& dir, std::size_t index, const std::function<bool()>& stop);
 
 // Runs the plan's cases in DIR as `exe sweep-run DIR i`, `jobs` at once,
 // each one's console output in its folder (log.txt), reusing kept results;
-// progress on stderr; then gathers. Returns gatherSweep's code.
-int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const std::string& exe);
+// progress on stderr; then gathers. Returns gatherSweep's code, or -1 when
+// `stop` turned true: the running cases are then sent SIGINT and waited
+// for, and nothing is gathered.
+int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const std::string& exe,
+                  const std::function<bool()>& stop = {});
 
 // The results table: DIR/results.csv (one row per case: its keys, its
 // status and error, and every number of its summary.json) and

@@ -49,7 +49,7 @@ const char* kUsage =
     "       wire_sim work-precision [--scene FILE] [--set ...] [--out DIR] [--jobs N]\n"
     "       wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]\n"
     "                          [--method INTEGRATOR] [--budget SECONDS] [--checkpoint SECONDS]\n"
-    "                          [--fresh | --report]\n"
+    "                          [--fresh | --report] [--slurm [Slurm options as for sweep]]\n"
     "       wire_sim sweep [--scene FILE] [--set ...] (--grid KEY=VALUES ... | --cases FILE)\n"
     "                      [--out DIR] [--jobs N | --slurm [--partition P] [--time T] [--mem M]\n"
     "                      [--account A] [--max-running N] [--max-array-size N] [--dry-run]]\n"
@@ -72,7 +72,8 @@ const char* kUsage =
     "--checkpoint seconds, default 300) in DIR/runs, tied to the core build and the\n"
     "run's inputs: the same command after Ctrl-C, or with a larger --budget, continues\n"
     "where it was; --fresh starts over; --report writes the tables from what is kept\n"
-    "(unfinished runs as PENDING) and runs nothing.\n"
+    "(unfinished runs as PENDING) and runs nothing. Each run is a case of a sweep\n"
+    "(DIR/runs/CASE.METHOD), so --slurm runs the matrix as Slurm job arrays.\n"
     "sweep runs the scene once per case, N processes at once (default 2), each case in\n"
     "DIR/case_NNNN (default out/sweep), and writes DIR/results.csv and results.md. The\n"
     "cases are the product of the --grid axes, each KEY=FROM:TO:COUNT or KEY=V1,V2,...,\n"
@@ -145,6 +146,11 @@ void installStopHandlers() {
   sigaction(SIGTERM, &sa, nullptr);
 }
 
+bool stopRequested() { return g_stop_signal != 0; }
+
+// This program's path, for the processes a sweep starts.
+std::string selfExe() { return std::filesystem::read_symlink("/proc/self/exe").string(); }
+
 std::string defaultScene() {
   // Installed or source-tree default scene; empty means built-in defaults.
   const std::string path = CWS_DEFAULT_SCENE;
@@ -172,7 +178,8 @@ int run(const Args& a) {
     cws_tools::StabilityOptions o = a.stability;
     o.jobs = a.jobs;
     o.stop = [] { return g_stop_signal != 0; };
-    const int rc = cws_tools::runStability(scene_path, a.overrides, out, o);
+    const int rc = cws_tools::runStability(scene_path, a.overrides, out, o,
+                                           a.slurm ? &a.slurm_options : nullptr, selfExe());
     return rc < 0 ? 128 + g_stop_signal : rc;
   }
   if (a.command == "sweep") {
@@ -187,16 +194,17 @@ int run(const Args& a) {
     if (!plan.scene.empty()) plan.scene = std::filesystem::absolute(plan.scene).string();
     cws_tools::checkPlan(plan);
     checkOut(out);
-    const std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
-    if (a.slurm) return cws_tools::runSweepSlurm(plan, out, a.slurm_options, exe);
-    return cws_tools::runSweepLocal(plan, out, a.jobs, exe);
+    if (a.slurm) return cws_tools::runSweepSlurm(plan, out, a.slurm_options, selfExe());
+    const int rc = cws_tools::runSweepLocal(plan, out, a.jobs, selfExe(), stopRequested);
+    return rc < 0 ? 128 + g_stop_signal : rc;
   }
   if (a.command == "study") {
     const std::string out = a.out.empty() ? "out/study" : a.out;
     checkOut(out);
-    return cws_tools::runStudy(scene_path, a.overrides, out, a.jobs,
-                               a.slurm ? &a.slurm_options : nullptr,
-                               std::filesystem::read_symlink("/proc/self/exe").string());
+    const int rc =
+        cws_tools::runStudy(scene_path, a.overrides, out, a.jobs,
+                            a.slurm ? &a.slurm_options : nullptr, selfExe(), stopRequested);
+    return rc < 0 ? 128 + g_stop_signal : rc;
   }
   // Remove the results of an earlier run, so that a failed or stopped run
   // leaves no valid-looking summary.
@@ -301,7 +309,12 @@ int main(int argc, char** argv) {
       std::size_t used = 0;
       const unsigned long index = std::stoul(args[2], &used);
       if (used != args[2].size()) throw std::invalid_argument(args[2]);
-      return cws_tools::runSweepCase(args[1], index);
+      // SIGINT from the sweep, SIGTERM from Slurm at a task's time limit:
+      // the case stops after its current step (a stability run keeps a
+      // checkpoint) and stays pending.
+      installStopHandlers();
+      const int rc = cws_tools::runSweepCase(args[1], index, stopRequested);
+      return rc < 0 ? 128 + g_stop_signal : rc;
     } catch (const cws_tools::SweepError& e) {
       std::cerr << "wire_sim: " << e.what() << "\n";
       return 2;
@@ -325,7 +338,7 @@ int main(int argc, char** argv) {
   bool seen_scene = false, seen_out = false, seen_jobs = false, seen_only = false,
        seen_method = false, seen_budget = false, seen_checkpoint = false, seen_fresh = false,
        seen_estimate = false, seen_slurm = false, seen_dry_run = false;
-  const bool takes_slurm = sweep || a.command == "study";
+  const bool takes_slurm = sweep || stability || a.command == "study";
   std::vector<std::string> slurm_given;  // Slurm's options, refused without --slurm
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& opt = args[i];
@@ -460,7 +473,7 @@ int main(int argc, char** argv) {
         "--jobs runs cases on this machine; with --slurm, --max-running N limits the tasks at "
         "once");
   }
-  if (a.command == "run" || stability) installStopHandlers();
+  if (a.command == "run" || stability || sweep || a.command == "study") installStopHandlers();
   try {
     return run(a);
   } catch (const cws::SceneError& e) {
