@@ -3,9 +3,12 @@
 swept keys, or curves of it against one key (one curve per value of a second).
 
 usage: plot_sweep.py DIR [--value COLUMN] [--x KEY] [--y KEY] [--scale S] [--label TEXT]
-  DIR/results.csv in, DIR/sweep.png out. COLUMN: a column of results.csv
-  (default bulging_height_m, shown in mm); KEY: a swept key (default the
-  first two). Cases that failed or did not finish are left blank.
+                      [--limit L] [--log] [--title TEXT] [--out FILE]
+  DIR/results.csv in, DIR/sweep.png (or FILE) out. COLUMN: a column of
+  results.csv (default bulging_height_m, shown in mm); KEY: a swept key
+  (default the first two). --limit marks the cases whose value (in the shown
+  unit) exceeds L (red frame, ✗): the process window is the rest. --log: a logarithmic
+  colour scale. Cases that failed or did not finish are marked "failed".
 """
 import argparse
 import csv
@@ -15,6 +18,8 @@ import sys
 import matplotlib
 
 matplotlib.use("Agg")
+import matplotlib.colors  # noqa: E402
+import matplotlib.patches  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 
 
@@ -25,6 +30,17 @@ def number(text):
         return None
 
 
+def key_label(key):
+    """A swept key with its unit, where the key says it or the scene defines it."""
+    units = {"process.tension": "N", "process.core_speed": "rad/s"}
+    if key in units:
+        return f"{key} [{units[key]}]"
+    for suffix, unit in (("_rpm", "rpm"), ("_m", "m"), ("_s", "s"), ("_N", "N")):
+        if key.endswith(suffix):
+            return f"{key} [{unit}]"
+    return key
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("dir")
@@ -33,6 +49,10 @@ def main():
     ap.add_argument("--y")
     ap.add_argument("--scale", type=float)
     ap.add_argument("--label")
+    ap.add_argument("--limit", type=float)
+    ap.add_argument("--log", action="store_true")
+    ap.add_argument("--title")
+    ap.add_argument("--out")
     a = ap.parse_args()
     path = os.path.join(a.dir, "results.csv")
     with open(path, newline="") as f:
@@ -64,16 +84,26 @@ def main():
     fig, ax = plt.subplots(figsize=(6.4, 4.8))
     if y and len(xs) > 1 and len(ys) > 1:
         data = [[float("nan") if v is None else v for v in row] for row in grid]
-        im = ax.imshow(data, origin="lower", aspect="auto", cmap="viridis",
-                       extent=None, interpolation="nearest")
+        norm = matplotlib.colors.LogNorm() if a.log else None
+        im = ax.imshow(data, origin="lower", aspect="auto", cmap="viridis", norm=norm,
+                       interpolation="nearest")
         ax.set_xticks(range(len(xs)), [f"{v:g}" for v in xs])
         ax.set_yticks(range(len(ys)), [f"{v:g}" for v in ys])
         for i, row in enumerate(grid):
             for j, v in enumerate(row):
-                ax.text(j, i, "failed" if v is None else f"{v:.3g}", ha="center", va="center",
-                        color="white", fontsize=8)
+                over = a.limit is not None and v is not None and v > a.limit
+                # Dark text on light cells, light text on dark ones.
+                rgb = im.cmap(im.norm(v))[:3] if v is not None else (0, 0, 0)
+                light = 0.299 * rgb[0] + 0.587 * rgb[1] + 0.114 * rgb[2] > 0.5
+                ax.text(j, i, "failed" if v is None else f"{v:.3g}" + (" ✗" if over else ""),
+                        ha="center", va="center", color="black" if light else "white",
+                        fontsize=8, fontweight="bold" if over else "normal")
+                if over:
+                    ax.add_patch(matplotlib.patches.Rectangle(
+                        (j - 0.45, i - 0.45), 0.9, 0.9, fill=False, edgecolor="tab:red",
+                        linewidth=1.5))
         fig.colorbar(im, ax=ax, label=label)
-        ax.set_ylabel(y)
+        ax.set_ylabel(key_label(y))
     else:
         for i, row in enumerate(grid):
             pts = [(xv, v) for xv, v in zip(xs, row) if v is not None]
@@ -83,10 +113,13 @@ def main():
             ax.legend()
         ax.set_ylabel(label)
         ax.grid(True, alpha=0.3)
-    ax.set_xlabel(x)
-    ax.set_title(f"{label} over {len(rows)} cases")
+    ax.set_xlabel(key_label(x))
+    title = a.title or f"{label} over {len(rows)} cases"
+    if a.limit is not None:
+        title += f"\n(red, ✗: above {a.limit:g})"
+    ax.set_title(title)
     fig.tight_layout()
-    out = os.path.join(a.dir, "sweep.png")
+    out = a.out or os.path.join(a.dir, "sweep.png")
     fig.savefig(out, dpi=110)
     print(f"plot_sweep.py: wrote {out}")
 
