@@ -88,7 +88,7 @@ PublishGrid::Due PublishGrid::take(double t) {
 
 bool WallThrottle::due(double wall_s, int& skipped) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (warned_ && wall_s - last_s_ < 1.0) {
+  if (warned_ && wall_s - last_s_ < period_s_) {
     ++skipped_;
     return false;
   }

@@ -43,8 +43,14 @@ void JobErrorEstimator::finishJob(const cws::Simulation& finished, double comput
   stopWorker();
   setStatus("running the job again refined");
   // The worker gets its own copies: the node goes on with its simulation.
+  busy_ = true;
   worker_ = std::thread([this, start = start_, log = log_, end = finished.saveState(), compute_s,
                          stamp] {
+    // Settled when the worker ends, however it ends.
+    struct Settle {
+      std::atomic<bool>& busy;
+      ~Settle() { busy = false; }
+    } settle{busy_};
     const int inputs = static_cast<int>(log.size());
     cws::ErrorEstimate e;
     std::string failure;

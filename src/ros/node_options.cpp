@@ -16,6 +16,8 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh, const std::string& defau
   pnh.param("marker_rate", o.marker_rate_hz, o.marker_rate_hz);
   pnh.param("publish_clock", o.publish_clock, o.publish_clock);
   pnh.param("stop_at_end", o.stop_at_end, o.stop_at_end);
+  pnh.param("exit_at_end", o.exit_at_end, o.exit_at_end);
+  pnh.param<std::string>("start", o.start, o.start);
   pnh.param<std::string>("world_frame", o.frames.world, o.frames.world);
   pnh.param<std::string>("core_frame", o.frames.core, o.frames.core);
   pnh.param<std::string>("port_frame", o.frames.port, o.frames.port);
@@ -58,6 +60,13 @@ void validateNodeOptions(NodeOptions& o, bool sim_time) {
   }
   if (!(o.setpoint_stamp_tolerance_s >= 0.0) || !std::isfinite(o.setpoint_stamp_tolerance_s)) {
     throw std::invalid_argument("~setpoint_stamp_tolerance must be a finite number >= 0 [s]");
+  }
+  if (o.start != "running" && o.start != "paused" && o.start != "at_rest") {
+    throw std::invalid_argument("~start must be running, paused or at_rest, not '" + o.start + "'");
+  }
+  if (o.exit_at_end && !o.stop_at_end && !o.follow_clock) {
+    throw std::invalid_argument(
+        "~exit_at_end needs a job that ends: set ~stop_at_end true (or leave ~exit_at_end false)");
   }
   if (!(o.state_rate_hz > 0.0) || !(o.marker_rate_hz > 0.0)) {
     throw std::invalid_argument("~state_rate and ~marker_rate must be positive [Hz]");

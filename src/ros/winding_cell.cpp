@@ -6,8 +6,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <thread>
 
+#include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/snapshot_bag.hpp"
 
@@ -40,7 +43,10 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
     replay_.setOrigin(start);
   }
   setScene(cws::loadScene(o_.scene, o_.overrides));
+  // ~start at_rest: the core starts at rest, whatever the scene says.
+  if (o_.start == "at_rest") scene_.core.start_at_speed = false;
   sim_ = std::make_unique<cws::Simulation>(scene_);
+  job_start_wall_s_ = node_start_s_;
   if (o_.error_estimate) {
     if (o_.follow_clock || !o_.stop_at_end) {
       ROS_WARN(
@@ -53,10 +59,17 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
   }
   speed_setpoint_ = cws::rpmToRadPerSec(scene_.process.core_speed_rpm);
   tension_setpoint_ = scene_.process.tension;
+  if (o_.start == "at_rest") {
+    at_rest_ = true;
+    speed_setpoint_ = 0.0;
+    setpoints_changed_ = true;
+  }
+  paused_ = o_.start == "paused";
 
   state_pub_ = nh_.advertise<coil_winding_sim::WireState>("wire_state", 5);
   metrics_pub_ = nh_.advertise<coil_winding_sim::WindingMetrics>("winding_metrics", 5);
   marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("wire_markers", 2, true);
+  status_pub_ = nh_.advertise<coil_winding_sim::CellStatus>("cell_status", 1, true);
   if (o_.publish_clock) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   speed_sub_ = nh_.subscribe("core_speed_setpoint", 100, &WindingCell::onSpeed, this);
   tension_sub_ = nh_.subscribe("tension_setpoint", 100, &WindingCell::onTension, this);
@@ -86,9 +99,12 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
 
   diagnostics_.setHardwareID("coil_winding_sim");
   diagnostics_.add("simulation", this, &WindingCell::diagnose);
-  ROS_INFO("winding_cell: scene '%s', %d points, target real-time factor %g%s", o_.scene.c_str(),
-           sim_->model().constants().n, pace_.target(),
-           o_.publish_clock ? ", publishing /clock" : "");
+  ROS_INFO("winding_cell: scene '%s', %d points, target real-time factor %g%s; %s",
+           o_.scene.c_str(), sim_->model().constants().n, pace_.target(),
+           o_.publish_clock ? ", publishing /clock" : "",
+           o_.start == "at_rest"  ? "the core at rest until a speed setpoint"
+           : o_.start == "paused" ? "paused (~pause false starts it)"
+                                  : "winding");
   if (o_.follow_clock) {
     if (replay_.end()) {
       ROS_INFO("winding_cell: replaying '%s': %.6f s from %.9f s, lag %g s", o_.machine_bag.c_str(),
@@ -113,11 +129,31 @@ void WindingCell::run() {
         if (!failed_ && !replay_done_) advanceReplay();
       } else if (!paused_ && !failed_ && !finished()) {
         advanceChunk();
+        // Slower than the target: once, then every 10 s of wall time.
+        int skipped = 0;
+        if (!keeping_pace_ && !finished() && pace_warning_.due(wallNow(), skipped)) {
+          ROS_WARN(
+              "winding_cell: not keeping pace: real-time factor %.3g against the target %.3g "
+              "(~real_time_factor)",
+              rate_.read(wallNow(), sim_->time()), pace_.target());
+        }
       }
+      if (!o_.follow_clock && o_.stop_at_end && !job_done_ && !failed_ && jobEnded()) endJob();
       done = paused_ || failed_ || finished();
       clock_s_ = stamp().toSec();
       // The job's end: its refined twin runs on the estimator's worker.
       if (estimator_ && finished()) estimator_->finishJob(*sim_, compute_s_, stamp());
+    }
+    publishStatus();
+    // ~exit_at_end: the last state out, once the job's estimate (if any) is
+    // published; a required node's exit ends the launch, and rosbag record
+    // closes its bag.
+    if (exit_requested_ && (!estimator_ || estimator_->settled())) {
+      publishState();
+      publishMarkers();
+      ROS_INFO("winding_cell: exiting at the job's end (~exit_at_end)");
+      ros::shutdown();
+      break;
     }
     const double now = wallNow();
     if (o_.publish_clock && now >= next_clock) {
@@ -166,14 +202,14 @@ void WindingCell::restartPace() {
 
 bool WindingCell::finished() const {
   if (o_.follow_clock) return replay_done_;
-  return o_.stop_at_end && sim_->time() >= sim_->endTime();
+  return o_.stop_at_end && jobEnded();
 }
 
 // Steps until the pace target, the scene's end, a ~run_until time or
 // ~10 ms of wall time.
 void WindingCell::advanceChunk() {
   const double start = wallNow();
-  double t_limit = o_.stop_at_end ? sim_->endTime() : 1e300;
+  double t_limit = o_.stop_at_end ? jobEndTime() : 1e300;
   if (run_until_) t_limit = std::min(t_limit, *run_until_);
   try {
     publishDue();
@@ -305,7 +341,9 @@ void WindingCell::publishState() {
   pace.target_real_time_factor = pace_.target();
   pace.keeping_pace = keeping_pace_ || paused_ || finished();
   if (state_pub_.getNumSubscribers() > 0) state_pub_.publish(toWireState(*sim_, t, o_.frames));
-  metrics_pub_.publish(toMetrics(*sim_, t, o_.frames, pace));
+  coil_winding_sim::WindingMetrics metrics = toMetrics(*sim_, t, o_.frames, pace);
+  metrics.job_done = job_done_;
+  metrics_pub_.publish(metrics);
   geometry_msgs::TransformStamped tf;
   if (coreTransform(*sim_, t, o_.frames, tf)) tf_.sendTransform(tf);
   if (portTransform(*sim_, t, o_.frames, tf)) tf_.sendTransform(tf);
@@ -335,11 +373,17 @@ void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "stopped: " + failure_);
   } else if (paused_) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "paused");
+  } else if (job_done_) {
+    std::string message;
+    cellState(message);
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, message);
   } else if (finished()) {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "scene finished (process.turns)");
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "replay done");
   } else if (!keeping_pace_) {
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
                   "not keeping pace: real-time factor %.3g, target %.3g", rtf, pace_.target());
+  } else if (at_rest_) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "at rest until a speed setpoint");
   } else {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
   }

@@ -95,6 +95,7 @@ void WindingCell::deliver(bool tension, double value, const ros::Time& stamp) {
     return;
   }
   (tension ? tension_setpoint_ : speed_setpoint_) = value;
+  if (!tension) at_rest_ = false;  // ~start at_rest: the controller has taken over
   setpoints_changed_ = true;
 }
 

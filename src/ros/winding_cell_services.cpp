@@ -140,6 +140,9 @@ void WindingCell::replace(std::unique_ptr<cws::Simulation> next) {
   grid_.restart(sim_->time());
   restartPace();
   compute_s_ = 0.0;
+  job_done_ = false;
+  exit_requested_ = false;
+  job_start_wall_s_ = wallNow();
   if (estimator_) estimator_->startJob(sim_->saveState());
 }
 

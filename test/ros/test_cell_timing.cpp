@@ -156,6 +156,17 @@ TEST(WallThrottle, OncePerSecondOfWallTimeCountingTheRest) {
   EXPECT_EQ(skipped, 2);
 }
 
+// The pace warning: once, then at most every 10 s of wall time.
+TEST(WallThrottle, TenSecondPeriodForThePaceWarning) {
+  cws_ros::WallThrottle throttle(10.0);
+  int skipped = -1;
+  EXPECT_TRUE(throttle.due(100.0, skipped));
+  EXPECT_FALSE(throttle.due(101.0, skipped));
+  EXPECT_FALSE(throttle.due(109.9, skipped));
+  EXPECT_TRUE(throttle.due(110.0, skipped));
+  EXPECT_EQ(skipped, 2);
+}
+
 namespace {
 // validateNodeOptions' message for options changed by `change`, or "" when
 // they pass.
@@ -192,6 +203,21 @@ TEST(NodeOptions, DefaultsPassAndEachBadValueIsNamed) {
               o.setpoint_stamp_tolerance_s = nan;
             }).find("~setpoint_stamp_tolerance"),
             std::string::npos);
+}
+
+TEST(NodeOptions, StartIsOneOfThreeAndExitNeedsAnEnd) {
+  for (const char* start : {"running", "paused", "at_rest"}) {
+    EXPECT_EQ(refusal([&](auto& o) { o.start = start; }), "") << start;
+  }
+  const std::string bad = refusal([](auto& o) { o.start = "stopped"; });
+  EXPECT_NE(bad.find("~start"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("'stopped'"), std::string::npos) << bad;
+  const std::string no_end = refusal([](auto& o) {
+    o.exit_at_end = true;
+    o.stop_at_end = false;
+  });
+  EXPECT_NE(no_end.find("~exit_at_end"), std::string::npos) << no_end;
+  EXPECT_EQ(refusal([](auto& o) { o.exit_at_end = true; }), "");
 }
 
 TEST(NodeOptions, FollowingTheClockNeedsSimTimeAndAnotherNodesClock) {

@@ -141,11 +141,16 @@ class PublishGrid {
 // simulated time, and one second of it can take minutes.) Thread-safe.
 class WallThrottle {
  public:
+  // At most one warning per `period_s` of wall time (default 1 s).
+  WallThrottle() = default;
+  explicit WallThrottle(double period_s) : period_s_(period_s) {}
+
   // True when a warning is due at wall time wall_s [s]; `skipped` is the
   // number suppressed since the last one.
   bool due(double wall_s, int& skipped);
 
  private:
+  double period_s_ = 1.0;
   std::mutex mutex_;
   bool warned_ = false;
   double last_s_ = 0.0;

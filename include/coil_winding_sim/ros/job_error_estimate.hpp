@@ -35,6 +35,9 @@ class JobErrorEstimator {
   // steps: its refined twin runs on the worker (a refined run of an earlier
   // job still under way is stopped first). Once per job.
   void finishJob(const cws::Simulation& finished, double compute_s, const ros::Time& stamp);
+  // True once the present job's estimate is published (or never will be:
+  // the job has not ended).
+  bool settled() const { return !busy_; }
   // Adds the estimate's state to the node's diagnostics.
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) const;
 
@@ -48,6 +51,7 @@ class JobErrorEstimator {
   bool finished_ = false;  // finishJob called for the present job
   std::thread worker_;
   std::atomic<bool> stop_{false};
+  std::atomic<bool> busy_{false};  // a refined run under way
   mutable std::mutex status_mutex_;
   std::string status_ = "the job has not ended yet";
 };

@@ -18,7 +18,8 @@
 //
 // The class is split by concern over winding_cell.cpp (construction, the
 // loop, pacing, replay, publishing), winding_cell_inputs.cpp (setpoint
-// topics and their queues) and winding_cell_services.cpp.
+// topics and their queues), winding_cell_services.cpp and
+// winding_cell_job.cpp (the job's end and the cell's state).
 #pragma once
 
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -39,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "coil_winding_sim/CellStatus.h"
 #include "coil_winding_sim/CoreSpeedSetpoint.h"
 #include "coil_winding_sim/Restore.h"
 #include "coil_winding_sim/RunUntil.h"
@@ -68,6 +70,13 @@ class WindingCell {
   // ---- the loop (winding_cell.cpp)
   double wallNow() const;
   bool finished() const;
+  // ---- the job (winding_cell_job.cpp)
+  bool jobEnded() const;
+  double jobEndTime() const;
+  void endJob();
+  std::string cellState(std::string& message) const;
+  void publishStatus();
+  // ---- the loop, continued (winding_cell.cpp)
   void restartPace();
   void advanceChunk();
   bool recorderReady();
@@ -123,6 +132,14 @@ class WindingCell {
   cws::Scene scene_;
   std::unique_ptr<cws::Simulation> sim_;
   bool paused_ = false, failed_ = false, keeping_pace_ = true, send_delete_all_ = false;
+  // The job's end (once per job: reset and restore start a new one), and
+  // the exit it asks for with ~exit_at_end.
+  bool job_done_ = false, exit_requested_ = false;
+  double job_start_wall_s_ = 0.0;  // wall time [s]
+  // ~start at_rest: the core held at 0 until the first speed setpoint.
+  std::atomic<bool> at_rest_{false};
+  WallThrottle pace_warning_{10.0};               // "not keeping pace" on the console
+  std::string last_status_;                       // the state last sent on cell_status
   std::optional<double> run_until_;               // pause when the simulated time reaches it [s]
   double compute_s_ = 0.0;                        // wall time in the present job's steps [s]
   std::unique_ptr<JobErrorEstimator> estimator_;  // with ~error_estimate
@@ -170,7 +187,7 @@ class WindingCell {
 
   PublishGrid grid_;
 
-  ros::Publisher state_pub_, metrics_pub_, marker_pub_, clock_pub_;
+  ros::Publisher state_pub_, metrics_pub_, marker_pub_, clock_pub_, status_pub_;
   ros::Publisher spindle_command_pub_, spindle_state_pub_, tension_command_pub_,
       tension_measured_pub_, port_command_pub_, port_position_pub_, profile_pub_;
   ros::Subscriber speed_sub_, tension_sub_, port_sub_, machine_spindle_sub_, machine_tension_sub_,

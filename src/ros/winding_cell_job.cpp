@@ -1,0 +1,107 @@
+// The winding cell's job: when it ends (the core's actual turns, or
+// process.duration), what the node says then, and the cell's state on
+// cell_status and /diagnostics (winding_cell.hpp).
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "coil_winding_sim/core/text_format.hpp"
+#include "coil_winding_sim/ros/winding_cell.hpp"
+
+namespace cws_ros {
+
+// The job's end: process.duration when the scene sets it, else
+// process.turns of the core's actual rotation (whatever speeds the
+// setpoints gave it).
+bool WindingCell::jobEnded() const {
+  if (scene_.process.duration) return sim_->time() >= *scene_.process.duration;
+  const cws::RotatingCore* core = sim_->model().core();
+  if (!core) return sim_->time() >= sim_->endTime();
+  return std::abs(core->angle(sim_->time())) >= 2.0 * M_PI * scene_.process.turns * (1.0 - 1e-12);
+}
+
+// When the job ends if the core keeps its present command [s] (+inf:
+// never): the first time its angle reaches the job's turns, found on the
+// core's closed-form motion (ramp, then constant speed).
+double WindingCell::jobEndTime() const {
+  if (scene_.process.duration) return *scene_.process.duration;
+  const cws::RotatingCore* core = sim_->model().core();
+  if (!core) return sim_->endTime();
+  const double target = 2.0 * M_PI * scene_.process.turns;
+  const double t0 = sim_->time();
+  auto reached = [&](double t) { return std::abs(core->angle(t)) >= target * (1.0 - 1e-12); };
+  if (reached(t0)) return t0;
+  double h = 1e-3;
+  while (!reached(t0 + h)) {
+    h *= 2.0;
+    if (h > 1e6) return std::numeric_limits<double>::infinity();
+  }
+  double lo = t0, hi = t0 + h;
+  for (int i = 0; i < 200 && hi - lo > 1e-13 * std::max(1.0, hi); ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (reached(mid) ? hi : lo) = mid;
+  }
+  return hi;
+}
+
+// The job is done: one line on the console, cell_status and the metrics
+// say so, and ~exit_at_end asks the loop to end.
+void WindingCell::endJob() {
+  job_done_ = true;
+  exit_requested_ = o_.exit_at_end;
+  std::string line;
+  cellState(line);
+  ROS_INFO("winding_cell: %s", line.c_str());
+}
+
+// The cell's state for cell_status and /diagnostics, and in words.
+std::string WindingCell::cellState(std::string& message) const {
+  using S = coil_winding_sim::CellStatus;
+  if (failed_) {
+    message = "stopped: " + failure_;
+    return S::FAILED;
+  }
+  if (job_done_) {
+    const double wall_s = wallNow() - job_start_wall_s_;
+    const cws::BulgeReport b = sim_->model().bulging();
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "job done: %.4g turns in %.6g s simulated and %.3g s of wall time (real-time "
+                  "factor %.3g), bulging %s",
+                  std::abs(sim_->coreTurns()), sim_->time(), wall_s,
+                  wall_s > 0.0 ? sim_->time() / wall_s : 0.0,
+                  b.valid ? (cws::formatNumber(1e3 * b.height_m, "%.4f") + " mm").c_str()
+                          : "none (nothing wound)");
+    message = text;
+    return S::JOB_DONE;
+  }
+  if (paused_) {
+    message = "paused";
+    return S::PAUSED;
+  }
+  if (at_rest_) {
+    message = "the core at rest until a speed setpoint (~start at_rest)";
+    return S::AT_REST;
+  }
+  message = "winding";
+  return S::RUNNING;
+}
+
+// cell_status (latched), whenever the state changes.
+void WindingCell::publishStatus() {
+  std::lock_guard<std::mutex> lock(sim_mutex_);
+  coil_winding_sim::CellStatus s;
+  s.state = cellState(s.message);
+  if (s.state == last_status_) return;
+  last_status_ = s.state;
+  s.header.stamp = stamp();
+  s.header.frame_id = o_.frames.world;
+  s.job_done = job_done_;
+  s.sim_time = sim_->time();
+  s.core_turns = std::abs(sim_->coreTurns());
+  const cws::BulgeReport b = sim_->model().bulging();
+  s.bulging_height = b.valid ? b.height_m : std::numeric_limits<double>::quiet_NaN();
+  status_pub_.publish(s);
+}
+
+}  // namespace cws_ros

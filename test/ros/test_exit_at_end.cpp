@@ -1,0 +1,114 @@
+// ~exit_at_end, end to end: `roslaunch coil_winding_sim winding_cell.launch
+// exit_at_end:=true record:=true` on a ROS master port of its own must end
+// by itself with status 0 once the job is done, leaving one closed and
+// indexed bag (.bag, no .active) that holds the job's end (cell_status
+// job_done, winding_metrics with job_done) and the sim/ topics that
+// compare_bags.py reads.
+//
+// A plain gtest (catkin_add_gtest): it runs under the devel space, so that
+// roslaunch finds the package; it starts no ROS node itself.
+#include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "coil_winding_sim/CellStatus.h"
+#include "coil_winding_sim/WindingMetrics.h"
+#include "ros_test_support.hpp"
+
+#ifndef CWS_SOURCE_DIR
+#error "CWS_SOURCE_DIR must be defined"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+TEST(ExitAtEnd, LaunchEndsWithStatusZeroAndItsBagIsClosed) {
+  const fs::path dir = fs::temp_directory_path() / ("cws_exit_at_end_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const int port = cws_ros_test::freePort();
+  ASSERT_GT(port, 0);
+  const std::string log = (dir / "roslaunch.log").string();
+  // A 2 s job at the wall clock's pace: the recorder subscribes within it.
+  const std::vector<std::string> args{
+      "coil_winding_sim",
+      "winding_cell.launch",
+      std::string("scene:=") + CWS_SOURCE_DIR + "/test/scenes/spinning_wire.yaml",
+      "overrides:=[process.duration=2.0]",
+      "exit_at_end:=true",
+      "record:=true",
+      "bag_dir:=" + dir.string(),
+      "use_sim_time:=true",
+      "real_time_factor:=1",
+      "rviz:=false"};
+  const auto t0 = Clock::now();
+  const pid_t pid = cws_ros_test::startRoslaunch(args, port, dir, log);
+  ASSERT_GT(pid, 0);
+  int status = 0;
+  bool exited = false;
+  // (A guard, not a timing assertion: it gives up after 120 s.)
+  while (std::chrono::duration<double>(Clock::now() - t0).count() < 120.0) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) {
+      exited = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  if (!exited) {
+    ::kill(-pid, SIGINT);
+    std::this_thread::sleep_for(std::chrono::seconds(5));
+    ::kill(-pid, SIGKILL);
+    ::waitpid(pid, &status, 0);
+  }
+  const std::string output = cws_ros_test::readFile(log);
+  ASSERT_TRUE(exited) << "the launch did not end by itself:\n" << output;
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << output;
+  EXPECT_NE(output.find("job done: "), std::string::npos) << output;
+
+  // One closed bag, indexed (read mode needs the index).
+  std::vector<fs::path> bags;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    EXPECT_EQ(e.path().string().find(".active"), std::string::npos) << e.path();
+    if (e.path().extension() == ".bag") bags.push_back(e.path());
+  }
+  ASSERT_EQ(bags.size(), 1u) << output;
+  rosbag::Bag bag;
+  ASSERT_NO_THROW(bag.open(bags.front().string(), rosbag::bagmode::Read));
+  std::set<std::string> topics;
+  bool status_done = false, metrics_done = false;
+  rosbag::View view(bag);
+  for (const rosbag::MessageInstance& m : view) {
+    // (rosbag record keeps the names it was given: relative ones without "/".)
+    std::string topic = m.getTopic();
+    if (!topic.empty() && topic[0] == '/') topic.erase(0, 1);
+    topics.insert(topic);
+    if (auto s = m.instantiate<coil_winding_sim::CellStatus>()) status_done |= s->job_done;
+    if (auto w = m.instantiate<coil_winding_sim::WindingMetrics>()) metrics_done |= w->job_done;
+  }
+  bag.close();
+  std::string recorded;
+  for (const std::string& t : topics) recorded += " " + t;
+  EXPECT_TRUE(status_done) << "no cell_status with job_done in the bag:" << recorded;
+  EXPECT_TRUE(metrics_done) << "no winding_metrics with job_done in the bag";
+  for (const char* t : {"sim/spindle/command", "sim/spindle/state", "sim/profile", "cell_status",
+                        "winding_metrics"}) {
+    EXPECT_EQ(topics.count(t), 1u) << t << " not recorded; the bag holds" << recorded;
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
