@@ -3,6 +3,7 @@
 
   compare_bags.py RUN.bag --out DIR [--align time|angle]
   compare_bags.py --machine A.bag --sim B.bag --out DIR [--align time|angle]
+  compare_bags.py --reference A.bag --sim B.bag --out DIR [--align time|angle]
 
 Reads the machine/* and sim/* topics of docs/MACHINE_INTERFACE.md (one bag
 holding both, or two bags), aligns them by header stamp (--align time, the
@@ -12,6 +13,10 @@ offset; the lag (positive: the machine lags the simulation); the profile error
 (measured points to the simulated wire); the bulging heights; the spindle speed
 error. Exit 0 on success, 2 on bad input (the message names what is wrong).
 summary.json is written last and atomically: when it exists, the run finished.
+
+--reference takes a simulated cell's bag (winding_cell.launch record:=true)
+in place of the machine's: its sim/* topics play the machine's part, so two
+scene variants, or two runs of the cell, are compared the same way.
 
 Custom messages are deserialized from the definitions stored in the bag, so
 the package's generated Python messages need not be importable.
@@ -412,15 +417,19 @@ def main(argv=None):
     p.add_argument("bag", nargs="?", help="one bag with both machine/* and sim/* topics")
     p.add_argument("--machine", help="bag with the machine/* topics")
     p.add_argument("--sim", help="bag with the sim/* topics")
+    p.add_argument("--reference", help="a simulated cell's bag whose sim/* topics take the "
+                   "machine's part (e.g. another scene variant)")
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--align", choices=("time", "angle"), default="time")
     p.add_argument("--max-lag", type=float, default=0.25, help="[s] lag search range (default 0.25)")
     p.add_argument("--no-plots", action="store_true", help="summary only")
     args = p.parse_args(argv)
-    if args.bag and (args.machine or args.sim):
-        p.error("give either one bag or --machine and --sim")
-    if not args.bag and not (args.machine and args.sim):
-        p.error("give one bag, or both --machine and --sim")
+    if args.bag and (args.machine or args.sim or args.reference):
+        p.error("give either one bag, or --machine (or --reference) and --sim")
+    if args.machine and args.reference:
+        p.error("--machine and --reference exclude each other")
+    if not args.bag and not ((args.machine or args.reference) and args.sim):
+        p.error("give one bag, or --machine (or --reference) and --sim")
 
     # Remove stale outputs first: a failed run must not leave an old summary behind.
     os.makedirs(args.out, exist_ok=True)
@@ -429,12 +438,12 @@ def main(argv=None):
         if os.path.exists(path):
             os.remove(path)
     try:
-        m_paths = [args.bag] if args.bag else [args.machine]
+        m_paths = [args.bag] if args.bag else [args.machine or args.reference]
         s_paths = [args.bag] if args.bag else [args.sim]
         for path in set(m_paths + s_paths):
             if not os.path.isfile(path):
                 raise InputError("no such bag: %s" % path)
-        machine = read_role(m_paths, "machine")
+        machine = read_role(m_paths, "sim" if args.reference else "machine")
         sim = read_role(s_paths, "sim")
         summary, plots = compare(machine, sim, args.align, args.max_lag)
     except InputError as e:
@@ -443,7 +452,8 @@ def main(argv=None):
     summary["machine_bag"], summary["sim_bag"] = m_paths[0], s_paths[0]
     if not args.no_plots:
         make_plots(args.out, plots, summary["profile"])
-    sources = args.bag if args.bag else "%s (machine), %s (sim)" % (args.machine, args.sim)
+    sources = args.bag if args.bag else "%s (%s), %s (sim)" % (
+        args.machine or args.reference, "machine" if args.machine else "reference", args.sim)
     md = summary_markdown(summary, sources)
     write_atomic(os.path.join(args.out, "summary.md"), md)
     write_atomic(os.path.join(args.out, "summary.json"), json.dumps(summary, indent=2) + "\n")

@@ -3,7 +3,8 @@
 // by itself with status 0 once the job is done, leaving one closed and
 // indexed bag (.bag, no .active) that holds the job's end (cell_status
 // job_done, winding_metrics with job_done) and the sim/ topics that
-// compare_bags.py reads.
+// compare_bags.py reads: the bag goes through `compare_bags.py --reference
+// BAG --sim BAG`, and compared with itself every error is zero.
 //
 // A plain gtest (catkin_add_gtest): it runs under the devel space, so that
 // roslaunch finds the package; it starts no ROS node itself.
@@ -15,6 +16,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
 #include <string>
@@ -25,8 +27,8 @@
 #include "coil_winding_sim/WindingMetrics.h"
 #include "ros_test_support.hpp"
 
-#ifndef CWS_SOURCE_DIR
-#error "CWS_SOURCE_DIR must be defined"
+#if !defined(CWS_SOURCE_DIR) || !defined(CWS_PYTHON)
+#error "CWS_SOURCE_DIR and CWS_PYTHON must be defined"
 #endif
 
 namespace fs = std::filesystem;
@@ -42,18 +44,12 @@ TEST(ExitAtEnd, LaunchEndsWithStatusZeroAndItsBagIsClosed) {
   const int port = cws_ros_test::freePort();
   ASSERT_GT(port, 0);
   const std::string log = (dir / "roslaunch.log").string();
-  // A 2 s job at the wall clock's pace: the recorder subscribes within it.
+  // The cell's scene (Newton steps: it keeps the wall clock's pace), a 2 s
+  // job: the recorder subscribes within it.
   const std::vector<std::string> args{
-      "coil_winding_sim",
-      "winding_cell.launch",
-      std::string("scene:=") + CWS_SOURCE_DIR + "/test/scenes/spinning_wire.yaml",
-      "overrides:=[process.duration=2.0]",
-      "exit_at_end:=true",
-      "record:=true",
-      "bag_dir:=" + dir.string(),
-      "use_sim_time:=true",
-      "real_time_factor:=1",
-      "rviz:=false"};
+      "coil_winding_sim",   "winding_cell.launch", "overrides:=[process.duration=2.0]",
+      "exit_at_end:=true",  "record:=true",        "bag_dir:=" + dir.string(),
+      "use_sim_time:=true", "real_time_factor:=1", "rviz:=false"};
   const auto t0 = Clock::now();
   const pid_t pid = cws_ros_test::startRoslaunch(args, port, dir, log);
   ASSERT_GT(pid, 0);
@@ -104,10 +100,22 @@ TEST(ExitAtEnd, LaunchEndsWithStatusZeroAndItsBagIsClosed) {
   for (const std::string& t : topics) recorded += " " + t;
   EXPECT_TRUE(status_done) << "no cell_status with job_done in the bag:" << recorded;
   EXPECT_TRUE(metrics_done) << "no winding_metrics with job_done in the bag";
-  for (const char* t : {"sim/spindle/command", "sim/spindle/state", "sim/profile", "cell_status",
-                        "winding_metrics"}) {
+  for (const char* t : {"sim/spindle/command", "sim/spindle/state", "sim/tension/measured",
+                        "sim/profile", "cell_status", "winding_metrics"}) {
     EXPECT_EQ(topics.count(t), 1u) << t << " not recorded; the bag holds" << recorded;
   }
+
+  // The cell's bag through compare_bags.py, against itself.
+  const fs::path out = dir / "compare";
+  const std::string cmd = std::string(CWS_PYTHON) + " " + CWS_SOURCE_DIR +
+                          "/src/tools/compare_bags.py --reference " + bags.front().string() +
+                          " --sim " + bags.front().string() + " --out " + out.string() +
+                          " --no-plots > " + (dir / "compare.log").string() + " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  const std::string compare_log = cws_ros_test::readFile(dir / "compare.log");
+  ASSERT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 0) << compare_log;
+  const std::string summary = cws_ros_test::readFile(out / "summary.json");
+  EXPECT_NE(summary.find("\"rms_N\": 0.0"), std::string::npos) << summary;
   fs::remove_all(dir);
 }
 

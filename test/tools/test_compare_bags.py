@@ -253,6 +253,18 @@ class FromSimBag(Base):
         # Here the machine points are the sim's own, moved out 0.1 mm.
         self.assertAlmostEqual(s["profile"]["all_pairs"]["rms_mm"], 0.1, delta=0.01)
 
+    def test_reference_sim_bag(self):
+        # A simulated run as the reference: its sim/* topics take the
+        # machine's part. Against itself every error is zero. (A real cell's
+        # bag goes the same way in test/ros/test_exit_at_end.cpp.)
+        ref = os.path.join(self.tmp, "variant_a.bag")
+        rc, _, err = run([GENERATE, "--sim-bag", ref])
+        self.assertEqual(rc, 0, err)
+        s, _ = self.compare(["--reference", ref, "--sim", ref])
+        self.assertEqual(s["tension"]["rms_N"], 0.0)
+        self.assertEqual(s["spindle_speed"]["rms_rad_per_s"], 0.0)
+        self.assertEqual(s["machine_bag"], ref)
+
 
 class BadInput(Base):
     """Exit 2 with the culprit named, and no summary left behind."""
@@ -285,6 +297,13 @@ class BadInput(Base):
     def test_too_few_samples(self):
         err = self.fails(self.make("short", "--duration", "0.02"))
         self.assertIn("too few samples", err)
+
+    def test_reference_excludes_machine(self):
+        bag = self.make("good")[0]
+        rc, _, err = run([COMPARE, "--machine", bag, "--reference", bag, "--sim", bag,
+                          "--out", os.path.join(self.tmp, "o")])
+        self.assertEqual(rc, 2, err)
+        self.assertIn("--machine and --reference exclude each other", err)
 
     def test_stale_summary_removed(self):
         good, out = self.compare(self.make("good"))
