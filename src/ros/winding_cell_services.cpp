@@ -1,6 +1,7 @@
 // The winding cell's services: reset, pause, run_until, snapshot and
 // restore (winding_cell.hpp). A failing service leaves the run as it was.
 #include <cmath>
+#include <filesystem>
 
 #include "coil_winding_sim/core/setpoint_limits.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
@@ -77,9 +78,14 @@ bool WindingCell::onSnapshot(coil_winding_sim::Snapshot::Request& req,
     t = stamp();
   }
   try {
-    writeSnapshotBag(req.path, toSnapshotMsg(state, t));
+    // A relative path is the node's working directory's (roslaunch: ROS_HOME,
+    // usually ~/.ros): the answer names the file absolutely.
+    const std::string path = req.path.empty()
+                                 ? req.path
+                                 : std::filesystem::absolute(req.path).lexically_normal().string();
+    writeSnapshotBag(path, toSnapshotMsg(state, t));
     res.success = true;
-    res.message = "snapshot at t = " + std::to_string(state.time_s) + " s written to " + req.path;
+    res.message = "snapshot at t = " + std::to_string(state.time_s) + " s written to " + path;
   } catch (const std::exception& e) {
     res.success = false;
     res.message = e.what();

@@ -352,6 +352,11 @@ def summary_markdown(s, sources):
 
 def write_atomic(path, text):
     fd, tmp = tempfile.mkstemp(dir=os.path.dirname(path), prefix=".tmp_")
+    # mkstemp makes the file private (0600); an output gets the usual mode
+    # (0644 under the common umask 022).
+    umask = os.umask(0)
+    os.umask(umask)
+    os.fchmod(fd, 0o666 & ~umask)
     with os.fdopen(fd, "w") as f:
         f.write(text)
     os.replace(tmp, path)

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <mutex>
@@ -215,6 +216,20 @@ TEST(WindingCell, SnapshotRestoreAndReset) {
   snap.request.path = path;
   ASSERT_TRUE(ros::service::call("/winding_cell/snapshot", snap));
   ASSERT_TRUE(snap.response.success) << snap.response.message;
+  // A relative path is the node's working directory's; the answer names the
+  // file it wrote absolutely.
+  {
+    coil_winding_sim::Snapshot rel;
+    rel.request.path = "cws_rostest_relative_" + std::to_string(getpid()) + ".bag";
+    ASSERT_TRUE(ros::service::call("/winding_cell/snapshot", rel));
+    ASSERT_TRUE(rel.response.success) << rel.response.message;
+    const std::size_t at = rel.response.message.find(" written to /");
+    ASSERT_NE(at, std::string::npos) << rel.response.message;
+    const std::string written = rel.response.message.substr(at + 12);
+    EXPECT_NE(written.find("/" + rel.request.path), std::string::npos) << written;
+    EXPECT_TRUE(std::filesystem::exists(written)) << written;
+    std::filesystem::remove(written);
+  }
   // Run on, then restore: the state is the snapshot's, step for step.
   ASSERT_TRUE(pause(false));
   ASSERT_TRUE(waitFor(

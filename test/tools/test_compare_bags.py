@@ -260,8 +260,14 @@ class FromSimBag(Base):
         ref = os.path.join(self.tmp, "variant_a.bag")
         rc, _, err = run([GENERATE, "--sim-bag", ref])
         self.assertEqual(rc, 0, err)
-        s, _ = self.compare(["--reference", ref, "--sim", ref])
+        s, out = self.compare(["--reference", ref, "--sim", ref])
         self.assertEqual(s["tension"]["rms_N"], 0.0)
+        # Outputs get the usual mode (0644 under umask 022), not mkstemp's 0600.
+        umask = os.umask(0)
+        os.umask(umask)
+        for name in ("summary.json", "summary.md"):
+            mode = os.stat(os.path.join(out, name)).st_mode & 0o777
+            self.assertEqual(mode, 0o666 & ~umask, name)
         self.assertEqual(s["spindle_speed"]["rms_rad_per_s"], 0.0)
         self.assertEqual(s["machine_bag"], ref)
 
