@@ -52,7 +52,8 @@ DEB_PACKAGES := \
   libbenchmark-dev python3-matplotlib python3-catkin-pkg \
   rviz python3-rostopic python3-rosbag xvfb imagemagick clang-format \
   python3-numpy python3-genpy python3-sensor-msgs python3-geometry-msgs python3-std-msgs \
-  python3-rospkg python3-rosunit rosbash slurm-wlm munge
+  python3-rospkg python3-rosunit rosbash slurm-wlm munge \
+  ros-robot-state-publisher liburdf-dev
 
 CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \

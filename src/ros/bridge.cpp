@@ -323,6 +323,19 @@ sensor_msgs::JointState toSpindleState(const cws::Simulation& sim, const ros::Ti
   return msg;
 }
 
+sensor_msgs::JointState toJointStates(const cws::Simulation& sim, const ros::Time& stamp) {
+  sensor_msgs::JointState msg = toSpindleState(sim, stamp);
+  if (const cws::Supply* supply = sim.model().supply()) {
+    const cws::PortMotion port = supply->port(sim.time());
+    const Eigen::Vector3d& p = port.p_world;
+    const Eigen::Vector3d& v = port.v_world;
+    msg.name.insert(msg.name.end(), {"port_x", "port_y", "port_z"});
+    msg.position.insert(msg.position.end(), {p.x(), p.y(), p.z()});
+    msg.velocity.insert(msg.velocity.end(), {v.x(), v.y(), v.z()});
+  }
+  return msg;
+}
+
 coil_winding_sim::TensionSetpoint toTensionCommand(const cws::Simulation& sim,
                                                    const ros::Time& stamp) {
   coil_winding_sim::TensionSetpoint msg;

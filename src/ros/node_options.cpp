@@ -15,6 +15,7 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh, const std::string& defau
   pnh.param("state_rate", o.state_rate_hz, o.state_rate_hz);
   pnh.param("marker_rate", o.marker_rate_hz, o.marker_rate_hz);
   pnh.param("publish_clock", o.publish_clock, o.publish_clock);
+  pnh.param("publish_tf", o.publish_tf, o.publish_tf);
   pnh.param("stop_at_end", o.stop_at_end, o.stop_at_end);
   pnh.param("exit_at_end", o.exit_at_end, o.exit_at_end);
   pnh.param<std::string>("start", o.start, o.start);

@@ -70,6 +70,7 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
   metrics_pub_ = nh_.advertise<coil_winding_sim::WindingMetrics>("winding_metrics", 5);
   marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("wire_markers", 2, true);
   status_pub_ = nh_.advertise<coil_winding_sim::CellStatus>("cell_status", 1, true);
+  joints_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
   if (o_.publish_clock) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   speed_sub_ = nh_.subscribe("core_speed_setpoint", 100, &WindingCell::onSpeed, this);
   tension_sub_ = nh_.subscribe("tension_setpoint", 100, &WindingCell::onTension, this);
@@ -344,6 +345,9 @@ void WindingCell::publishState() {
   coil_winding_sim::WindingMetrics metrics = toMetrics(*sim_, t, o_.frames, pace);
   metrics.job_done = job_done_;
   metrics_pub_.publish(metrics);
+  joints_pub_.publish(toJointStates(*sim_, t));
+  // The frames: here, or by robot_state_publisher from joint_states.
+  if (!o_.publish_tf) return;
   geometry_msgs::TransformStamped tf;
   if (coreTransform(*sim_, t, o_.frames, tf)) tf_.sendTransform(tf);
   if (portTransform(*sim_, t, o_.frames, tf)) tf_.sendTransform(tf);

@@ -11,6 +11,7 @@
 //                  [--account A] [--max-running N] [--max-array-size N] [--dry-run]]
 //   wire_sim sweep-run DIR INDEX
 //   wire_sim sweep-gather DIR
+//   wire_sim urdf [--scene FILE] [--set ...] [--overrides "[key=value, ...]"]
 #include <signal.h>
 
 #include <cmath>
@@ -25,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "cell_urdf.hpp"
 #include "coil_winding_sim/core/output.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
@@ -55,6 +57,7 @@ const char* kUsage =
     "                      [--account A] [--max-running N] [--max-array-size N] [--dry-run]]\n"
     "       wire_sim sweep-run DIR INDEX\n"
     "       wire_sim sweep-gather DIR\n"
+    "       wire_sim urdf [--scene FILE] [--set ...] [--overrides \"[key=value, ...]\"]\n"
     "Without --scene the package's default scene is used; --out defaults to out/run\n"
     "(out/study for study). run --error-estimate runs the scene a second time with half\n"
     "the step (a tenth of the tolerances for rkf45 and rosenbrock2) and reports the\n"
@@ -86,7 +89,7 @@ const char* kUsage =
     "--dry-run writes the scripts (DIR/slurm) without submitting them.\n"
     "sweep-run runs case INDEX of the sweep in DIR (what each process, or each task of\n"
     "a job array, runs); sweep-gather writes the table from what DIR holds, naming the\n"
-    "cases not finished.\n"
+    "cases not finished. urdf prints the cell's URDF (robot_description).\n"
     "Exit status: 0 done; 1 the run failed; 2 bad command line, scene or --out (nothing\n"
     "is run); 130 / 143 a run stopped by SIGINT (Ctrl-C) / SIGTERM, which ends it after\n"
     "the current step and writes no results (a second signal ends it at once). Before\n"
@@ -296,6 +299,7 @@ int main(int argc, char** argv) {
   }
   Args a;
   a.command = args[0];
+  if (a.command == "urdf") return cws_tools::urdfMain(args, defaultScene());
   // sweep-run DIR INDEX and sweep-gather DIR: a sweep's case, its table.
   if (a.command == "sweep-run" || a.command == "sweep-gather") {
     const std::size_t want = a.command == "sweep-run" ? 3 : 2;

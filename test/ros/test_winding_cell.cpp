@@ -3,16 +3,20 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <ros/topic.h>
+#include <sensor_msgs/JointState.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_msgs/TFMessage.h>
+#include <urdf/model.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <vector>
 
@@ -284,6 +288,70 @@ TEST(WindingCell, SnapshotRestoreAndReset) {
   ASSERT_TRUE(pause(false));
   std::remove(path.c_str());
   std::remove(corrupt.c_str());
+}
+
+// joint_states and the cell's URDF (robot_description, from wire_sim urdf)
+// give the node's own TF world -> core: the spindle joint's origin turned by
+// its position equals the TF's rotation at the same stamp, to 1e-9 rad. So
+// robot_state_publisher gives the same frames.
+TEST(WindingCell, JointStatesAndTheUrdfGiveTheNodesFrames) {
+  std::string xml;
+  ASSERT_TRUE(ros::param::get("/robot_description", xml)) << "no robot_description";
+  urdf::Model model;
+  ASSERT_TRUE(model.initString(xml)) << xml;
+  const urdf::JointConstSharedPtr spindle = model.getJoint("spindle");
+  ASSERT_TRUE(spindle);
+  EXPECT_EQ(spindle->type, urdf::Joint::CONTINUOUS);
+  EXPECT_EQ(spindle->parent_link_name, "world");
+  EXPECT_EQ(spindle->child_link_name, "core");
+  double x, y, z, w;
+  spindle->parent_to_joint_origin_transform.rotation.getQuaternion(x, y, z, w);
+  const Eigen::Quaterniond origin(w, x, y, z);
+  const Eigen::Vector3d axis(spindle->axis.x, spindle->axis.y, spindle->axis.z);
+
+  // Pairs of (joint position, TF rotation) at equal stamps.
+  std::mutex m;
+  std::map<double, double> joint_at;           // stamp -> spindle position
+  std::map<double, Eigen::Quaterniond> tf_at;  // stamp -> world -> core
+  ros::NodeHandle nh;
+  ros::Subscriber js = nh.subscribe<sensor_msgs::JointState>(
+      "joint_states", 100, [&](const sensor_msgs::JointState::ConstPtr& msg) {
+        std::lock_guard<std::mutex> l(m);
+        for (std::size_t i = 0; i < msg->name.size(); ++i) {
+          if (msg->name[i] == "spindle") joint_at[msg->header.stamp.toSec()] = msg->position[i];
+        }
+      });
+  ros::Subscriber tf =
+      nh.subscribe<tf2_msgs::TFMessage>("/tf", 100, [&](const tf2_msgs::TFMessage::ConstPtr& msg) {
+        std::lock_guard<std::mutex> l(m);
+        for (const auto& t : msg->transforms) {
+          if (t.child_frame_id != "core") continue;
+          const auto& q = t.transform.rotation;
+          tf_at[t.header.stamp.toSec()] = Eigen::Quaterniond(q.w, q.x, q.y, q.z);
+        }
+      });
+  int pairs = 0;
+  ASSERT_TRUE(waitFor(
+      [&] {
+        std::lock_guard<std::mutex> l(m);
+        pairs = 0;
+        for (const auto& [stamp, q] : tf_at) pairs += joint_at.count(stamp) > 0;
+        return pairs >= 20;
+      },
+      30.0))
+      << pairs << " pairs";
+  std::lock_guard<std::mutex> l(m);
+  double worst = 0.0;
+  for (const auto& [stamp, q_tf] : tf_at) {
+    const auto j = joint_at.find(stamp);
+    if (j == joint_at.end()) continue;
+    const Eigen::Quaterniond q_urdf =
+        origin * Eigen::Quaterniond(Eigen::AngleAxisd(j->second, axis));
+    worst = std::max(worst, q_urdf.angularDistance(q_tf));
+  }
+  std::printf("joint_states + URDF against TF: largest angle %.3g rad over %d stamps\n", worst,
+              pairs);
+  EXPECT_LT(worst, 1e-9);
 }
 
 int main(int argc, char** argv) {

@@ -73,6 +73,10 @@ coil_winding_sim::ErrorEstimate toErrorEstimateMsg(const cws::ErrorEstimate& e, 
 
 sensor_msgs::JointState toSpindleCommand(const cws::Simulation& sim, const ros::Time& stamp);
 sensor_msgs::JointState toSpindleState(const cws::Simulation& sim, const ros::Time& stamp);
+// The cell's joints (joint_states, for robot_state_publisher and the URDF of
+// `wire_sim urdf`): spindle (the core's angle [rad] and speed [rad/s]) and,
+// with a supply, port_x, port_y, port_z (the port's world position [m]).
+sensor_msgs::JointState toJointStates(const cws::Simulation& sim, const ros::Time& stamp);
 // Tension: command = the supply tension [N]; measured = the wire's axial
 // force at the port (its last segment) [N]. Zero without a supply.
 coil_winding_sim::TensionSetpoint toTensionCommand(const cws::Simulation& sim,

@@ -22,6 +22,7 @@ struct NodeOptions {
   double state_rate_hz = 20.0;         // ~state_rate: wire_state, metrics, TF
   double marker_rate_hz = 10.0;        // ~marker_rate
   bool publish_clock = false;          // ~publish_clock: the simulated time as /clock
+  bool publish_tf = true;              // ~publish_tf: false when robot_state_publisher does
   bool stop_at_end = true;             // ~stop_at_end: hold at the job's end
   bool exit_at_end = false;            // ~exit_at_end: exit (status 0) at the job's end
   // ~start: "running" (winding at the scene's speed), "paused" (until

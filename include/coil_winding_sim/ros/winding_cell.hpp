@@ -187,7 +187,7 @@ class WindingCell {
 
   PublishGrid grid_;
 
-  ros::Publisher state_pub_, metrics_pub_, marker_pub_, clock_pub_, status_pub_;
+  ros::Publisher state_pub_, metrics_pub_, marker_pub_, clock_pub_, status_pub_, joints_pub_;
   ros::Publisher spindle_command_pub_, spindle_state_pub_, tension_command_pub_,
       tension_measured_pub_, port_command_pub_, port_position_pub_, profile_pub_;
   ros::Subscriber speed_sub_, tension_sub_, port_sub_, machine_spindle_sub_, machine_tension_sub_,
