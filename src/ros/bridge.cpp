@@ -10,48 +10,14 @@
 
 #include "coil_winding_sim/core/coil_report.hpp"
 #include "coil_winding_sim/core/core_geometry.hpp"
+#include "marker_style.hpp"
 
 namespace cws_ros {
 
 const char* const kSpindleJoint = "spindle";
 
 namespace {
-geometry_msgs::Point point(const Eigen::Vector3d& p) {
-  geometry_msgs::Point m;
-  m.x = p.x();
-  m.y = p.y();
-  m.z = p.z();
-  return m;
-}
-
-std_msgs::ColorRGBA color(double r, double g, double b, double a = 1.0) {
-  std_msgs::ColorRGBA c;
-  c.r = static_cast<float>(r);
-  c.g = static_cast<float>(g);
-  c.b = static_cast<float>(b);
-  c.a = static_cast<float>(a);
-  return c;
-}
-
-// Blue (0) -> green -> red (1).
-std_msgs::ColorRGBA heat(double s) {
-  s = std::clamp(s, 0.0, 1.0);
-  return s < 0.5 ? color(0.0, 2.0 * s, 1.0 - 2.0 * s) : color(2.0 * s - 1.0, 2.0 - 2.0 * s, 0.0);
-}
-
-// A marker with its header, namespace, id, type and ADD set.
-visualization_msgs::Marker marker(const ros::Time& stamp, const std::string& frame, const char* ns,
-                                  int id, int type) {
-  visualization_msgs::Marker k;
-  k.header.stamp = stamp;
-  k.header.frame_id = frame;
-  k.ns = ns;
-  k.id = id;
-  k.type = type;
-  k.action = visualization_msgs::Marker::ADD;
-  k.pose.orientation.w = 1.0;
-  return k;
-}
+using namespace marker_style;
 
 // Layer 1 blue, 2 orange, 3 red, 4 and above brown.
 std_msgs::ColorRGBA layerColor(int layer) {

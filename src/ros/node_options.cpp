@@ -16,6 +16,8 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh, const std::string& defau
   pnh.param("marker_rate", o.marker_rate_hz, o.marker_rate_hz);
   pnh.param("publish_clock", o.publish_clock, o.publish_clock);
   pnh.param("publish_tf", o.publish_tf, o.publish_tf);
+  pnh.param("force_color_max", o.force_color_max_N, o.force_color_max_N);
+  pnh.param("profile_magnification", o.profile_magnification, o.profile_magnification);
   pnh.param("stop_at_end", o.stop_at_end, o.stop_at_end);
   pnh.param("exit_at_end", o.exit_at_end, o.exit_at_end);
   pnh.param<std::string>("start", o.start, o.start);
@@ -61,6 +63,13 @@ void validateNodeOptions(NodeOptions& o, bool sim_time) {
   }
   if (!(o.setpoint_stamp_tolerance_s >= 0.0) || !std::isfinite(o.setpoint_stamp_tolerance_s)) {
     throw std::invalid_argument("~setpoint_stamp_tolerance must be a finite number >= 0 [s]");
+  }
+  if (!(o.force_color_max_N >= 0.0) || !std::isfinite(o.force_color_max_N)) {
+    throw std::invalid_argument(
+        "~force_color_max must be >= 0 [N] (0: twice the tension at start)");
+  }
+  if (!(o.profile_magnification >= 0.0) || !std::isfinite(o.profile_magnification)) {
+    throw std::invalid_argument("~profile_magnification must be >= 0 (0: no profile marker)");
   }
   if (o.start != "running" && o.start != "paused" && o.start != "at_rest") {
     throw std::invalid_argument("~start must be running, paused or at_rest, not '" + o.start + "'");

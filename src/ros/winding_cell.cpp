@@ -4,6 +4,7 @@
 
 #include <rosgraph_msgs/Clock.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -65,6 +66,9 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
     setpoints_changed_ = true;
   }
   paused_ = o_.start == "paused";
+  // A fixed colour range, so that a colour means one force all run long.
+  force_max_N_ = o_.force_color_max_N > 0.0 ? o_.force_color_max_N
+                                            : std::max(1.0, 2.0 * scene_.process.tension);
 
   state_pub_ = nh_.advertise<coil_winding_sim::WireState>("wire_state", 5);
   metrics_pub_ = nh_.advertise<coil_winding_sim::WindingMetrics>("winding_metrics", 5);
@@ -359,8 +363,20 @@ void WindingCell::publishMarkers() {
     marker_pub_.publish(deleteAllMarkers(stamp(), o_.frames));
     send_delete_all_ = false;
   }
-  const double scale = std::max(1.0, 1.5 * tension_setpoint_);
-  marker_pub_.publish(toMarkers(*sim_, stamp(), o_.frames, scale));
+  marker_pub_.publish(toMarkers(*sim_, stamp(), o_.frames, force_max_N_));
+  Overlay overlay;
+  std::string words;
+  overlay.state = cellState(words);
+  std::replace(overlay.state.begin(), overlay.state.end(), '_', ' ');
+  // After the job, its mean pace (the measured one is 0 while it holds).
+  overlay.pace.real_time_factor =
+      job_done_ && job_wall_s_ > 0.0 ? sim_->time() / job_wall_s_ : rate_.last();
+  overlay.pace.target_real_time_factor = pace_.target();
+  overlay.pace.keeping_pace = keeping_pace_ || paused_ || finished();
+  overlay.tension_setpoint_N = tension_setpoint_;
+  overlay.force_max_N = force_max_N_;
+  overlay.profile_magnification = o_.profile_magnification;
+  marker_pub_.publish(toOverlayMarkers(*sim_, stamp(), o_.frames, overlay));
 }
 
 void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {

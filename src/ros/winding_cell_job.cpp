@@ -48,6 +48,7 @@ double WindingCell::jobEndTime() const {
 // say so, and ~exit_at_end asks the loop to end.
 void WindingCell::endJob() {
   job_done_ = true;
+  job_wall_s_ = wallNow() - job_start_wall_s_;
   exit_requested_ = o_.exit_at_end;
   std::string line;
   cellState(line);
@@ -62,7 +63,7 @@ std::string WindingCell::cellState(std::string& message) const {
     return S::FAILED;
   }
   if (job_done_) {
-    const double wall_s = wallNow() - job_start_wall_s_;
+    const double wall_s = job_wall_s_;
     const cws::BulgeReport b = sim_->model().bulging();
     char text[320];
     std::snprintf(text, sizeof text,

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -111,4 +112,62 @@ TEST(BridgeCoil, ScenesWithoutWireContactPublishNoCoil) {
   EXPECT_EQ(find(a, "coil_layers"), nullptr);
   EXPECT_EQ(find(a, "coil_defects"), nullptr);
   EXPECT_NE(find(a, "wire"), nullptr);
+}
+
+// The rviz overlay on the paper's 2-D case after 1 3/4 turns: the text
+// states the figures of the model (time, turns, tension, bulging, the colour
+// range), the arrow ends at the bulge point's surface side and the label
+// gives its height, the profile follows the wound points with the stand-off
+// magnified, and switching the profile off deletes its marker.
+TEST(BridgeOverlay, FiguresBulgeArrowAndProfile) {
+  const cws::Scene s = cws::loadScene(std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml",
+                                      {"solver.integrator=bdf2", "wire.segment_length=2e-3"});
+  cws::Simulation sim(s);
+  sim.run();
+  const cws::BulgeReport b = sim.model().bulging();
+  ASSERT_TRUE(b.valid);
+  cws_ros::Overlay o;
+  o.state = "job done";
+  o.tension_setpoint_N = 30.0;
+  o.force_max_N = 60.0;
+  o.profile_magnification = 10.0;
+  const visualization_msgs::MarkerArray a =
+      cws_ros::toOverlayMarkers(sim, ros::Time(1.0), cws_ros::Frames(), o);
+  std::string text;
+  const visualization_msgs::Marker* label = nullptr;
+  const visualization_msgs::Marker* arrow = nullptr;
+  const visualization_msgs::Marker* profile = nullptr;
+  for (const visualization_msgs::Marker& k : a.markers) {
+    if (k.ns == "cell_status") text += k.text + "\n";
+    if (k.ns == "bulge" && k.type == visualization_msgs::Marker::ARROW) arrow = &k;
+    if (k.ns == "bulge" && k.type == visualization_msgs::Marker::TEXT_VIEW_FACING) label = &k;
+    if (k.ns == "profile") profile = &k;
+  }
+  char bulge[32];
+  std::snprintf(bulge, sizeof bulge, "%.3f mm", 1e3 * b.height_m);
+  for (const std::string& part :
+       {std::string("job done"), std::string("1.750 turns"), std::string("tension 30 N set"),
+        "bulging " + std::string(bulge), std::string("force 0 N blue to 60 N red")}) {
+    EXPECT_NE(text.find(part), std::string::npos) << part << " not in\n" << text;
+  }
+  ASSERT_TRUE(arrow && label && profile);
+  ASSERT_EQ(arrow->points.size(), 2u);
+  EXPECT_EQ(arrow->header.frame_id, "core");
+  // The arrow points at the bulge (its tip 0.8 mm off the point, outside).
+  const Eigen::Vector3d tip(arrow->points[1].x, arrow->points[1].y, arrow->points[1].z);
+  EXPECT_NEAR((tip - b.p_core).norm(), 0.8e-3, 1e-9);
+  EXPECT_GT(std::hypot(tip.x(), tip.y()), std::hypot(b.p_core.x(), b.p_core.y()));
+  EXPECT_NE(label->text.find(bulge), std::string::npos) << label->text;
+  // The profile: one point per wound point, each moved out by 9 stand-offs.
+  ASSERT_EQ(profile->points.size(), static_cast<std::size_t>(b.wound_points));
+  const cws::RotatingCore* core = sim.model().core();
+  const Eigen::Vector3d p = core->pointCore(sim.time(), sim.model().point(b.index).p_world);
+  const geometry_msgs::Point& q = profile->points[b.index];
+  EXPECT_NEAR(std::hypot(q.x, q.y) - std::hypot(p.x(), p.y()), 9.0 * b.height_m, 1e-9);
+  o.profile_magnification = 0.0;
+  const visualization_msgs::MarkerArray off =
+      cws_ros::toOverlayMarkers(sim, ros::Time(1.0), cws_ros::Frames(), o);
+  const visualization_msgs::Marker* gone = find(off, "profile");
+  ASSERT_TRUE(gone);
+  EXPECT_EQ(gone->action, visualization_msgs::Marker::DELETE);
 }

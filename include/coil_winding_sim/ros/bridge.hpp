@@ -49,6 +49,21 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
 visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros::Time& stamp,
                                           const Frames& frames, double force_scale_N,
                                           std::size_t max_points_per_marker = 10000);
+// What the overlay shows besides the simulation.
+struct Overlay {
+  std::string state;                   // the cell's state in words
+  Pace pace;                           // real-time factor, target, keeping pace
+  double tension_setpoint_N = 0.0;     // [N]
+  double force_min_N = 0.0;            // the wire's colour range [N]
+  double force_max_N = 1.0;            // [N]
+  double profile_magnification = 0.0;  // 0: no profile marker
+};
+// rviz overlay: the figures as text beside the core ("cell_status"), an
+// arrow and the height at the bulge ("bulge"), and the wound wire's profile
+// with its stand-off magnified ("profile"; DELETE when off).
+visualization_msgs::MarkerArray toOverlayMarkers(const cws::Simulation& sim, const ros::Time& stamp,
+                                                 const Frames& frames, const Overlay& o);
+
 // One DELETEALL marker (sent on reset and restore).
 visualization_msgs::MarkerArray deleteAllMarkers(const ros::Time& stamp, const Frames& frames);
 

@@ -16,15 +16,17 @@ class NodeHandle;
 namespace cws_ros {
 
 struct NodeOptions {
-  std::string scene;                   // ~scene: scene file (empty: the defaults)
-  std::vector<std::string> overrides;  // ~overrides: key.path=value
-  double real_time_factor = 1.0;       // ~real_time_factor; 0: as fast as possible
-  double state_rate_hz = 20.0;         // ~state_rate: wire_state, metrics, TF
-  double marker_rate_hz = 10.0;        // ~marker_rate
-  bool publish_clock = false;          // ~publish_clock: the simulated time as /clock
-  bool publish_tf = true;              // ~publish_tf: false when robot_state_publisher does
-  bool stop_at_end = true;             // ~stop_at_end: hold at the job's end
-  bool exit_at_end = false;            // ~exit_at_end: exit (status 0) at the job's end
+  std::string scene;                    // ~scene: scene file (empty: the defaults)
+  std::vector<std::string> overrides;   // ~overrides: key.path=value
+  double real_time_factor = 1.0;        // ~real_time_factor; 0: as fast as possible
+  double state_rate_hz = 20.0;          // ~state_rate: wire_state, metrics, TF
+  double marker_rate_hz = 10.0;         // ~marker_rate
+  bool publish_clock = false;           // ~publish_clock: the simulated time as /clock
+  bool publish_tf = true;               // ~publish_tf: false when robot_state_publisher does
+  double force_color_max_N = 0.0;       // ~force_color_max: red [N]; 0: 2 x the tension at start
+  double profile_magnification = 10.0;  // ~profile_magnification: 0 hides the profile marker
+  bool stop_at_end = true;              // ~stop_at_end: hold at the job's end
+  bool exit_at_end = false;             // ~exit_at_end: exit (status 0) at the job's end
   // ~start: "running" (winding at the scene's speed), "paused" (until
   // ~pause false) or "at_rest" (the core at 0 until a speed setpoint).
   std::string start = "running";

@@ -136,10 +136,12 @@ class WindingCell {
   // the exit it asks for with ~exit_at_end.
   bool job_done_ = false, exit_requested_ = false;
   double job_start_wall_s_ = 0.0;  // wall time [s]
+  double job_wall_s_ = 0.0;        // the ended job's wall time [s]
   // ~start at_rest: the core held at 0 until the first speed setpoint.
   std::atomic<bool> at_rest_{false};
   WallThrottle pace_warning_{10.0};               // "not keeping pace" on the console
   std::string last_status_;                       // the state last sent on cell_status
+  double force_max_N_ = 1.0;                      // the wire's colour range, 0 to this [N]
   std::optional<double> run_until_;               // pause when the simulated time reaches it [s]
   double compute_s_ = 0.0;                        // wall time in the present job's steps [s]
   std::unique_ptr<JobErrorEstimator> estimator_;  // with ~error_estimate
