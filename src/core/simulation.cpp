@@ -245,4 +245,29 @@ void Simulation::run(const std::function<void(const Simulation&)>& progress,
   wall_s_ = wall0 + std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+void Simulation::setFriction(double mu_static, double mu_kinetic) {
+  if (!scene_.physics.friction) {
+    throw SceneError("physics.friction",
+                     "friction is off in this scene: its coefficients do not act");
+  }
+  Scene next = scene_;
+  next.contact.static_friction = mu_static;
+  next.contact.kinetic_friction = mu_kinetic;
+  validateScene(next);
+  scene_ = next;
+  model_->setFriction(mu_static, mu_kinetic);
+}
+
+void Simulation::setDamping(const DampingParams& d) {
+  if (!scene_.physics.damping) {
+    throw SceneError("physics.damping",
+                     "damping is off in this scene: its coefficients do not act");
+  }
+  Scene next = scene_;
+  next.damping = d;
+  validateScene(next);
+  scene_ = next;
+  model_->setDamping(d);
+}
+
 }  // namespace cws

@@ -88,7 +88,11 @@ WireModel::WireModel(const Scene& s)
   if (s.physics.gravity) {
     external_.push_back(std::make_unique<Gravity>(c_, s.gravity.acceleration_world));
   }
-  if (s.physics.damping) external_.push_back(std::make_unique<Damping>(c_, s.damping));
+  if (s.physics.damping) {
+    auto damping = std::make_unique<Damping>(c_, s.damping);
+    damping_ = damping.get();
+    external_.push_back(std::move(damping));
+  }
   if (s.physics.contact) {
     auto contact = std::make_unique<Contact>(c_, s, *core_);
     if (s.physics.wire_contact) contact->attachCarriedWire(carried_p_core_);
@@ -464,6 +468,14 @@ std::vector<double> WireModel::history() const {
 
 std::vector<const ForceEffect*> WireModel::effects() const {
   return std::vector<const ForceEffect*>(all_.begin(), all_.end());
+}
+
+void WireModel::setFriction(double mu_static, double mu_kinetic) {
+  if (contact_) contact_->setFriction(mu_static, mu_kinetic);
+}
+
+void WireModel::setDamping(const DampingParams& d) {
+  if (damping_) damping_->setParams(d);
 }
 
 }  // namespace cws

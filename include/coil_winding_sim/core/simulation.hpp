@@ -122,6 +122,16 @@ class Simulation {
   // Core revolutions turned so far (0 without a core).
   double coreTurns() const;
 
+  // Changes made while running, from the next step on: the friction
+  // coefficients (contact.static_friction, contact.kinetic_friction) and the
+  // viscous damping (damping.translational [N s/m^2], damping.rotational
+  // [N m s/m]). Checked by the scene's own rules first; a refused change
+  // throws SceneError naming the key and leaves everything as it was (so
+  // does a change of an effect the scene switches off). The scene takes the
+  // new values, so snapshots carry them.
+  void setFriction(double mu_static, double mu_kinetic);
+  void setDamping(const DampingParams& d);
+
  private:
   void afterStep();
   // A core speed ramp: its end [s] and |acceleration| [rad/s^2].

@@ -31,6 +31,8 @@
 
 namespace cws {
 
+class Damping;
+
 struct EnergyReport {
   double kinetic = 0.0;    // [J]
   double elastic = 0.0;    // recoverable [J]
@@ -156,6 +158,10 @@ class WireModel : public OdeSystem {
   const RotatingCore* core() const { return core_.get(); }
   RotatingCore* core() { return core_.get(); }
   const Contact* contact() const { return contact_; }
+  // Friction and damping coefficients changed mid-run (Simulation::
+  // setFriction, setDamping; validated there).
+  void setFriction(double mu_static, double mu_kinetic);
+  void setDamping(const DampingParams& d);
   const Supply* supply() const { return supply_; }
   // Snapshot of the model with its state vector y; restore() checks sizes
   // and finiteness and throws std::runtime_error naming what is wrong,
@@ -224,7 +230,8 @@ class WireModel : public OdeSystem {
   Eigen::Vector4d q0_;  // clamp orientation, world or core frame
   Eigen::Vector3d planar_normal_world_ = Eigen::Vector3d::Zero();  // zero: 3-D
   std::unique_ptr<RotatingCore> core_;
-  const Contact* contact_ = nullptr;
+  Contact* contact_ = nullptr;
+  Damping* damping_ = nullptr;
   Supply* supply_ = nullptr;
   std::unique_ptr<CoreSection> section_;  // with a core that has cylinders
   std::unique_ptr<Stretching> stretching_;

@@ -55,6 +55,12 @@ class Contact : public ForceEffect {
   Contact(const WireConstants& c, const Scene& s, const RotatingCore& core);
 
   const char* name() const override { return "contact"; }
+  // New friction coefficients from the next evaluation on (validated by the
+  // caller, Simulation::setFriction).
+  void setFriction(double mu_static, double mu_kinetic) {
+    p_.static_friction = mu_static;
+    p_.kinetic_friction = mu_kinetic;
+  }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   // Implicit steps: the surface each point touches, stick (with its
   // anchor) or slip (with its direction) stay frozen within one Newton

@@ -10,6 +10,8 @@ namespace cws {
 class Damping : public ForceEffect {
  public:
   Damping(const WireConstants& c, const DampingParams& p) : c_(c), p_(p) {}
+  // New coefficients from the next evaluation on (Simulation::setDamping).
+  void setParams(const DampingParams& p) { p_ = p; }
   const char* name() const override { return "damping"; }
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
