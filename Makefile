@@ -53,7 +53,8 @@ DEB_PACKAGES := \
   rviz python3-rostopic python3-rosbag xvfb imagemagick clang-format \
   python3-numpy python3-genpy python3-sensor-msgs python3-geometry-msgs python3-std-msgs \
   python3-rospkg python3-rosunit rosbash slurm-wlm munge \
-  ros-robot-state-publisher liburdf-dev
+  ros-robot-state-publisher liburdf-dev \
+  libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure python3-roslib
 
 CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \

@@ -102,6 +102,9 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
   restore_srv_ = pnh_.advertiseService("restore", &WindingCell::onRestore, this);
   run_until_srv_ = pnh_.advertiseService("run_until", &WindingCell::onRunUntil, this);
 
+  state_rate_hz_ = o_.state_rate_hz;
+  marker_rate_hz_ = o_.marker_rate_hz;
+  startReconfigure();
   diagnostics_.setHardwareID("coil_winding_sim");
   diagnostics_.add("simulation", this, &WindingCell::diagnose);
   ROS_INFO("winding_cell: scene '%s', %d points, target real-time factor %g%s; %s",
@@ -167,11 +170,11 @@ void WindingCell::run() {
     }
     if (now >= next_state) {
       publishState();
-      next_state = now + 1.0 / o_.state_rate_hz;
+      next_state = now + 1.0 / state_rate_hz_;
     }
     if (now >= next_marker) {
       publishMarkers();
-      next_marker = now + 1.0 / o_.marker_rate_hz;
+      next_marker = now + 1.0 / marker_rate_hz_;
     }
     // Once a second of wall time: the updater's own period counts ROS
     // time, with ~publish_clock the simulated time (100 s of wall time
@@ -388,6 +391,10 @@ void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("step size [s]", sim_->stepper().lastStep());
   stat.add("max constraint residual", sim_->model().maxConstraintResidual());
   stat.add("points", sim_->model().constants().n);
+  stat.add("static friction", sim_->scene().contact.static_friction);
+  stat.add("kinetic friction", sim_->scene().contact.kinetic_friction);
+  stat.add("damping translational [N s/m^2]", sim_->scene().damping.translational);
+  stat.add("damping rotational [N m s/m]", sim_->scene().damping.rotational);
   if (estimator_) estimator_->diagnose(stat);
   if (failed_) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "stopped: " + failure_);

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
 #include <geometry_msgs/PointStamped.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
@@ -46,6 +47,7 @@
 #include "coil_winding_sim/RunUntil.h"
 #include "coil_winding_sim/Snapshot.h"
 #include "coil_winding_sim/TensionSetpoint.h"
+#include "coil_winding_sim/WindingCellConfig.h"
 #include "coil_winding_sim/core/command_schedule.hpp"
 #include "coil_winding_sim/core/setpoint_limits.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
@@ -88,6 +90,10 @@ class WindingCell {
   void publishMarkers();
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void warn(WallThrottle& throttle, const std::string& text) const;
+
+  // ---- live parameters (winding_cell_reconfigure.cpp)
+  void startReconfigure();
+  void onReconfigure(coil_winding_sim::WindingCellConfig& config);
 
   // ---- setpoints (winding_cell_inputs.cpp)
   struct TopicWarnings {
@@ -197,6 +203,13 @@ class WindingCell {
   ros::ServiceServer reset_srv_, pause_srv_, snapshot_srv_, restore_srv_, run_until_srv_;
   tf2_ros::TransformBroadcaster tf_;
   diagnostic_updater::Updater diagnostics_;
+
+  // dynamic_reconfigure: the server, its own lock, the values in use, and
+  // the publish rates the loop reads without the simulation's lock [Hz].
+  boost::recursive_mutex reconfigure_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<coil_winding_sim::WindingCellConfig>> reconfigure_;
+  coil_winding_sim::WindingCellConfig applied_;
+  std::atomic<double> state_rate_hz_{20.0}, marker_rate_hz_{10.0};
 };
 
 }  // namespace cws_ros
