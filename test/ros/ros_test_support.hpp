@@ -6,14 +6,18 @@
 #include <ros/ros.h>
 #include <sys/socket.h>
 #include <sys/types.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace cws_ros_test {
@@ -80,6 +84,23 @@ inline pid_t startRoslaunch(std::vector<std::string> args, int master_port,
   }
   ::setpgid(pid, pid);  // also here: no race with a signal sent at once
   return pid;
+}
+
+// Waits up to timeout_s of wall time for a launch started by startRoslaunch
+// to end by itself (`status`: waitpid's). One that does not is ended
+// (SIGINT to its group, SIGKILL 5 s later) and false returned. (A guard,
+// not a timing assertion.)
+inline bool waitForLaunch(pid_t pid, double timeout_s, int& status) {
+  const auto t0 = std::chrono::steady_clock::now();
+  while (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < timeout_s) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ::kill(-pid, SIGINT);
+  std::this_thread::sleep_for(std::chrono::seconds(5));
+  ::kill(-pid, SIGKILL);
+  ::waitpid(pid, &status, 0);
+  return false;
 }
 
 }  // namespace cws_ros_test

@@ -35,8 +35,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 TEST(ExitAtEnd, LaunchEndsWithStatusZeroAndItsBagIsClosed) {
   const fs::path dir = fs::temp_directory_path() / ("cws_exit_at_end_" + std::to_string(getpid()));
   fs::remove_all(dir);
@@ -50,25 +48,10 @@ TEST(ExitAtEnd, LaunchEndsWithStatusZeroAndItsBagIsClosed) {
       "coil_winding_sim",   "winding_cell.launch", "overrides:=[process.duration=2.0]",
       "exit_at_end:=true",  "record:=true",        "bag_dir:=" + dir.string(),
       "use_sim_time:=true", "real_time_factor:=1", "rviz:=false"};
-  const auto t0 = Clock::now();
   const pid_t pid = cws_ros_test::startRoslaunch(args, port, dir, log);
   ASSERT_GT(pid, 0);
   int status = 0;
-  bool exited = false;
-  // (A guard, not a timing assertion: it gives up after 120 s.)
-  while (std::chrono::duration<double>(Clock::now() - t0).count() < 120.0) {
-    if (::waitpid(pid, &status, WNOHANG) == pid) {
-      exited = true;
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  if (!exited) {
-    ::kill(-pid, SIGINT);
-    std::this_thread::sleep_for(std::chrono::seconds(5));
-    ::kill(-pid, SIGKILL);
-    ::waitpid(pid, &status, 0);
-  }
+  const bool exited = cws_ros_test::waitForLaunch(pid, 120.0, status);
   const std::string output = cws_ros_test::readFile(log);
   ASSERT_TRUE(exited) << "the launch did not end by itself:\n" << output;
   ASSERT_TRUE(WIFEXITED(status));

@@ -153,21 +153,8 @@ int runReplay(const fs::path& dir, const fs::path& machine, const fs::path& out,
   const pid_t pid = cws_ros_test::startRoslaunch(args, port, dir, log);
   if (pid < 0) return -2;
   int status = 0;
-  bool exited = false;
-  while (std::chrono::duration<double>(Clock::now() - t0).count() < 120.0) {
-    if (::waitpid(pid, &status, WNOHANG) == pid) {
-      exited = true;
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
+  const bool exited = cws_ros_test::waitForLaunch(pid, 120.0, status);
   wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  if (!exited) {
-    ::kill(-pid, SIGINT);
-    std::this_thread::sleep_for(std::chrono::seconds(5));
-    ::kill(-pid, SIGKILL);
-    ::waitpid(pid, &status, 0);
-  }
   output = readFile(log);
   if (!exited) return -1;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -3;
