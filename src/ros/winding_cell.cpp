@@ -7,11 +7,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <limits>
 #include <thread>
 
-#include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/snapshot_bag.hpp"
 
@@ -143,7 +140,7 @@ void WindingCell::run() {
           ROS_WARN(
               "winding_cell: not keeping pace: real-time factor %.3g against the target %.3g "
               "(~real_time_factor)",
-              rate_.read(wallNow(), sim_->time()), pace_.target());
+              rate_.last(), pace_.target());
         }
       }
       if (!o_.follow_clock && o_.stop_at_end && !job_done_ && !failed_ && jobEnded()) endJob();
