@@ -1,0 +1,45 @@
+// The Newton system's factorization and solve against the block size
+// (design input for fewer unknowns per point, docs/PERFORMANCE.md): 40
+// points, blocks of 10 unknowns coupling through 7 (today's 3-D system:
+// position, quaternion, three frame multipliers), of 7, and of 4 (position
+// and a twist). Arg 0 fills the matrix only, arg 1 also factors and solves:
+// the difference is the factorization's and the solve's cost. Instruction
+// counts: valgrind --tool=callgrind bench_block_lu.
+#include <benchmark/benchmark.h>
+
+#include "coil_winding_sim/core/linear_algebra/block_tridiagonal_lu.hpp"
+
+namespace {
+
+constexpr int kPoints = 40;
+
+template <int B, int C>
+void fillAndSolve(benchmark::State& st) {
+  cws::BlockTridiagonalLu<B, C> lu;
+  lu.resize(kPoints * B);
+  Eigen::VectorXd b = Eigen::VectorXd::Ones(kPoints * B);
+  for (auto _ : st) {
+    lu.setZero(kPoints * B);
+    // Diagonally dominant blocks, coupled through their first C unknowns.
+    for (int k = 0; k < kPoints; ++k) {
+      auto& d = lu.blockAt(k, k);
+      d.setRandom();
+      d.diagonal().array() += 4.0 * B;
+      if (k == 0) continue;
+      lu.blockAt(k, k - 1).template leftCols<C>().setRandom();
+      lu.blockAt(k - 1, k).template topRows<C>().setRandom();
+    }
+    if (st.range(0) != 0) {
+      benchmark::DoNotOptimize(lu.factor());
+      lu.solve(b);
+    }
+    benchmark::DoNotOptimize(b.data());
+  }
+}
+
+}  // namespace
+
+BENCHMARK_TEMPLATE(fillAndSolve, 10, 7)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(fillAndSolve, 7, 7)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(fillAndSolve, 4, 4)->Arg(0)->Arg(1);
+BENCHMARK_MAIN();
