@@ -2,18 +2,19 @@
 // (design input for fewer unknowns per point, docs/PERFORMANCE.md): 40
 // points, blocks of 10 unknowns coupling through 7 (today's 3-D system:
 // position, quaternion, three frame multipliers), of 7, and of 4 (position
-// and a twist). Arg 0 fills the matrix only, arg 1 also factors and solves:
-// the difference is the factorization's and the solve's cost. Instruction
-// counts: valgrind --tool=callgrind bench_block_lu.
+// and a twist); and 20 blocks of 8, two points of 4 unknowns each, for a
+// formulation whose bending couples a point with the next but one (the
+// system is then block-pentadiagonal in points of 4). Arg 0 fills the
+// matrix only, arg 1 also factors and solves: the difference is the
+// factorization's and the solve's cost. Instruction counts: valgrind
+// --tool=callgrind bench_block_lu.
 #include <benchmark/benchmark.h>
 
 #include "coil_winding_sim/core/linear_algebra/block_tridiagonal_lu.hpp"
 
 namespace {
 
-constexpr int kPoints = 40;
-
-template <int B, int C>
+template <int B, int C, int kPoints = 40>
 void fillAndSolve(benchmark::State& st) {
   cws::BlockTridiagonalLu<B, C> lu;
   lu.resize(kPoints * B);
@@ -42,4 +43,5 @@ void fillAndSolve(benchmark::State& st) {
 BENCHMARK_TEMPLATE(fillAndSolve, 10, 7)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(fillAndSolve, 7, 7)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(fillAndSolve, 4, 4)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(fillAndSolve, 8, 8, 20)->Arg(0)->Arg(1);
 BENCHMARK_MAIN();
