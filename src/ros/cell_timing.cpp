@@ -86,14 +86,25 @@ PublishGrid::Due PublishGrid::take(double t) {
   return due;
 }
 
-bool WallThrottle::due(double wall_s, int& skipped) {
+bool WallThrottle::due(double wall_s, int& skipped, const std::string& text) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (warned_ && wall_s - last_s_ < period_s_) {
     ++skipped_;
+    held_ = text;
     return false;
   }
   warned_ = true;
   last_s_ = wall_s;
+  skipped = skipped_;
+  skipped_ = 0;
+  return true;
+}
+
+bool WallThrottle::overdue(double wall_s, std::string& text, int& skipped) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (skipped_ == 0 || wall_s - last_s_ < period_s_) return false;
+  last_s_ = wall_s;
+  text = held_;
   skipped = skipped_;
   skipped_ = 0;
   return true;

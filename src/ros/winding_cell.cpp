@@ -123,7 +123,7 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
 void WindingCell::run() {
   restartPace();
   double next_state = wallNow(), next_marker = next_state, next_clock = next_state,
-         next_diagnostics = next_state;
+         next_diagnostics = next_state, next_held = next_state;
   while (ros::ok()) {
     bool done = false;
     {
@@ -179,6 +179,10 @@ void WindingCell::run() {
     if (now >= next_diagnostics) {
       diagnostics_.force_update();
       next_diagnostics = now + 1.0;
+    }
+    if (now >= next_held) {
+      reportHeldWarnings();
+      next_held = now + 0.1;
     }
     if (replay_done_) {
       // The bag's end: the last state out, then a clean shutdown (a
@@ -415,7 +419,7 @@ void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
 
 void WindingCell::warn(WallThrottle& throttle, const std::string& text) const {
   int skipped = 0;
-  if (!throttle.due(wallNow(), skipped)) return;
+  if (!throttle.due(wallNow(), skipped, text)) return;
   if (skipped > 0) {
     ROS_WARN("winding_cell: %s (and %d more like it since the last report)", text.c_str(), skipped);
   } else {

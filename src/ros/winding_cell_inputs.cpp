@@ -109,6 +109,23 @@ WindingCell::TopicWarnings& WindingCell::warningsOf(const std::string& topic) {
   return warnings_[topic];  // std::map: references stay valid
 }
 
+// Refusals held back by a throttle with nothing after them (the end of a
+// burst): reported once their period has passed, with their number.
+void WindingCell::reportHeldWarnings() {
+  std::lock_guard<std::mutex> lock(warnings_mutex_);
+  const double now = wallNow();
+  for (auto& [topic, w] : warnings_) {
+    for (WallThrottle* t : {&w.value, &w.ahead, &w.order}) {
+      std::string text;
+      int held = 0;
+      if (t->overdue(now, text, held)) {
+        ROS_WARN("winding_cell: %s (the last of %d like it held back since the last report)",
+                 text.c_str(), held);
+      }
+    }
+  }
+}
+
 bool WindingCell::admitStamp(const std::string& topic, const ros::Time& stamp) {
   const ros::Time clock = nodeClock();
   // Without ~publish_clock and before the first /clock, ROS time is zero:

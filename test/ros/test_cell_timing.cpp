@@ -156,6 +156,28 @@ TEST(WallThrottle, OncePerSecondOfWallTimeCountingTheRest) {
   EXPECT_EQ(skipped, 2);
 }
 
+// A burst inside one period with nothing after it: its last text and its
+// number come out once the period has passed, once.
+TEST(WallThrottle, HeldWarningsComeOutAfterThePeriod) {
+  cws_ros::WallThrottle throttle;
+  int skipped = -1;
+  std::string text;
+  EXPECT_TRUE(throttle.due(10.0, skipped, "first"));
+  EXPECT_FALSE(throttle.overdue(11.5, text, skipped)) << "nothing was held back";
+  EXPECT_TRUE(throttle.due(12.0, skipped, "second"));
+  EXPECT_FALSE(throttle.due(12.1, skipped, "third"));
+  EXPECT_FALSE(throttle.due(12.2, skipped, "fourth"));
+  EXPECT_FALSE(throttle.overdue(12.9, text, skipped)) << "inside the period";
+  EXPECT_TRUE(throttle.overdue(13.0, text, skipped));
+  EXPECT_EQ(text, "fourth");
+  EXPECT_EQ(skipped, 2);
+  EXPECT_FALSE(throttle.overdue(20.0, text, skipped)) << "reported twice";
+  // The report counts as one: the next warning waits a period after it.
+  EXPECT_FALSE(throttle.due(13.5, skipped, "fifth"));
+  EXPECT_TRUE(throttle.due(14.0, skipped, "sixth"));
+  EXPECT_EQ(skipped, 1);
+}
+
 // The pace warning: once, then at most every 10 s of wall time.
 TEST(WallThrottle, TenSecondPeriodForThePaceWarning) {
   cws_ros::WallThrottle throttle(10.0);

@@ -146,8 +146,14 @@ class WallThrottle {
   explicit WallThrottle(double period_s) : period_s_(period_s) {}
 
   // True when a warning is due at wall time wall_s [s]; `skipped` is the
-  // number suppressed since the last one.
-  bool due(double wall_s, int& skipped);
+  // number suppressed since the last one. The text of a suppressed warning
+  // is kept for overdue().
+  bool due(double wall_s, int& skipped, const std::string& text = std::string());
+
+  // Warnings suppressed and not reported by a later one: once the period
+  // has passed, true with the last suppressed text and their number (so a
+  // burst inside one period is not lost when nothing follows it).
+  bool overdue(double wall_s, std::string& text, int& skipped);
 
  private:
   double period_s_ = 1.0;
@@ -155,6 +161,7 @@ class WallThrottle {
   bool warned_ = false;
   double last_s_ = 0.0;
   int skipped_ = 0;
+  std::string held_;  // the last suppressed text
 };
 
 }  // namespace cws_ros

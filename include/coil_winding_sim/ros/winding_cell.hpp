@@ -112,6 +112,7 @@ class WindingCell {
   ros::Time nodeClock() const;
   bool admitStamp(const std::string& topic, const ros::Time& stamp);
   TopicWarnings& warningsOf(const std::string& topic);
+  void reportHeldWarnings();
   void drainInputs();
   void applyDue();
   void feedPort();
