@@ -40,7 +40,7 @@ bool Contact::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
     const int last = lastWireSegment(i);
     const Eigen::Vector3d p_core = rot_world_core_.transpose() * (p_world - core_.originWorld());
     double best = -1.0;
-    Eigen::Vector3d n_core, t_core = Eigen::Vector3d::Zero();
+    Eigen::Vector3d n_core = Eigen::Vector3d::Zero(), t_core = Eigen::Vector3d::Zero();
     for (int m = std::max(1, j - 1); m <= std::min(j + 1, last); ++m) {
       Eigen::Vector3d n;
       bool inside;
