@@ -166,8 +166,9 @@ coil-study: build
 # Builds the test binaries (catkin target `tests`), then runs every registered test
 # (gtest now, rostest later) through ctest. catkin registers each test for ctest via
 # run_tests.py --return-code, so a test fails when its process exits non-zero
-# (failed case, crash, timeout) or when it wrote no JUnit result file.
-test: build
+# (failed case, crash, timeout) or when it wrote no JUnit result file. The sources'
+# format (.clang-format) is checked first.
+test: build format-check
 	$(CATKIN_MAKE) -j$(JOBS) tests
 	@if [ ! -x "$(UNIT_TESTS)" ]; then \
 	  echo "test: unit test binary $(UNIT_TESTS) was not built" >&2; exit 1; \

@@ -96,9 +96,8 @@ std::vector<StabilityCase> makeCases() {
   cases.push_back({"two_layers",
                    "two layers of 4 turns between flanges 5 mm apart, wire on wire, 3-D",
                    {"wire.segment_length=1e-3", "physics.planar=false", "physics.torsion=true",
-                    "process.traverse_pitch=1e-3", "process.winding_width=5e-3",
-                    "process.layers=2", "physics.flanges=true", "physics.wire_contact=true",
-                    "process.turns=8"},
+                    "process.traverse_pitch=1e-3", "process.winding_width=5e-3", "process.layers=2",
+                    "physics.flanges=true", "physics.wire_contact=true", "process.turns=8"},
                    {}});
   // A long run at production speed (the scene's speed limit for setpoints):
   // 100 turns take 1 s. On the paper's core with 2 mm segments they feed

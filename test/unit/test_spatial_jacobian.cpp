@@ -227,10 +227,10 @@ TEST(SpatialJacobian, ContactDashpotsMatchFiniteDifferences) {
 // whose second turn lies beside the first and whose first layer ends at a
 // flange.
 TEST(SpatialJacobian, FlangeAndWireContactMatchFiniteDifferences) {
-  const Coverage c = checkAllAt(0.1, 5,
-                                {"process.core_speed_rpm=1200", "solver.carry_stuck_wire=true",
-                                 "solver.integrator=bdf2", "process.winding_width=2.2e-3",
-                                 "physics.flanges=true", "physics.wire_contact=true"});
+  const Coverage c = checkAllAt(
+      0.1, 5,
+      {"process.core_speed_rpm=1200", "solver.carry_stuck_wire=true", "solver.integrator=bdf2",
+       "process.winding_width=2.2e-3", "physics.flanges=true", "physics.wire_contact=true"});
   std::printf("touching %d, stuck %d, on wound wire %d, on a flange %d\n", c.touching, c.stuck,
               c.on_wire, c.on_flange);
   EXPECT_GT(c.on_wire, 0);

@@ -72,11 +72,11 @@ TEST(Flanges, PushIntoTheWindingByThePenaltyLaw) {
   auto at = [&](double axial) { return Eigen::Vector3d(far + (axial - far.dot(axis)) * axis); };
   const double h1 = 1e-5, h2 = 2e-5;  // penetrations [m]
   b.k.p_world.col(0) = at(0.5 * (at0 + at1));
-  b.k.p_world.col(1) = at(at0 + r - h1);   // into the first flange
+  b.k.p_world.col(1) = at(at0 + r - h1);       // into the first flange
   b.k.p_world.col(2) = at(0.5 * (at0 + at1));  // between them
-  b.k.p_world.col(3) = at(at1 - r + h2);   // into the second
-  b.k.p_world.col(4) = at(at1 + 3.0 * r);  // beyond the second
-  b.k.p_world.col(5) = at(at0 - 3.0 * r);  // beyond the first
+  b.k.p_world.col(3) = at(at1 - r + h2);       // into the second
+  b.k.p_world.col(4) = at(at1 + 3.0 * r);      // beyond the second
+  b.k.p_world.col(5) = at(at0 - 3.0 * r);      // beyond the first
   b.evaluate(contact);
   const double k = s.contact.stiffness;
   EXPECT_LT((b.f.f_world.col(1) - k * h1 * axis).norm(), 1e-9 * k * h1);
@@ -107,8 +107,7 @@ TEST(Flanges, ACornerPointFeelsTheCoreAndTheFlange) {
   const Eigen::Vector3d out(1.0, 0.0, 0.0);
   const double h_c = 3e-6, h_f = 7e-6;
   const Eigen::Vector3d radial =
-      Eigen::Vector3d(cyl.center_core.x(), cyl.center_core.y(), 0.0) +
-      (cyl.radius + r - h_c) * out;
+      Eigen::Vector3d(cyl.center_core.x(), cyl.center_core.y(), 0.0) + (cyl.radius + r - h_c) * out;
   b.k.p_world.col(1) = radial + (at0 + r - h_f) * axis;
   b.evaluate(contact);
   const double k = s.contact.stiffness;

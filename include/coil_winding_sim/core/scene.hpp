@@ -150,8 +150,8 @@ struct PhysicsSwitches {
   bool flanges = false;   // the core's flanges at the ends of process.winding_width (3-D)
   // Wire against the wound wire the core carries, segments as capsules (3-D).
   bool wire_contact = false;
-  bool supply = false;    // wire drawn in through a port at constant tension
-  bool planar = false;    // motion kept in the plane normal to the core axis
+  bool supply = false;  // wire drawn in through a port at constant tension
+  bool planar = false;  // motion kept in the plane normal to the core axis
 };
 
 // The wire supply (paper's section IV): the wire enters through a port at

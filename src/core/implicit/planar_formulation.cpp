@@ -90,9 +90,8 @@ void PlanarFormulation::placeBoundary(double t) {
   const int b = state_.first - 1;
   // On the core it moves as the scheme moves the core's material; its exact
   // velocity is kept for the work booked.
-  const Eigen::Vector3d v_world = model_.prescribedOnCore()
-                                      ? state_.carried.velocity(p_boundary_world_)
-                                      : v_boundary_world_;
+  const Eigen::Vector3d v_world =
+      model_.prescribedOnCore() ? state_.carried.velocity(p_boundary_world_) : v_boundary_world_;
   state_.x.col(b) = state_.plane.toPlane(p_boundary_world_);
   state_.v.col(b) = state_.plane.vectorToPlane(v_world);
   state_.boundary_tangent = state_.plane.vectorToPlane(quat::zeta(q)).normalized();
@@ -157,8 +156,7 @@ double PlanarFormulation::residual(bool jacobian) {
 }
 
 NewtonStats PlanarFormulation::solve(const OneLegStep& step, const Eigen::MatrixXd& x_hat,
-                                     const Eigen::MatrixXd& v_hat,
-                                     const Eigen::MatrixXd& x_guess) {
+                                     const Eigen::MatrixXd& v_hat, const Eigen::MatrixXd& x_guess) {
   const int f = state_.first, n = state_.n, m = n - f;
   const double t1 = step.t1, alpha = step.alpha, kappa = step.kappa;
   state_.carried = carried_.trial(step);

@@ -86,7 +86,7 @@ struct PlanarState {
   Eigen::Vector2d boundary_tangent = Eigen::Vector2d::UnitX();
   double boundary_omega = 0.0;
   double lambda_port = 0.0;  // port constraint multiplier [N]
-  CarriedRate carried;  // the scheme velocity of the core's material
+  CarriedRate carried;       // the scheme velocity of the core's material
   // The plane normal in the frames' material axes (xi, eta, zeta): the
   // same for every frame of a planar wire, so a bend about n is the
   // curvature vector kappa n_material.
