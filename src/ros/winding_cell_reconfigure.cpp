@@ -36,6 +36,23 @@ void WindingCell::startReconfigure() {
   reconfigure_->setCallback([this](Config& config, uint32_t) { onReconfigure(config); });
 }
 
+// After a restore: the snapshot's friction and damping, in the server and
+// in the values the next change is compared with.
+void WindingCell::showSceneInReconfigure() {
+  if (!reconfigure_) return;
+  Config c;
+  {
+    std::lock_guard<std::mutex> lock(sim_mutex_);
+    c = applied_;
+    c.static_friction = scene_.contact.static_friction;
+    c.kinetic_friction = scene_.contact.kinetic_friction;
+    c.damping_translational = scene_.damping.translational;
+    c.damping_rotational = scene_.damping.rotational;
+    applied_ = c;
+  }
+  reconfigure_->updateConfig(c);
+}
+
 void WindingCell::onReconfigure(Config& c) {
   std::lock_guard<std::mutex> lock(sim_mutex_);
   std::vector<std::string> refused;

@@ -115,11 +115,16 @@ bool WindingCell::onRestore(coil_winding_sim::Restore::Request& req,
       if (!why.empty()) why = cws::tensionText(state.model.tension_N) + " " + why;
     }
     if (!why.empty()) throw std::runtime_error("'" + req.path + "': its setpoint, " + why);
-    std::lock_guard<std::mutex> lock(sim_mutex_);
-    setScene(scene);
-    replace(std::move(restored));
-    speed_setpoint_ = state.model.core[3];
-    tension_setpoint_ = sim_->model().supply() ? state.model.tension_N : scene_.process.tension;
+    {
+      std::lock_guard<std::mutex> lock(sim_mutex_);
+      setScene(scene);
+      replace(std::move(restored));
+      speed_setpoint_ = state.model.core[3];
+      tension_setpoint_ = sim_->model().supply() ? state.model.tension_N : scene_.process.tension;
+    }
+    // The live parameters show the snapshot's friction and damping (outside
+    // the simulation's lock: the server's callback takes it).
+    showSceneInReconfigure();
     res.success = true;
     res.message = "restored t = " + std::to_string(state.time_s) + " s from " + req.path;
   } catch (const std::exception& e) {

@@ -3,16 +3,21 @@
 // in winding_metrics; new friction coefficients act in the simulation (its
 // scene, shown in /diagnostics); coefficients the scene's rules refuse
 // (kinetic above static) are refused, the server answering with the values
-// in use.
+// in use. A restore brings back the snapshot's friction, in the simulation
+// and in the server.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <dynamic_reconfigure/Reconfigure.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <unistd.h>
 
+#include <cstdio>
 #include <map>
 #include <mutex>
 #include <string>
 
+#include "coil_winding_sim/Restore.h"
+#include "coil_winding_sim/Snapshot.h"
 #include "coil_winding_sim/WindingMetrics.h"
 #include "ros_test_support.hpp"
 
@@ -87,6 +92,46 @@ TEST(Reconfigure, PaceAndFrictionTakeEffectAndABadPairIsRefused) {
   EXPECT_EQ(in_use["static_friction"], 0.5);
   ros::WallDuration(1.5).sleep();  // a diagnostics period
   EXPECT_EQ(kinetic(), 0.4);
+}
+
+// Friction changed after a snapshot: the restore brings back the
+// snapshot's, which the server then shows and compares the next change
+// with.
+TEST(Reconfigure, RestoreShowsTheSnapshotsFriction) {
+  Listener l;
+  ASSERT_TRUE(ros::service::waitForService("/winding_cell/set_parameters", 30000));
+  ASSERT_TRUE(ros::service::waitForService("/winding_cell/restore", 30000));
+  auto kinetic = [&] {
+    std::lock_guard<std::mutex> lock(l.mutex);
+    return l.kinetic;
+  };
+  std::map<std::string, double> in_use = set({});
+  const double mu_s = in_use["static_friction"], mu_d = in_use["kinetic_friction"];
+  ASSERT_GT(mu_s, 0.0);
+  const std::string path = "/tmp/test_reconfigure_" + std::to_string(getpid()) + ".bag";
+  coil_winding_sim::Snapshot snap;
+  snap.request.path = path;
+  ASSERT_TRUE(ros::service::call("/winding_cell/snapshot", snap) && snap.response.success)
+      << snap.response.message;
+
+  in_use = set({{"static_friction", 0.7}, {"kinetic_friction", 0.45}});
+  ASSERT_EQ(in_use["kinetic_friction"], 0.45);
+  ASSERT_TRUE(waitFor([&] { return kinetic() == 0.45; }, 10.0)) << kinetic();
+
+  coil_winding_sim::Restore restore;
+  restore.request.path = path;
+  ASSERT_TRUE(ros::service::call("/winding_cell/restore", restore) && restore.response.success)
+      << restore.response.message;
+  EXPECT_TRUE(waitFor([&] { return kinetic() == mu_d; }, 10.0)) << kinetic();
+  in_use = set({});
+  EXPECT_EQ(in_use["static_friction"], mu_s);
+  EXPECT_EQ(in_use["kinetic_friction"], mu_d);
+  // The next change is compared with the restored values: setting the
+  // pre-restore pair again takes effect.
+  in_use = set({{"static_friction", 0.7}, {"kinetic_friction", 0.45}});
+  EXPECT_EQ(in_use["kinetic_friction"], 0.45);
+  EXPECT_TRUE(waitFor([&] { return kinetic() == 0.45; }, 10.0)) << kinetic();
+  std::remove(path.c_str());
 }
 
 }  // namespace

@@ -94,6 +94,7 @@ class WindingCell {
   // ---- live parameters (winding_cell_reconfigure.cpp)
   void startReconfigure();
   void onReconfigure(coil_winding_sim::WindingCellConfig& config);
+  void showSceneInReconfigure();
 
   // ---- setpoints (winding_cell_inputs.cpp)
   struct TopicWarnings {
