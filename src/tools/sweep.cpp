@@ -18,6 +18,7 @@
 #include "coil_winding_sim/core/output.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/text_format.hpp"
 #include "run_store.hpp"
 #include "stability.hpp"
 #include "study.hpp"
@@ -77,13 +78,6 @@ std::string readText(const std::string& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-std::string csvField(const std::string& s) {
-  if (s.find_first_of(",\"") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
 }
 
 // The numbers of a case's summary.json: its top-level scalars, and those of
@@ -343,12 +337,12 @@ int gatherSweep(const std::string& dir) {
   // results.csv: every figure; results.md: the ones an engineer reads first.
   std::ostringstream csv, md;
   csv << "case";
-  for (const std::string& k : plan.keys) csv << "," << csvField(k);
+  for (const std::string& k : plan.keys) csv << "," << cws::csvField(k);
   csv << ",status,error";
   for (const std::string& c : columns) csv << "," << c;
   csv << "\n";
   md << "| case |";
-  for (const std::string& k : plan.keys) md << " " << k << " |";
+  for (const std::string& k : plan.keys) md << " " << cws::markdownCell(k) << " |";
   md << " status | bulging height [mm] | max penetration / r | real-time factor | wall time [s] "
         "|\n|---|";
   for (std::size_t k = 0; k < plan.keys.size(); ++k) md << "---|";
@@ -358,8 +352,8 @@ int gatherSweep(const std::string& dir) {
     const CaseStatus& s = status[i];
     const std::string state = s.present ? s.status : "pending";
     csv << plan.caseDir(i);
-    for (const std::string& v : plan.cases[i]) csv << "," << csvField(v);
-    csv << "," << state << "," << csvField(s.error);
+    for (const std::string& v : plan.cases[i]) csv << "," << cws::csvField(v);
+    csv << "," << state << "," << cws::csvField(s.error);
     std::map<std::string, double> values(numbers[i].begin(), numbers[i].end());
     for (const std::string& c : columns) {
       csv << ",";
@@ -371,9 +365,10 @@ int gatherSweep(const std::string& dir) {
     }
     csv << "\n";
     md << "| " << plan.caseDir(i) << " |";
-    for (const std::string& v : plan.cases[i]) md << " " << v << " |";
+    for (const std::string& v : plan.cases[i]) md << " " << cws::markdownCell(v) << " |";
     if (state != "ok") {
-      md << " " << state << (s.error.empty() ? "" : ": " + s.error) << " | | | | |\n";
+      md << " " << state << (s.error.empty() ? "" : ": " + cws::markdownCell(s.error))
+         << " | | | | |\n";
       continue;
     }
     auto cell = [&](const char* key, double scale, const char* format) {

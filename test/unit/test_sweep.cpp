@@ -7,6 +7,7 @@
 
 #include "cli_test_support.hpp"
 #include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/text_format.hpp"
 #include "sweep.hpp"
 #include "sweep_plan.hpp"
 
@@ -115,6 +116,18 @@ TEST(SweepGrid, BadKeysAndValuesAreNamedBeforeAnythingRuns) {
     EXPECT_TRUE(contains(e.what(), "sweep case 1: process.tension=-5")) << e.what();
   }
   EXPECT_THROW(cws_tools::checkPlan(cws_tools::gridPlan("", {}, {})), SweepError);
+}
+
+// The tables' text: a CSV field is quoted (RFC 4180) when it holds a comma,
+// a quote or a line break; a Markdown cell escapes its bars and keeps its
+// row on one line (an error message may hold either).
+TEST(SweepTables, CsvFieldsAndMarkdownCellsKeepTheirText) {
+  EXPECT_EQ(cws::csvField("plain"), "plain");
+  EXPECT_EQ(cws::csvField("a,b"), "\"a,b\"");
+  EXPECT_EQ(cws::csvField("say \"hi\""), "\"say \"\"hi\"\"\"");
+  EXPECT_EQ(cws::csvField("two\nlines"), "\"two\nlines\"");
+  EXPECT_EQ(cws::markdownCell("plain"), "plain");
+  EXPECT_EQ(cws::markdownCell("a | b\nc\r\n"), "a \\| b c  ");
 }
 
 TEST(SweepGrid, PlanTextRoundTrip) {
