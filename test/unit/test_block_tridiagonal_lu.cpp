@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <string>
 
 #include "coil_winding_sim/core/linear_algebra/block_tridiagonal_lu.hpp"
 
@@ -21,12 +22,18 @@ constexpr int kC = 7;  // the 3-D system's coupling: q and p, not the multiplier
 // both ways; the rest is diagonally heavy as inertia over h^2 makes it.
 // With coupling C < B the off-diagonal blocks are zero beyond their first
 // C rows (above the diagonal) and columns (below it).
+// port: the last two unknowns are a port's multipliers (zero diagonal, a
+// block singular on its own, factored with the block before it).
 template <int C>
-void fill(int n, std::mt19937& rng, Eigen::MatrixXd& dense, cws::BlockTridiagonalLu<kB, C>& lu) {
+void fill(int n, std::mt19937& rng, Eigen::MatrixXd& dense, cws::BlockTridiagonalLu<kB, C>& lu,
+          bool port = false) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   dense.setZero(n, n);
-  lu.setZero(n);
-  auto multiplier = [](int i) { return C < kB ? i % kB >= C : i % kB >= 4 && i % kB < 7; };
+  lu.setZero(n, port);
+  auto multiplier = [&](int i) {
+    if (port && i >= n - 2) return true;
+    return C < kB ? i % kB >= C : i % kB >= 4 && i % kB < 7;
+  };
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
       if (std::abs(i / kB - j / kB) > 1) continue;
@@ -42,11 +49,11 @@ void fill(int n, std::mt19937& rng, Eigen::MatrixXd& dense, cws::BlockTridiagona
 }
 
 template <int C = kB>
-void check(int n, std::mt19937& rng) {
+void check(int n, std::mt19937& rng, bool port = false) {
   cws::BlockTridiagonalLu<kB, C> lu;
   lu.resize(n + 25);  // room for more than this matrix, as in a run
   Eigen::MatrixXd dense;
-  fill(n, rng, dense, lu);
+  fill(n, rng, dense, lu, port);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Eigen::VectorXd b(n);
   for (int i = 0; i < n; ++i) b[i] = u(rng);
@@ -76,6 +83,11 @@ TEST(BlockTridiagonalLu, MatchesADenseLuOnSaddlePointBlocks) {
   check<kC>(10, rng);
   check<kC>(402, rng);
   check<kC>(127, rng);
+  // A port's two multipliers after the last point (the 3-D system with a
+  // supply): a last block singular on its own.
+  check<kC>(402, rng, true);
+  check<kC>(12, rng, true);
+  check<kC>(22, rng, true);
   // The same storage reused for a smaller and a larger matrix.
   cws::BlockTridiagonalLu<kB> lu;
   lu.resize(300);
@@ -87,6 +99,49 @@ TEST(BlockTridiagonalLu, MatchesADenseLuOnSaddlePointBlocks) {
     lu.solve(x);
     EXPECT_LT((dense * x - b).norm() / b.norm(), 1e-9) << "n = " << n;
   }
+}
+
+// Refactoring the first blocks only: the factors of the later block rows
+// are kept, so the solve is that of the matrix whose first block rows are
+// the new ones and whose later rows are the old ones (a dense LU of that
+// hybrid is the independent answer). A matrix of another size is factored
+// whole.
+TEST(BlockTridiagonalLu, FactorFromKeepsTheLaterBlockRows) {
+  std::mt19937 rng(11);
+  cws::BlockTridiagonalLu<kB, kC> lu;
+  lu.resize(402);
+  for (bool port : {false, true}) {
+    for (int n : {402, 127}) {
+      for (int top : {0, 3, 9}) {
+        Eigen::MatrixXd old_rows, new_rows;
+        fill(n, rng, old_rows, lu, port);
+        ASSERT_TRUE(lu.factor()) << "n = " << n << ", top " << top << ", port " << port;
+        fill(n, rng, new_rows, lu, port);
+        ASSERT_TRUE(lu.factorFrom(top));
+        const int rows = std::min(n, (top + 1) * kB);
+        Eigen::MatrixXd hybrid = old_rows;
+        hybrid.topRows(rows) = new_rows.topRows(rows);
+        Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0), x = b;
+        lu.solve(x);
+        const Eigen::VectorXd x_dense = hybrid.partialPivLu().solve(b);
+        const std::string what =
+            "n = " + std::to_string(n) + ", top " + std::to_string(top) + (port ? ", port" : "");
+        // (Random saddle points: the residual within rounding of a poorly
+        // conditioned matrix; the dense LU's solution is the sharper check.)
+        EXPECT_LT((hybrid * x - b).norm() / b.norm(), 1e-8) << what;
+        EXPECT_LT((x - x_dense).norm() / x_dense.norm(), 1e-10) << what;
+        // Not the new matrix's solution: the later rows are old.
+        EXPECT_GT((new_rows * x - b).norm() / b.norm(), 1e-3) << what;
+      }
+    }
+  }
+  // Another size after the last factorization: factored whole.
+  Eigen::MatrixXd dense;
+  fill(212, rng, dense, lu);
+  ASSERT_TRUE(lu.factorFrom(2));
+  Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(212, -1.0, 2.0), x = b;
+  lu.solve(x);
+  EXPECT_LT((dense * x - b).norm() / b.norm(), 1e-9);
 }
 
 TEST(BlockTridiagonalLu, ReportsASingularBlock) {

@@ -206,6 +206,7 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
       if (fresh) {
         trial_stuck_[x] = 0;
         changed = true;
+        s.flagChangedAt(i);
       }
       if (!on || !friction_) continue;
       const Eigen::Vector3d v_rel = s.v.col(i) - s.carried.velocity(p);
@@ -222,6 +223,7 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
           trial_slip_world_[x] = pull.normalized();
           ++trial_releases_[x];
           changed = true;
+          s.flagChangedAt(i);
         }
         continue;
       }
@@ -238,6 +240,7 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
         trial_stuck_[x] = 1;
         trial_anchor_core_[x] = rot_world_core_.transpose() * (p - core_.originWorld());
         changed = true;
+        s.flagChangedAt(i);
       } else if (!known && speed > 0.0) {
         trial_slip_world_[x] = vh / speed;
       }

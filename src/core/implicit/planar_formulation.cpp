@@ -175,7 +175,10 @@ NewtonStats PlanarFormulation::solve(const OneLegStep& step, const Eigen::Matrix
   return newtonSolve(*this, newton_, have_factor_);
 }
 
-bool PlanarFormulation::factor() {
+// (The planar system is factored whole: a banded LU.)
+int PlanarFormulation::changedTop() const { return -1; }
+
+bool PlanarFormulation::factor(int /*top_point*/) {
   if (!assembly_.matrix().factor()) return false;
   factored_ = {alpha_, kappa_, state_.first, state_.n};
   return true;

@@ -32,7 +32,7 @@ void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double a
   power_dissipated = 0.0;
   boundary_force.setZero();
   boundary_fq.setZero();
-  if (jacobian_) matrix_.setZero(unknowns_);
+  if (jacobian_) matrix_.setZero(unknowns_, port);
 }
 
 void SpatialAssembly::setConstraint(int row, double g, double scale) {

@@ -155,8 +155,14 @@ NewtonStats SpatialFormulation::solve(const OneLegStep& step, const Eigen::Matri
   return newtonSolve(*this, newton_, have_factor_);
 }
 
-bool SpatialFormulation::factor() {
-  if (!assembly_.matrix().factor()) return false;
+// top_point >= 0: only the blocks of points first..top_point are factored
+// again (the others keep the factors of the last factorization of this
+// system, made at an earlier iterate: modified Newton).
+bool SpatialFormulation::factor(int top_point) {
+  SpatialAssembly::Matrix& m = assembly_.matrix();
+  const bool same = factored_ == FactorKey{alpha_, kappa_, state_.first, state_.n};
+  const bool ok = same && top_point >= 0 ? m.factorFrom(top_point - state_.first) : m.factor();
+  if (!ok) return false;
   factored_ = {alpha_, kappa_, state_.first, state_.n};
   return true;
 }
@@ -193,7 +199,10 @@ void SpatialFormulation::moveAlong(double s) {
   updateRates();
 }
 
+int SpatialFormulation::changedTop() const { return state_.changed_top; }
+
 bool SpatialFormulation::recheckFlags() {
+  state_.changed_top = -1;
   bool changed = false;
   for (ForceEffect* e : effects_) changed = e->recheckSpatialFlags(state_) || changed;
   return changed;

@@ -64,9 +64,9 @@ void RotationalSpring::beginLines(int first, int n) {
 }
 
 template <class Argument>
-bool RotationalSpring::recheckLines(int first, int n, Argument argument) {
-  if (!plastic_) return false;
-  bool changed = false;
+int RotationalSpring::recheckLines(int first, int n, Argument argument) {
+  if (!plastic_) return -1;
+  int changed = -1;
   for (int j = first - 1; j + 1 < n; ++j) {
     for (int c = 0; c < count_; ++c) {
       double x;
@@ -74,7 +74,7 @@ bool RotationalSpring::recheckLines(int first, int n, Argument argument) {
       const int idx = j * count_ + c;
       if (!law_.lineHolds(x, upper_[idx], line_[idx])) {
         line_[idx] = static_cast<signed char>(law_.branch(x, upper_[idx]));
-        changed = true;
+        changed = j;
       }
     }
   }
@@ -91,7 +91,7 @@ void RotationalSpring::beginImplicitStep(const PlanarState& s0) { beginLines(s0.
 
 bool RotationalSpring::recheckFlags(const PlanarState& s) {
   return recheckLines(s.first, s.n,
-                      [&](int j, int c, double& x) { return planarArgument(s, j, c, x); });
+                      [&](int j, int c, double& x) { return planarArgument(s, j, c, x); }) >= 0;
 }
 
 bool RotationalSpring::planarArgument(const PlanarState& s, int j, int c, double& x) const {
@@ -108,7 +108,7 @@ bool RotationalSpring::recheckSpatialFlags(const SpatialState& s) {
   // One Darboux vector per joint for all of its components.
   int joint = -1;
   Eigen::Vector3d omega;
-  return recheckLines(s.first, s.n, [&](int j, int c, double& x) {
+  const int changed = recheckLines(s.first, s.n, [&](int j, int c, double& x) {
     if (j != joint) {
       joint = j;
       omega = darboux(s, j);
@@ -116,6 +116,9 @@ bool RotationalSpring::recheckSpatialFlags(const SpatialState& s) {
     x = omega[first_ + c];
     return true;
   });
+  // (The highest joint changed, j to j + 1.)
+  if (changed >= 0) s.flagChangedAt(changed + 1);
+  return changed >= 0;
 }
 
 void RotationalSpring::adoptFlags() {

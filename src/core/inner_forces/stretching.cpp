@@ -55,6 +55,7 @@ bool Stretching::recheckLines(const State& s) {
     if (!law_.lineHolds(x, upper_[j], line_[j])) {
       line_[j] = static_cast<signed char>(law_.branch(x, upper_[j]));
       changed = true;
+      s.flagChangedAt(j + 1);
     }
   }
   return changed;

@@ -41,7 +41,9 @@ struct NewtonSettings {
 
 // Problem: the formulation's trial state and Newton system, with
 //   double residual(bool jacobian)  assembles; the residual's norm
-//   bool factor()                   factors the Jacobian just assembled
+//   bool factor(int top)            factors the Jacobian just assembled; top >= 0:
+//                                   only from point `top` down (flag rounds)
+//   int changedTop()                the highest point the last recheck changed
 //   double direction()              the Newton direction; its size [m]
 //   void keepStart()                remembers the present iterate
 //   void moveAlong(double s)        iterate = kept + s direction (rates too)
@@ -50,6 +52,7 @@ struct NewtonSettings {
 template <class Problem>
 NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) {
   NewtonStats st;
+  int top = -1;  // the next factorization: all of it, or from a flag round's highest point down
   for (int round = 0; round <= c.flag_rounds; ++round) {
     bool converged = false, evaluated = true;
     // A round that will factor assembles the Jacobian with its first
@@ -63,7 +66,8 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
       if (!have_factor) {
         if (!assembled) p.residual(true);
         assembled = false;
-        if (!p.factor()) return st;
+        if (!p.factor(top)) return st;
+        top = -1;
         have_factor = fresh = true;
         ++st.factorizations;
       }
@@ -113,8 +117,11 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
     if (round < c.flag_rounds) ++st.flag_rounds;
     // Changed flags change the system (a stick spring, a contact, a
     // hysteresis line's slope): the next round starts from a new Jacobian,
-    // as the old one's steps would mostly be cut by the line search.
+    // as the old one's steps would mostly be cut by the line search. Only
+    // the blocks up to the highest changed point are factored again (they
+    // lie near the core, where the elimination ends).
     have_factor = false;
+    top = p.changedTop();
   }
   // Flags still changing after the last round: the step is retried smaller.
   return st;

@@ -94,6 +94,8 @@ struct PlanarState {
   PlaneBasis plane;
 
   Eigen::Vector2d segment(int j) const { return x.col(j + 1) - x.col(j); }
+  // (The planar system is factored whole after a flag change.)
+  void flagChangedAt(int) const {}
 };
 
 // The Newton system of one implicit step over the integrated points'

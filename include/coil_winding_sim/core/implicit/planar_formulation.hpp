@@ -67,11 +67,12 @@ class PlanarFormulation : public NewtonFormulation {
   // The Problem of newtonSolve (newton_iteration.hpp).
   template <class Problem>
   friend NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor);
-  bool factor();
+  bool factor(int top_point);
   double direction();
   void keepStart();
   void moveAlong(double s);
   bool recheckFlags();
+  int changedTop() const;
 
   WireModel& model_;
   std::vector<ForceEffect*> effects_;

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 
 #include "coil_winding_sim/core/implicit/one_leg_step.hpp"
 #include "coil_winding_sim/core/linear_algebra/block_tridiagonal_lu.hpp"
@@ -30,8 +31,12 @@ struct SpatialState {
   Eigen::Matrix3Xd mu;     // frame constraint multipliers, per frame i >= first
   Eigen::Vector2d lambda_port = Eigen::Vector2d::Zero();  // port constraint multipliers [N]
   CarriedRate carried;  // the scheme velocity of the core's material
+  // The highest point whose blocks a flag recheck changed (-1: none): the
+  // factorization is made again from there to the first point only.
+  mutable int changed_top = -1;
 
   Eigen::Vector3d segment(int j) const { return p.col(j + 1) - p.col(j); }
+  void flagChangedAt(int i) const { changed_top = std::max(changed_top, i); }
 };
 
 // The Newton system over the integrated points' unknowns, in blocks of

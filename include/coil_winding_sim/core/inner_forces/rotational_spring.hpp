@@ -74,7 +74,7 @@ class RotationalSpring : public ForceEffect {
   // false to skip the law.
   void beginLines(int first, int n);
   template <class Argument>
-  bool recheckLines(int first, int n, Argument argument);
+  int recheckLines(int first, int n, Argument argument);  // the highest joint changed, or -1
 
   const char* name_;
   const WireConstants& c_;  // the model's: n grows with a supply

@@ -1,13 +1,15 @@
 // LU factorization of a block-tridiagonal matrix with square B x B blocks
-// (block elimination, the block form of the Thomas algorithm): each
-// diagonal block, less what the block above passes down, is factored with
-// partial pivoting within the block; no rows are exchanged between blocks.
-// That suits systems whose diagonal blocks are each nonsingular, such as the
-// 3-D Newton system (a point's inertia and springs plus its frame
-// constraints: a local saddle point, docs/MODEL.md), and runs on fixed-size
-// blocks that the compiler unrolls and vectorizes. A size n that is not a
-// multiple of B is padded with identity rows. Storage is sized once; factor
-// and solve allocate nothing.
+// (block elimination, the block form of the Thomas algorithm), from the last
+// block to the first: each diagonal block, less what the block after it
+// passes on, is inverted with partial pivoting within the block; no rows are
+// exchanged between blocks. That suits systems whose diagonal blocks are
+// each nonsingular, such as the 3-D Newton system (a point's inertia and
+// springs plus its frame constraints: a local saddle point, docs/MODEL.md),
+// and runs on fixed-size blocks that the compiler unrolls and vectorizes. A
+// last block that is singular on its own (the port's two multipliers, with
+// a zero diagonal) is inverted together with the block before it
+// (`merge_last`). A size n that is not a multiple of B is padded with
+// identity rows. Storage is sized once; factor and solve allocate nothing.
 //
 // Coupling C <= B: only the first C unknowns of a block couple to the
 // neighbouring blocks (an off-diagonal block is zero outside its first C
@@ -16,6 +18,11 @@
 // a multiplier acts on its own point and the one before, never on the next
 // point's unknowns. The elimination's products then run over C instead of B
 // (debug builds check the zeros).
+//
+// The factors are kept apart from the matrix, so that a matrix assembled
+// anew can have only its first block rows factored again (factorFrom): the
+// elimination ends at block 0, and the factors of the later block rows stay
+// valid for those rows as they were.
 #pragma once
 
 #include <Eigen/Core>
@@ -32,6 +39,9 @@ class BlockTridiagonalLu {
  public:
   using Block = Eigen::Matrix<double, B, B>;
   using Segment = Eigen::Matrix<double, B, 1>;
+  using Coupling = Eigen::Matrix<double, B, C>;   // W_k's first C columns
+  using CouplingT = Eigen::Matrix<double, C, B>;  // U_k's first C rows
+  using Pair = Eigen::Matrix<double, 2 * B, 1>;
 
   // Storage for matrices of up to `capacity` unknowns.
   void resize(int capacity) {
@@ -39,14 +49,20 @@ class BlockTridiagonalLu {
     diag_.assign(blocks, Block::Zero());
     lower_.assign(blocks, Block::Zero());
     upper_.assign(blocks, Block::Zero());
+    inv_.assign(blocks, Block::Zero());
+    w_.assign(blocks, Coupling::Zero());
+    u_.assign(blocks, CouplingT::Zero());
     work_.setZero(static_cast<Eigen::Index>(blocks) * B);
-    n_ = 0;
-    m_ = 0;
+    n_ = m_ = 0;
+    factored_n_ = -1;
   }
-  // Starts a matrix of size n (<= capacity): all zero.
-  void setZero(int n) {
+  // Starts a matrix of size n (<= capacity): all zero. merge_last: the last
+  // block is inverted together with the one before it (it needs two blocks
+  // at least). The factors of the last factorization stay (factorFrom).
+  void setZero(int n, bool merge_last = false) {
     n_ = n;
     m_ = (n + B - 1) / B;
+    merge_ = merge_last && m_ >= 2;
     for (int k = 0; k < m_; ++k) {
       diag_[k].setZero();
       lower_[k].setZero();
@@ -63,24 +79,45 @@ class BlockTridiagonalLu {
     return bi == bj ? diag_[bi] : (bi > bj ? lower_[bi] : upper_[bi]);
   }
 
-  // Factors in place: diag_[k] becomes the inverse of the k-th pivot block
-  // S_k = D_k - L_k S_k-1^-1 U_k-1 and upper_[k] becomes S_k^-1 U_k. False
-  // if a pivot block is singular or not finite.
-  bool factor() {
-    for (int r = n_; r < m_ * B; ++r) diag_[m_ - 1](r % B, r % B) = 1.0;
-    for (int k = 0; k < m_; ++k) {
-      assert(k == 0 || lower_[k].template rightCols<B - C>().isZero(0.0));
-      if (k > 0) {
-        diag_[k].noalias() -=
-            lower_[k].template leftCols<C>().lazyProduct(upper_[k - 1].template topRows<C>());
-      }
-      if (!invert(diag_[k])) return false;
+  // Factors the whole matrix. False if a pivot block is singular or not
+  // finite.
+  bool factor() { return factorFrom(m_ - 1); }
+
+  // Factors block rows top..0 of the matrix as assembled now and keeps the
+  // factors of the later rows from the last factorization of a matrix of
+  // the same size and form (without one, or with top at the merged pair,
+  // all rows). The result factors the matrix whose block rows 0..top are
+  // today's and whose others are those of their last factorization. With k
+  // from top down to 0:
+  //   S_k = D_k - U_k W_k+1,  W_k = S_k^-1 L_k,
+  // kept as inv_[k] = S_k^-1, w_[k] = the first C columns of W_k (the others
+  // are zero) and u_[k] = the first C rows of U_k.
+  bool factorFrom(int top) {
+    const int last = merge_ ? m_ - 3 : m_ - 1;  // the last single block
+    if (factored_n_ != n_ || factored_merge_ != merge_ || top >= last || top < 0) {
+      top = last;
+      factored_n_ = -1;
+      for (int r = n_; r < m_ * B; ++r) diag_[m_ - 1](r % B, r % B) = 1.0;
+      if (merge_ && !factorPair()) return false;
+    }
+    factored_n_ = -1;  // (again once every block is factored)
+    for (int k = top; k >= 0; --k) {
+      Block s = diag_[k];
       if (k + 1 < m_) {
         assert(upper_[k].template bottomRows<B - C>().isZero(0.0));
-        const Eigen::Matrix<double, C, B> u = upper_[k].template topRows<C>();
-        upper_[k].noalias() = diag_[k].template leftCols<C>().lazyProduct(u);
+        u_[k] = upper_[k].template topRows<C>();
+        const Coupling& w_next = (merge_ && k + 1 == m_ - 2) ? pair_w_top_ : w_[k + 1];
+        s.template topLeftCorner<C, C>().noalias() -= u_[k].lazyProduct(w_next);
+      }
+      if (!invert(s)) return false;
+      inv_[k] = s;
+      if (k > 0) {
+        assert(lower_[k].template rightCols<B - C>().isZero(0.0));
+        w_[k].noalias() = inv_[k].lazyProduct(lower_[k].template leftCols<C>());
       }
     }
+    factored_n_ = n_;
+    factored_merge_ = merge_;
     return true;
   }
 
@@ -88,19 +125,34 @@ class BlockTridiagonalLu {
   void solve(Eigen::Ref<Eigen::VectorXd> b) const {
     work_.head(n_) = b.head(n_);
     work_.segment(n_, m_ * B - n_).setZero();
-    // Forward: y_k = S_k^-1 (b_k - L_k y_k-1).
-    Segment y = diag_[0].lazyProduct(work_.template segment<B>(0));
-    work_.template segment<B>(0) = y;
-    for (int k = 1; k < m_; ++k) {
+    // From the last block up: y_k = S_k^-1 (b_k - U_k y_k+1).
+    int k = m_ - 1;
+    Segment y;
+    if (merge_) {
+      const Pair yp = pair_inv_.lazyProduct(work_.template segment<2 * B>((m_ - 2) * B));
+      work_.template segment<2 * B>((m_ - 2) * B) = yp;
+      y = yp.template head<B>();
+      k = m_ - 3;
+    } else {
+      y = inv_[k].lazyProduct(work_.template segment<B>(k * B));
+      work_.template segment<B>(k * B) = y;
+      --k;
+    }
+    for (; k >= 0; --k) {
       Segment r = work_.template segment<B>(k * B);
-      r.noalias() -= lower_[k].template leftCols<C>().lazyProduct(y.template head<C>());
-      y.noalias() = diag_[k].lazyProduct(r);
+      r.template head<C>().noalias() -= u_[k].lazyProduct(y);
+      y.noalias() = inv_[k].lazyProduct(r);
       work_.template segment<B>(k * B) = y;
     }
-    // Back: x_k = y_k - (S_k^-1 U_k) x_k+1.
-    for (int k = m_ - 2; k >= 0; --k) {
-      const Segment x_next = work_.template segment<B>((k + 1) * B);
-      work_.template segment<B>(k * B).noalias() -= upper_[k].lazyProduct(x_next);
+    // From block 0 down: x_k = y_k - W_k x_k-1.
+    const int singles = merge_ ? m_ - 2 : m_;
+    for (k = 1; k < singles; ++k) {
+      const Eigen::Matrix<double, C, 1> x_prev = work_.template segment<C>((k - 1) * B);
+      work_.template segment<B>(k * B).noalias() -= w_[k].lazyProduct(x_prev);
+    }
+    if (merge_ && m_ > 2) {
+      const Eigen::Matrix<double, C, 1> x_prev = work_.template segment<C>((m_ - 3) * B);
+      work_.template segment<2 * B>((m_ - 2) * B).noalias() -= pair_w_.lazyProduct(x_prev);
     }
     b.head(n_) = work_.head(n_);
   }
@@ -110,14 +162,15 @@ class BlockTridiagonalLu {
   // row-major copy, so each update is one contiguous fixed-size row): the
   // pivot column becomes the inverse's column as it is eliminated, and the
   // row exchanges are undone as column exchanges at the end.
-  static bool invert(Block& a_inout) {
-    using RowBlock = Eigen::Matrix<double, B, B, Eigen::RowMajor>;
+  template <int N>
+  static bool invert(Eigen::Matrix<double, N, N>& a_inout) {
+    using RowBlock = Eigen::Matrix<double, N, N, Eigen::RowMajor>;
     RowBlock w = a_inout;
-    int pivot_row[B];
-    for (int c = 0; c < B; ++c) {
+    int pivot_row[N];
+    for (int c = 0; c < N; ++c) {
       int p = c;
       double best = std::abs(w(c, c));
-      for (int r = c + 1; r < B; ++r) {
+      for (int r = c + 1; r < N; ++r) {
         if (std::abs(w(r, c)) > best) {
           best = std::abs(w(r, c));
           p = r;
@@ -129,7 +182,7 @@ class BlockTridiagonalLu {
       const double inv = 1.0 / w(c, c);
       w(c, c) = 1.0;
       w.row(c) *= inv;
-      for (int r = 0; r < B; ++r) {
+      for (int r = 0; r < N; ++r) {
         if (r == c) continue;
         const double f = w(r, c);
         if (f == 0.0) continue;
@@ -139,15 +192,41 @@ class BlockTridiagonalLu {
         w(r, c) = -f * inv;
       }
     }
-    for (int c = B - 1; c >= 0; --c) {
+    for (int c = N - 1; c >= 0; --c) {
       if (pivot_row[c] != c) w.col(c).swap(w.col(pivot_row[c]));
     }
     a_inout = w;
     return true;
   }
 
+  // The last two blocks as one pivot block (merge_last): its inverse, and
+  // W of the pair, S^-1 (L_m-2 over zeros), whose top half the block before
+  // reads.
+  bool factorPair() {
+    using PairBlock = Eigen::Matrix<double, 2 * B, 2 * B>;
+    PairBlock s;
+    s << diag_[m_ - 2], upper_[m_ - 2], lower_[m_ - 1], diag_[m_ - 1];
+    if (!invert(s)) return false;
+    pair_inv_ = s;
+    if (m_ > 2) {
+      assert(lower_[m_ - 2].template rightCols<B - C>().isZero(0.0));
+      pair_w_.noalias() =
+          pair_inv_.template leftCols<B>().lazyProduct(lower_[m_ - 2].template leftCols<C>());
+      pair_w_top_ = pair_w_.template topRows<B>();
+    }
+    return true;
+  }
+
   int n_ = 0, m_ = 0;
-  std::vector<Block, Eigen::aligned_allocator<Block>> diag_, lower_, upper_;
+  bool merge_ = false;
+  int factored_n_ = -1;  // the size of the last complete factorization
+  bool factored_merge_ = false;
+  std::vector<Block, Eigen::aligned_allocator<Block>> diag_, lower_, upper_, inv_;
+  std::vector<Coupling, Eigen::aligned_allocator<Coupling>> w_;
+  std::vector<CouplingT, Eigen::aligned_allocator<CouplingT>> u_;
+  Eigen::Matrix<double, 2 * B, 2 * B> pair_inv_;  // the merged last pair's
+  Eigen::Matrix<double, 2 * B, C> pair_w_;
+  Coupling pair_w_top_;
   mutable Eigen::VectorXd work_;
 };
 
