@@ -161,7 +161,10 @@ class ForceEffect {
   virtual void adoptFlags() {}
   // The 3-D implicit formulation (docs/MODEL.md, "Implicit integration of
   // 3-D scenes"): the same, with the explicit model's generalized forces on
-  // positions and quaternions and their derivatives; flags as above.
+  // positions and quaternions and their derivatives; flags as above. A
+  // recheck names the highest point whose blocks a changed flag alters
+  // (SpatialState::flagChangedAt); without one, the whole system is
+  // factored again.
   virtual void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const = 0;
   virtual void beginSpatialStep(const SpatialState& /*s0*/) {}
   virtual bool recheckSpatialFlags(const SpatialState& /*s*/) { return false; }

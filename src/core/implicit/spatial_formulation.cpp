@@ -202,9 +202,17 @@ void SpatialFormulation::moveAlong(double s) {
 int SpatialFormulation::changedTop() const { return state_.changed_top; }
 
 bool SpatialFormulation::recheckFlags() {
-  state_.changed_top = -1;
+  // The highest point any effect changed; an effect that changes a flag
+  // without naming its point has the whole system factored again.
   bool changed = false;
-  for (ForceEffect* e : effects_) changed = e->recheckSpatialFlags(state_) || changed;
+  int top = -1;
+  for (ForceEffect* e : effects_) {
+    state_.changed_top = -1;
+    if (!e->recheckSpatialFlags(state_)) continue;
+    changed = true;
+    top = std::max(top, state_.changed_top >= 0 ? state_.changed_top : state_.n - 1);
+  }
+  state_.changed_top = top;
   return changed;
 }
 
