@@ -14,6 +14,14 @@ namespace cws_ros {
 
 namespace {
 using Config = coil_winding_sim::WindingCellConfig;
+
+// The physics the server shows: the scene's friction and damping.
+void showPhysics(const cws::Scene& scene, Config& c) {
+  c.static_friction = scene.contact.static_friction;
+  c.kinetic_friction = scene.contact.kinetic_friction;
+  c.damping_translational = scene.damping.translational;
+  c.damping_rotational = scene.damping.rotational;
+}
 }  // namespace
 
 // The server starts from the values in use (the node's parameters and its
@@ -26,10 +34,7 @@ void WindingCell::startReconfigure() {
   c.stop_at_end = o_.stop_at_end;
   c.exit_at_end = o_.exit_at_end;
   c.force_color_max = o_.force_color_max_N;
-  c.static_friction = scene_.contact.static_friction;
-  c.kinetic_friction = scene_.contact.kinetic_friction;
-  c.damping_translational = scene_.damping.translational;
-  c.damping_rotational = scene_.damping.rotational;
+  showPhysics(scene_, c);
   applied_ = c;
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<Config>>(reconfigure_mutex_, pnh_);
   reconfigure_->updateConfig(c);
@@ -44,10 +49,7 @@ void WindingCell::showSceneInReconfigure() {
   {
     std::lock_guard<std::mutex> lock(sim_mutex_);
     c = applied_;
-    c.static_friction = scene_.contact.static_friction;
-    c.kinetic_friction = scene_.contact.kinetic_friction;
-    c.damping_translational = scene_.damping.translational;
-    c.damping_rotational = scene_.damping.rotational;
+    showPhysics(scene_, c);
     applied_ = c;
   }
   reconfigure_->updateConfig(c);
