@@ -238,17 +238,20 @@ void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const 
 }
 
 void Contact::commit(double t, const WireKinematics& k) {
-  max_penetration_ = 0.0;
   deepest_in_wire_ = WireDepth();
-  elastic_committed_ = 0.0;
   placeSurfaces(t);
   syncCarriedWire();
   // Carried points keep their contact and friction state: they move with
-  // the core, so their penetration does not change.
-  for (int x = slots_; x < c_.first * slots_; ++x) {
-    max_penetration_ = std::max(max_penetration_, depth_[x]);
-    elastic_committed_ += 0.5 * p_.stiffness * depth_[x] * depth_[x];
+  // the core, so their penetration does not change. Only the points carried
+  // since the last commit are added (all again after a release).
+  if (c_.first < carried_summed_) forgetCarriedSums();
+  for (int x = carried_summed_ * slots_; x < c_.first * slots_; ++x) {
+    carried_max_penetration_ = std::max(carried_max_penetration_, depth_[x]);
+    carried_elastic_ += 0.5 * p_.stiffness * depth_[x] * depth_[x];
   }
+  carried_summed_ = std::max(carried_summed_, c_.first);
+  max_penetration_ = carried_max_penetration_;
+  elastic_committed_ = carried_elastic_;
   Touch touches[kMaxSlots];
   for (int i = c_.first; i < c_.n; ++i) {
     const Eigen::Vector3d p = k.p_world.col(i);
@@ -312,6 +315,11 @@ void Contact::shrink(const WireKinematics&) {
   }
 }
 
+void Contact::forgetCarriedSums() {
+  carried_summed_ = 1;
+  carried_max_penetration_ = carried_elastic_ = 0.0;
+}
+
 double Contact::elasticEnergy(const WireKinematics&) const { return elastic_committed_; }
 
 void Contact::restoreHistory(HistoryReader& in) {
@@ -326,6 +334,7 @@ void Contact::restoreHistory(HistoryReader& in) {
   }
   max_penetration_ = in.next();
   elastic_committed_ = in.next();
+  forgetCarriedSums();
   // The carried wire may be another: hashed anew when next used.
   carried_index_.clear();
   indexed_segments_ = 0;

@@ -208,6 +208,9 @@ class Contact : public ForceEffect {
   bool spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
                       Eigen::Vector3d& normal_world, double& depth, Eigen::Matrix3d& dnormal) const;
 
+  // Sums the carried points' penetration again from the first one on.
+  void forgetCarriedSums();
+
   const WireConstants& c_;  // the model's: n grows with a supply
   ContactParams p_;
   const RotatingCore& core_;
@@ -249,6 +252,11 @@ class Contact : public ForceEffect {
   double max_penetration_ = 0.0;
   WireDepth deepest_in_wire_;
   double elastic_committed_ = 0.0;
+  // The carried points' share of the two above, summed over points
+  // 1..carried_summed_-1 in index order (carried points keep their
+  // penetration, so a commit adds only the points carried since the last).
+  int carried_summed_ = 1;
+  double carried_max_penetration_ = 0.0, carried_elastic_ = 0.0;
   // Implicit steps' trial flags (capacity, per slot): surface, stick, anchor (core
   // frame) and slip direction (+1 / -1 along the surface tangent n x normal).
   std::vector<int> trial_surface_;
