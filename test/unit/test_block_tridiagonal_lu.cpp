@@ -24,12 +24,13 @@ constexpr int kC = 7;  // the 3-D system's coupling: q and p, not the multiplier
 // C rows (above the diagonal) and columns (below it).
 // port: the last two unknowns are a port's multipliers (zero diagonal, a
 // block singular on its own, factored with the block before it).
+// top_block >= 0: only block rows 0..top_block go into lu (setZero's top).
 template <int C>
 void fill(int n, std::mt19937& rng, Eigen::MatrixXd& dense, cws::BlockTridiagonalLu<kB, C>& lu,
-          bool port = false) {
+          bool port = false, int top_block = -1) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   dense.setZero(n, n);
-  lu.setZero(n, port);
+  lu.setZero(n, port, top_block);
   auto multiplier = [&](int i) {
     if (port && i >= n - 2) return true;
     return C < kB ? i % kB >= C : i % kB >= 4 && i % kB < 7;
@@ -43,7 +44,7 @@ void fill(int n, std::mt19937& rng, Eigen::MatrixXd& dense, cws::BlockTridiagona
       if (multiplier(i) && multiplier(j)) a = 0.0;
       if (i == j && !multiplier(i)) a += 20.0;
       dense(i, j) = a;
-      lu.at(i, j) = a;
+      if (top_block < 0 || i / kB <= top_block) lu.at(i, j) = a;
     }
   }
 }
@@ -116,7 +117,16 @@ TEST(BlockTridiagonalLu, FactorFromKeepsTheLaterBlockRows) {
         Eigen::MatrixXd old_rows, new_rows;
         fill(n, rng, old_rows, lu, port);
         ASSERT_TRUE(lu.factor()) << "n = " << n << ", top " << top << ", port " << port;
-        fill(n, rng, new_rows, lu, port);
+        // The new matrix is set only in the rows factored again, as a
+        // flag round assembles it.
+        ASSERT_TRUE(lu.keepsFactorsFrom(top, n, port));
+        fill(n, rng, new_rows, lu, port, top);
+        // Rows past top are not read: poisoned, they change nothing.
+        for (int i = (top + 1) * kB; i < n; ++i) {
+          for (int j = 0; j < n; ++j) {
+            if (lu.inBand(i, j)) lu.at(i, j) = std::numeric_limits<double>::quiet_NaN();
+          }
+        }
         ASSERT_TRUE(lu.factorFrom(top));
         const int rows = std::min(n, (top + 1) * kB);
         Eigen::MatrixXd hybrid = old_rows;
@@ -135,7 +145,14 @@ TEST(BlockTridiagonalLu, FactorFromKeepsTheLaterBlockRows) {
       }
     }
   }
-  // Another size after the last factorization: factored whole.
+  // Another size after the last factorization, or a top at the last single
+  // block or beyond: factored whole (so assembled whole).
+  // (The last factorization: 127 unknowns in 13 blocks, with the port's,
+  // so blocks 11 and 12 are one pivot and block 10 the last single one.)
+  EXPECT_TRUE(lu.keepsFactorsFrom(9, 127, true));
+  EXPECT_FALSE(lu.keepsFactorsFrom(10, 127, true));
+  EXPECT_FALSE(lu.keepsFactorsFrom(9, 127, false));
+  EXPECT_FALSE(lu.keepsFactorsFrom(2, 212, false));
   Eigen::MatrixXd dense;
   fill(212, rng, dense, lu);
   ASSERT_TRUE(lu.factorFrom(2));

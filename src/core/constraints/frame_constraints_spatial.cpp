@@ -14,10 +14,11 @@ void addSpatialFrameConstraints(const SpatialState& s, double scale_unit, double
     const Eigen::Vector3d d = s.segment(i - 1);
     const Eigen::Vector3d mu = s.mu.col(i);
     const int row = a.muRow(i);
+    const bool jacobian = a.wantsJacobianAt(i - 1);
     // (4): |q|^2 - 1, gradient 2 q, Hessian 2 I.
     a.addQForce(i, mu[0] * 2.0 * q);
     a.setConstraint(row, q.squaredNorm() - 1.0, scale_unit);
-    if (a.wantsJacobian()) {
+    if (jacobian) {
       a.addConstraintGradientQ(row, i, 2.0 * q);
       a.addStiffnessQQ(i, i, 2.0 * mu[0] * Eigen::Matrix4d::Identity());
     }
@@ -31,7 +32,7 @@ void addSpatialFrameConstraints(const SpatialState& s, double scale_unit, double
       a.addForce(i - 1, -m * axis[r]);
       a.addQForce(i, m * grad_q);
       a.setConstraint(row + 1 + r, d.dot(axis[r]), scale_direction);
-      if (!a.wantsJacobian()) continue;
+      if (!jacobian) continue;
       a.addConstraintGradientP(row + 1 + r, i, axis[r]);
       a.addConstraintGradientP(row + 1 + r, i - 1, -axis[r]);
       a.addConstraintGradientQ(row + 1 + r, i, grad_q);
@@ -40,7 +41,7 @@ void addSpatialFrameConstraints(const SpatialState& s, double scale_unit, double
       a.addStiffnessQP(i, i, m * jac[r].transpose());
       a.addStiffnessQP(i, i - 1, -m * jac[r].transpose());
     }
-    if (a.wantsJacobian()) {
+    if (jacobian) {
       a.addStiffnessQQ(i, i, mu[1] * quat::xiHessian(d) + mu[2] * quat::etaHessian(d));
     }
   }

@@ -111,7 +111,7 @@ const PlanarAssembly& PlanarFormulation::assemble(bool jacobian) {
   return assembly_;
 }
 
-double PlanarFormulation::residual(bool jacobian) {
+double PlanarFormulation::residual(bool jacobian, int /*top_point*/) {
   assemble(jacobian);
   const int f = state_.first, n = state_.n;
   const double a = kappa_;
@@ -178,7 +178,7 @@ NewtonStats PlanarFormulation::solve(const OneLegStep& step, const Eigen::Matrix
 // (The planar system is factored whole: a banded LU.)
 int PlanarFormulation::changedTop() const { return -1; }
 
-bool PlanarFormulation::factor(int /*top_point*/) {
+bool PlanarFormulation::factor() {
   if (!assembly_.matrix().factor()) return false;
   factored_ = {alpha_, kappa_, state_.first, state_.n};
   return true;

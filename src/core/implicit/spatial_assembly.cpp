@@ -16,11 +16,14 @@ void SpatialAssembly::resize(int capacity_points) {
   matrix_.resize(unknowns);
 }
 
-void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double alpha) {
+void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double alpha,
+                            int jacobian_top) {
   first_ = first;
   n_ = n;
   unknowns_ = kPerPoint * (n - first) + (port ? 2 : 0);
   jacobian_ = jacobian;
+  const bool partial = jacobian_top >= first && jacobian_top < n - 1;
+  jacobian_top_ = partial ? jacobian_top : n;  // (n: also the port's rows)
   alpha_ = alpha;
   force_.head(unknowns_).setZero();
   const int from = std::max(0, first - 1);
@@ -32,7 +35,7 @@ void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double a
   power_dissipated = 0.0;
   boundary_force.setZero();
   boundary_fq.setZero();
-  if (jacobian_) matrix_.setZero(unknowns_, port);
+  if (jacobian_) matrix_.setZero(unknowns_, port, partial ? jacobian_top - first : -1);
 }
 
 void SpatialAssembly::setConstraint(int row, double g, double scale) {
@@ -43,18 +46,20 @@ void SpatialAssembly::setConstraint(int row, double g, double scale) {
 void SpatialAssembly::addConstraintGradientP(int row, int i, const Eigen::Vector3d& grad) {
   if (!jacobian_ || i < first_) return;
   const int c = pRow(i);
+  const bool row_wanted = rowWanted(row), col_wanted = rowWanted(c);
   for (int a = 0; a < 3; ++a) {
-    matrix_.at(row, c + a) += -scale_[row] * grad[a];
-    matrix_.at(c + a, row) += -grad[a];
+    if (row_wanted) matrix_.at(row, c + a) += -scale_[row] * grad[a];
+    if (col_wanted) matrix_.at(c + a, row) += -grad[a];
   }
 }
 
 void SpatialAssembly::addConstraintGradientQ(int row, int i, const Eigen::Vector4d& grad) {
   if (!jacobian_ || i < first_) return;
   const int c = qRow(i);
+  const bool row_wanted = rowWanted(row), col_wanted = rowWanted(c);
   for (int a = 0; a < 4; ++a) {
-    matrix_.at(row, c + a) += -scale_[row] * grad[a];
-    matrix_.at(c + a, row) += -grad[a];
+    if (row_wanted) matrix_.at(row, c + a) += -scale_[row] * grad[a];
+    if (col_wanted) matrix_.at(c + a, row) += -grad[a];
   }
 }
 

@@ -93,16 +93,25 @@ void SpatialFormulation::updateRates() {
   state_.qd.middleCols(f, m) = alpha_ * (state_.q.middleCols(f, m) - x_hat_.block(3, f, 4, m));
 }
 
-const SpatialAssembly& SpatialFormulation::assemble(bool jacobian) {
+const SpatialAssembly& SpatialFormulation::assemble(bool jacobian, int jacobian_top) {
   if (jacobian) have_factor_ = false;  // the matrix is overwritten
-  assembly_.begin(state_.first, state_.n, port_, jacobian, state_.alpha);
+  assembly_.begin(state_.first, state_.n, port_, jacobian, state_.alpha, jacobian_top);
   for (const ForceEffect* e : effects_) e->addSpatialForces(state_, assembly_);
   addSpatialFrameConstraints(state_, scale_unit_, scale_direction_, assembly_);
   return assembly_;
 }
 
-double SpatialFormulation::residual(bool jacobian) {
-  assemble(jacobian);
+double SpatialFormulation::residual(bool jacobian, int top_point) {
+  // A flag round's factorization keeps the factors of the rows past its
+  // highest changed point where the last one was of this system: those rows
+  // are not assembled.
+  const bool partial =
+      jacobian && top_point >= state_.first &&
+      factored_ == FactorKey{alpha_, kappa_, state_.first, state_.n} &&
+      assembly_.matrix().keepsFactorsFrom(
+          top_point - state_.first,
+          SpatialAssembly::kPerPoint * (state_.n - state_.first) + (port_ ? 2 : 0), port_);
+  assemble(jacobian, partial ? top_point : -1);
   const int f = state_.first, n = state_.n;
   const Eigen::VectorXd& force = assembly_.forces();
   const int unknowns = assembly_.unknowns();
@@ -127,7 +136,7 @@ double SpatialFormulation::residual(bool jacobian) {
   if (jacobian) {
     SpatialAssembly::Matrix& m = assembly_.matrix();
     const double mp = kappa_ * alpha_ * point_mass_, mq = kappa_ * alpha_ * quat_mass_;
-    for (int i = f; i < n; ++i) {
+    for (int i = f; i < std::min(n, assembly_.jacobianTop() + 1); ++i) {
       for (int a = 0; a < 3; ++a) m.at(assembly_.pRow(i) + a, assembly_.pRow(i) + a) += mp;
       for (int a = 0; a < 4; ++a) m.at(assembly_.qRow(i) + a, assembly_.qRow(i) + a) += mq;
     }
@@ -155,13 +164,14 @@ NewtonStats SpatialFormulation::solve(const OneLegStep& step, const Eigen::Matri
   return newtonSolve(*this, newton_, have_factor_);
 }
 
-// top_point >= 0: only the blocks of points first..top_point are factored
-// again (the others keep the factors of the last factorization of this
-// system, made at an earlier iterate: modified Newton).
-bool SpatialFormulation::factor(int top_point) {
+// A Jacobian assembled only up to a point (residual's top_point) is
+// factored only there: the later blocks keep the factors of the last
+// factorization of this system, made at an earlier iterate (modified
+// Newton).
+bool SpatialFormulation::factor() {
   SpatialAssembly::Matrix& m = assembly_.matrix();
-  const bool same = factored_ == FactorKey{alpha_, kappa_, state_.first, state_.n};
-  const bool ok = same && top_point >= 0 ? m.factorFrom(top_point - state_.first) : m.factor();
+  const int top = assembly_.jacobianTop();
+  const bool ok = top < state_.n - 1 ? m.factorFrom(top - state_.first) : m.factor();
   if (!ok) return false;
   factored_ = {alpha_, kappa_, state_.first, state_.n};
   return true;

@@ -245,7 +245,7 @@ void RotationalSpring::addSpatialForces(const SpatialState& s, SpatialAssembly& 
     }
     a.addQForce(j, 2.0 * gb.transpose() * m);
     a.addQForce(j + 1, -2.0 * ga.transpose() * m);
-    if (!a.wantsJacobian()) continue;
+    if (!a.wantsJacobianAt(j)) continue;
     const Eigen::Matrix4d gm = quat::gTransposeTimes(m);
     const Eigen::Matrix<double, 4, 3> gad = ga.transpose() * dm.asDiagonal();
     const Eigen::Matrix<double, 4, 3> gbd = gb.transpose() * dm.asDiagonal();

@@ -109,7 +109,7 @@ void Stretching::addImplicitForces(const State& s, Assembly& a) const {
     const Vec t = d / len;
     a.addForce(j, tension * t);
     a.addForce(j + 1, -tension * t);
-    if (!a.wantsJacobian()) continue;
+    if (!a.wantsJacobianAt(j)) continue;
     const Mat tt = t * t.transpose();
     const Mat kb = (k / l) * tt + (tension / len) * (Mat::Identity() - tt);
     a.addStiffness(j + 1, j + 1, -kb);

@@ -40,9 +40,12 @@ struct NewtonSettings {
 };
 
 // Problem: the formulation's trial state and Newton system, with
-//   double residual(bool jacobian)  assembles; the residual's norm
-//   bool factor(int top)            factors the Jacobian just assembled; top >= 0:
-//                                   only from point `top` down (flag rounds)
+//   double residual(bool jacobian, int top)
+//                                   assembles; the residual's norm. top >= 0 (a
+//                                   flag round's): the Jacobian may be assembled
+//                                   only up to point `top`
+//   bool factor()                   factors the Jacobian just assembled (where
+//                                   it was assembled up to a point, only there)
 //   int changedTop()                the highest point the last recheck changed
 //   double direction()              the Newton direction; its size [m]
 //   void keepStart()                remembers the present iterate
@@ -58,15 +61,15 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
     // A round that will factor assembles the Jacobian with its first
     // residual (`assembled`: the matrix holds the present iterate's).
     bool assembled = !have_factor;
-    double norm = p.residual(assembled);
+    double norm = p.residual(assembled, top);
     double previous = std::numeric_limits<double>::infinity();
     bool fresh = false;
     for (int it = 0; it < c.max_iterations; ++it) {
       ++st.iterations;
       if (!have_factor) {
-        if (!assembled) p.residual(true);
+        if (!assembled) p.residual(true, top);
         assembled = false;
-        if (!p.factor(top)) return st;
+        if (!p.factor()) return st;
         top = -1;
         have_factor = fresh = true;
         ++st.factorizations;

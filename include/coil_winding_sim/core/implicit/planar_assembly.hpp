@@ -115,6 +115,8 @@ class PlanarAssembly {
   void begin(int first, int n, bool multiplier, bool jacobian, double alpha);
 
   bool wantsJacobian() const { return jacobian_; }
+  // (As SpatialAssembly's: the plane assembles every row.)
+  bool wantsJacobianAt(int) const { return jacobian_; }
   int unknowns() const { return unknowns_; }
   int first() const { return first_; }
   bool integrated(int i) const { return i >= first_; }

@@ -60,14 +60,15 @@ class PlanarFormulation : public NewtonFormulation {
   // Prescribed point first-1 and its frame at time t into state_.
   void placeBoundary(double t);
   // Residual r = inertia - F (force rows), the scaled constraint; its max
-  // norm. With jacobian, the Newton matrix too.
-  double residual(bool jacobian);
+  // norm. With jacobian, the Newton matrix too (all of it: the banded LU
+  // factors it whole, whatever point a flag round changed).
+  double residual(bool jacobian, int top_point = -1);
   // Velocities of the integrated points from x: alpha (x - x_hat).
   void updateVelocities();
   // The Problem of newtonSolve (newton_iteration.hpp).
   template <class Problem>
   friend NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor);
-  bool factor(int top_point);
+  bool factor();
   double direction();
   void keepStart();
   void moveAlong(double s);

@@ -58,10 +58,16 @@ class SpatialAssembly {
   // Storage for up to `capacity_points` points (once, before a run).
   void resize(int capacity_points);
   // Starts the system of points first..n-1 (with the port's multipliers if
-  // asked); `jacobian` false: forces only.
-  void begin(int first, int n, bool port, bool jacobian, double alpha);
+  // asked); `jacobian` false: forces only. jacobian_top >= first: only the
+  // Jacobian's rows of points first..jacobian_top are wanted (a flag
+  // round's factorization keeps the later rows' factors).
+  void begin(int first, int n, bool port, bool jacobian, double alpha, int jacobian_top = -1);
 
   bool wantsJacobian() const { return jacobian_; }
+  // Whether an element whose lowest point is i adds to a wanted row.
+  bool wantsJacobianAt(int i) const { return jacobian_ && i <= jacobian_top_; }
+  // The last point whose rows were assembled (n-1: all).
+  int jacobianTop() const { return jacobian_top_; }
   int unknowns() const { return unknowns_; }
   int first() const { return first_; }
   int blockRow(int i) const { return kPerPoint * (i - first_); }
@@ -124,16 +130,19 @@ class SpatialAssembly {
   Eigen::Vector4d boundary_fq = Eigen::Vector4d::Zero();
 
  private:
+  // Whether matrix row r belongs to a wanted point's rows (the port's rows
+  // follow the last point's).
+  bool rowWanted(int r) const { return r / kPerPoint + first_ <= jacobian_top_; }
   // Adds b at the rows of point i from offset `row` and the columns of
   // point j from offset `col`; nothing for the prescribed point.
   template <class Derived>
   void block(int i, int row, int j, int col, const Eigen::MatrixBase<Derived>& b) {
-    if (!jacobian_ || i < first_ || j < first_) return;
+    if (!jacobian_ || i < first_ || j < first_ || i > jacobian_top_) return;
     matrix_.blockAt(i - first_, j - first_)
         .template block<Derived::RowsAtCompileTime, Derived::ColsAtCompileTime>(row, col) += b;
   }
 
-  int first_ = 1, n_ = 0, unknowns_ = 0;
+  int first_ = 1, n_ = 0, unknowns_ = 0, jacobian_top_ = -1;
   bool jacobian_ = false;
   double alpha_ = 0.0;
   Eigen::VectorXd force_, scale_;  // scale_: each constraint row's

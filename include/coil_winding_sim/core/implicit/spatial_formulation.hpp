@@ -41,19 +41,21 @@ class SpatialFormulation : public NewtonFormulation {
   // The trial state and its assembly (tests: Jacobians against finite
   // differences).
   SpatialState& trialState() { return state_; }
-  const SpatialAssembly& assemble(bool jacobian);
+  const SpatialAssembly& assemble(bool jacobian, int jacobian_top = -1);
 
  private:
   void placeBoundary(double t);
   // The trial velocities and rates from the configuration: alpha (x - x_hat).
   void updateRates();
   // Residual r = inertia - F (force rows), the scaled constraints; its
-  // weighted max norm [N]. With jacobian, the Newton matrix too.
-  double residual(bool jacobian);
+  // weighted max norm [N]. With jacobian, the Newton matrix too; top_point
+  // >= 0 (a flag round's highest changed point): only the rows of points
+  // up to it, where the factorization can keep the later rows' factors.
+  double residual(bool jacobian, int top_point = -1);
   // The Problem of newtonSolve (newton_iteration.hpp).
   template <class Problem>
   friend NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor);
-  bool factor(int top_point);
+  bool factor();
   double direction();
   void keepStart();
   void moveAlong(double s);

@@ -26,6 +26,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <vector>
@@ -59,11 +60,14 @@ class BlockTridiagonalLu {
   // Starts a matrix of size n (<= capacity): all zero. merge_last: the last
   // block is inverted together with the one before it (it needs two blocks
   // at least). The factors of the last factorization stay (factorFrom).
-  void setZero(int n, bool merge_last = false) {
+  // top >= 0: only block rows 0..top are set (for factorFrom(top), which
+  // reads no others).
+  void setZero(int n, bool merge_last = false, int top = -1) {
     n_ = n;
     m_ = (n + B - 1) / B;
     merge_ = merge_last && m_ >= 2;
-    for (int k = 0; k < m_; ++k) {
+    const int rows = top >= 0 ? std::min(top + 1, m_) : m_;
+    for (int k = 0; k < rows; ++k) {
       diag_[k].setZero();
       lower_[k].setZero();
       upper_[k].setZero();
@@ -77,6 +81,16 @@ class BlockTridiagonalLu {
   Block& blockAt(int bi, int bj) {
     assert(bi >= 0 && bj >= 0 && bi < m_ && bj < m_ && std::abs(bi - bj) <= 1);
     return bi == bj ? diag_[bi] : (bi > bj ? lower_[bi] : upper_[bi]);
+  }
+
+  // Whether factorFrom(top) on a matrix of size n (merge_last as setZero's)
+  // keeps the later block rows' factors, so that only rows 0..top need
+  // assembling: the last complete factorization was of that size and form.
+  bool keepsFactorsFrom(int top, int n, bool merge_last) const {
+    const int m = (n + B - 1) / B;
+    const bool merge = merge_last && m >= 2;
+    const int last = merge ? m - 3 : m - 1;
+    return factored_n_ == n && factored_merge_ == merge && top >= 0 && top < last;
   }
 
   // Factors the whole matrix. False if a pivot block is singular or not
