@@ -184,6 +184,9 @@ std::vector<SceneKey> declareKeys() {
       key<&S::solver, &Solver::line_search_halvings>("solver.line_search_halvings", "-", count(30),
                                                      "halvings of a Newton step that does not "
                                                      "lower the residual"),
+      key<&S::solver, &Solver::flag_check_tol>("solver.flag_check_tol", "m", kNonNegative,
+                                               "a solve's step this small rechecks its flags "
+                                               "before converging (0: off)"),
       key<&S::solver, &Solver::carry_stuck_wire>("solver.carry_stuck_wire", "", kAny,
                                                  "stuck wound wire moves rigidly with the core"),
 

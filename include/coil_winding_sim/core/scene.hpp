@@ -133,6 +133,9 @@ struct SolverParams {
   int newton_max_iterations = 30;
   int flag_rounds = 4;
   int line_search_halvings = 5;  // of a Newton step that does not lower the residual
+  // A solve whose Newton step falls below this [m] rechecks its flags before
+  // it converges to newton_tol (0: only at convergence).
+  double flag_check_tol = 3.0e-7;
   // Wound wire held by static friction moves rigidly with the core and leaves
   // the integrated system (with contact, friction and start.frame core;
   // elsewhere it has no effect).

@@ -52,7 +52,8 @@ std::vector<IntegratorInfo> registry() {
                makeRosenbrock2});
   r.push_back({"implicit_euler",
                "backward Euler with Newton steps (first order, L-stable)",
-               {"implicit_step", "newton_tol", "newton_max_iterations", "flag_rounds", "min_step"},
+               {"implicit_step", "newton_tol", "newton_max_iterations", "flag_rounds",
+                "flag_check_tol", "min_step"},
                false,
                false,
                true,
@@ -60,7 +61,8 @@ std::vector<IntegratorInfo> registry() {
                makeImplicitEuler});
   r.push_back({"bdf2",
                "variable-step BDF2 with Newton steps (second order, L-stable)",
-               {"implicit_step", "newton_tol", "newton_max_iterations", "flag_rounds", "min_step"},
+               {"implicit_step", "newton_tol", "newton_max_iterations", "flag_rounds",
+                "flag_check_tol", "min_step"},
                false,
                false,
                true,

@@ -6,7 +6,10 @@
 // rounds: after a converged solve the effects recheck their frozen flags
 // (contact, stick, slip, hysteresis lines) and a change solves again with a
 // new Jacobian, up to flag_rounds times (docs/MODEL.md, "Implicit
-// integration").
+// integration"). A solve whose step has fallen below flag_check_tol
+// rechecks its flags once before it goes on to the tolerance: a change
+// starts the next round there, as the iterations from there to the
+// tolerance would serve flags that no longer hold.
 #pragma once
 
 #include <cmath>
@@ -32,10 +35,12 @@ struct NewtonSettings {
   int max_iterations = 30;
   int flag_rounds = 4;
   int line_search_halvings = 5;
+  double flag_check_tol = 0.0;  // [m]; 0: flags rechecked only at convergence
   // The scene's (solver.newton_tol, newton_max_iterations, flag_rounds,
-  // line_search_halvings).
+  // line_search_halvings, flag_check_tol).
   static NewtonSettings of(const SolverParams& s) {
-    return {s.newton_tol, s.newton_max_iterations, s.flag_rounds, s.line_search_halvings};
+    return {s.newton_tol, s.newton_max_iterations, s.flag_rounds, s.line_search_halvings,
+            s.flag_check_tol};
   }
 };
 
@@ -58,6 +63,7 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
   int top = -1;  // the next factorization: all of it, or from a flag round's highest point down
   for (int round = 0; round <= c.flag_rounds; ++round) {
     bool converged = false, evaluated = true;
+    bool checked_early = false, changed_early = false;
     // A round that will factor assembles the Jacobian with its first
     // residual (`assembled`: the matrix holds the present iterate's).
     bool assembled = !have_factor;
@@ -110,9 +116,16 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
       if (ls > 0) have_factor = false;
       previous = s * step;
       fresh = false;
+      if (!checked_early && previous < c.flag_check_tol) {
+        checked_early = true;
+        if (p.recheckFlags()) {
+          changed_early = true;
+          break;
+        }
+      }
     }
-    if (!converged) return st;
-    if (!p.recheckFlags()) {
+    if (!converged && !changed_early) return st;
+    if (!changed_early && !p.recheckFlags()) {
       if (!evaluated) p.residual(false);
       st.converged = true;
       return st;

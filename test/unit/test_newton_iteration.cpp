@@ -1,0 +1,96 @@
+// newtonSolve's flag rounds on a problem small enough to solve by hand: one
+// unknown x [m] and one flag that picks the law, as a contact or a
+// hysteresis line does. Flag 0 holds for x <= 0.5, flag 1 beyond:
+//   flag 0: r(x) = x^3 + x - 3,     root 1.2134... (beyond 0.5: the flag changes)
+//   flag 1: r(x) = x^3 + 2 x - 1.5, root 0.6265... (within its range)
+// so a solve from x = 0 converges on flag 0, finds flag 1 and solves again.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "coil_winding_sim/core/implicit/newton_iteration.hpp"
+
+namespace {
+
+struct TwoLawProblem {
+  int flag = 0;
+  double x = 0.0, x_kept = 0.0, dx = 0.0;
+  double r = 0.0, slope = 0.0, factored_slope = 0.0;
+  int rechecks = 0;
+
+  double residual(bool jacobian, int /*top*/ = -1) {
+    r = flag == 0 ? x * x * x + x - 3.0 : x * x * x + 2.0 * x - 1.5;
+    if (jacobian) slope = 3.0 * x * x + (flag == 0 ? 1.0 : 2.0);
+    return std::abs(r);
+  }
+  bool factor() {
+    factored_slope = slope;
+    return slope != 0.0;
+  }
+  int changedTop() const { return -1; }
+  double direction() {
+    dx = -r / factored_slope;
+    return std::abs(dx);
+  }
+  void keepStart() { x_kept = x; }
+  void moveAlong(double s) { x = x_kept + s * dx; }
+  bool recheckFlags() {
+    ++rechecks;
+    const int holds = x > 0.5 ? 1 : 0;
+    if (holds == flag) return false;
+    flag = holds;
+    return true;
+  }
+};
+
+// The root of flag 1's law, by bisection (independent of Newton).
+double rootOfFlagOne() {
+  double lo = 0.5, hi = 1.0;
+  for (int k = 0; k < 200; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (mid * mid * mid + 2.0 * mid - 1.5 > 0.0 ? hi : lo) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+cws::NewtonStats solveFromZero(double flag_check_tol, TwoLawProblem& p) {
+  cws::NewtonSettings s;
+  s.tol = 1e-12;
+  s.flag_check_tol = flag_check_tol;
+  bool have_factor = false;
+  return cws::newtonSolve(p, s, have_factor);
+}
+
+// Rechecking the flags before full convergence ends at the same root, on
+// the same flag, with fewer iterations: the first solve stops at the
+// looser bound, since its flag no longer holds there.
+TEST(NewtonIteration, FlagsRecheckedEarlyGiveTheSameSolution) {
+  TwoLawProblem late, early;
+  const cws::NewtonStats st_late = solveFromZero(0.0, late);
+  const cws::NewtonStats st_early = solveFromZero(1e-3, early);
+  ASSERT_TRUE(st_late.converged);
+  ASSERT_TRUE(st_early.converged);
+  const double root = rootOfFlagOne();
+  EXPECT_EQ(late.flag, 1);
+  EXPECT_EQ(early.flag, 1);
+  EXPECT_NEAR(late.x, root, 1e-11);
+  EXPECT_NEAR(early.x, root, 1e-11);
+  EXPECT_EQ(st_late.flag_rounds, 1);
+  EXPECT_EQ(st_early.flag_rounds, 1);
+  EXPECT_LT(st_early.iterations, st_late.iterations);
+}
+
+// A flag that holds at the early check is checked again at convergence,
+// and no solve is repeated.
+TEST(NewtonIteration, AnEarlyCheckThatHoldsIsRepeatedAtConvergence) {
+  TwoLawProblem p;
+  p.flag = 1;
+  p.x = 0.7;  // flag 1 holds all the way to its root
+  const cws::NewtonStats st = solveFromZero(1e-3, p);
+  ASSERT_TRUE(st.converged);
+  EXPECT_EQ(st.flag_rounds, 0);
+  EXPECT_EQ(p.rechecks, 2);  // once early, once converged
+  EXPECT_NEAR(p.x, rootOfFlagOne(), 1e-11);
+}
+
+}  // namespace
