@@ -20,7 +20,7 @@ void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double a
                             int jacobian_top) {
   first_ = first;
   n_ = n;
-  unknowns_ = kPerPoint * (n - first) + (port ? 2 : 0);
+  unknowns_ = unknownsFor(first, n, port);
   jacobian_ = jacobian;
   const bool partial = jacobian_top >= first && jacobian_top < n - 1;
   jacobian_top_ = partial ? jacobian_top : n;  // (n: also the port's rows)

@@ -105,12 +105,11 @@ double SpatialFormulation::residual(bool jacobian, int top_point) {
   // A flag round's factorization keeps the factors of the rows past its
   // highest changed point where the last one was of this system: those rows
   // are not assembled.
-  const bool partial =
-      jacobian && top_point >= state_.first &&
-      factored_ == FactorKey{alpha_, kappa_, state_.first, state_.n} &&
-      assembly_.matrix().keepsFactorsFrom(
-          top_point - state_.first,
-          SpatialAssembly::kPerPoint * (state_.n - state_.first) + (port_ ? 2 : 0), port_);
+  const bool partial = jacobian && top_point >= state_.first &&
+                       factored_ == FactorKey{alpha_, kappa_, state_.first, state_.n} &&
+                       assembly_.matrix().keepsFactorsFrom(
+                           top_point - state_.first,
+                           SpatialAssembly::unknownsFor(state_.first, state_.n, port_), port_);
   assemble(jacobian, partial ? top_point : -1);
   const int f = state_.first, n = state_.n;
   const Eigen::VectorXd& force = assembly_.forces();

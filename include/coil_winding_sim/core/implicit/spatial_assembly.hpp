@@ -63,6 +63,10 @@ class SpatialAssembly {
   // round's factorization keeps the later rows' factors).
   void begin(int first, int n, bool port, bool jacobian, double alpha, int jacobian_top = -1);
 
+  // The system's size for points first..n-1 (and the port's rows).
+  static int unknownsFor(int first, int n, bool port) {
+    return kPerPoint * (n - first) + (port ? 2 : 0);
+  }
   bool wantsJacobian() const { return jacobian_; }
   // Whether an element whose lowest point is i adds to a wanted row.
   bool wantsJacobianAt(int i) const { return jacobian_ && i <= jacobian_top_; }
