@@ -105,9 +105,10 @@ void flangesFit(const Scene& s) {
   }
 }
 
-// Contact between segments acts against wire the core carries: wound wire
-// held by friction on a core that also holds the fixed end. (Two free
-// segments do not yet touch: docs/MODEL.md.)
+// Contact between segments acts against wire the core carries (wound wire
+// held by friction on a core that also holds the fixed end) and between
+// free segments (docs/MODEL.md); the carried wire is what keeps the Newton
+// system's couplings outside the band few.
 void wireContactFits(const Scene& s) {
   if (!s.physics.wire_contact) return;
   auto refuse = [](const std::string& why) { throw SceneError("physics.wire_contact", why); };

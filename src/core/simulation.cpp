@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "coil_winding_sim/core/external_forces/free_wire_contact.hpp"
 #include "coil_winding_sim/core/setpoint_limits.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 
@@ -153,23 +154,28 @@ void Simulation::step(double t_limit) {
     }
     throw IntegrationError(withRampCause(msg.str(), t_, ramp));
   }
-  // Wire deeper than its radius in wound wire has passed into it: a sound
+  // Wire deeper than its radius in other wire has passed into it: a sound
   // coil rests a few percent of the radius deep, and from there it would be
   // pushed out with energy the run never had.
   if (const Contact* contact = model_->contact()) {
-    const Contact::WireDepth& deep = contact->deepestInWire();
+    Contact::WireDepth deep = contact->deepestInWire();
+    const char* what = "wound wire";
+    if (const FreeWireContact* free = model_->freeWireContact()) {
+      if (free->deepest().depth_m > deep.depth_m) {
+        deep = {free->deepest().depth_m, free->deepest().point, free->deepest().segment};
+        what = "free wire";
+      }
+    }
     const double radius = model_->constants().radius;
     if (deep.depth_m > kWireThroughWire * radius) {
       std::ostringstream msg;
-      msg << "at t = " << t_ << " s wire passed into wound wire: point " << deep.point << " lies "
-          << deep.depth_m / radius << " wire radii deep in segment " << deep.segment
-          << " (a sound coil: below 0.1). Wound wire that the core does not yet carry is "
-             "free, and two free segments do not touch (docs/MODEL.md, \"Wire against wound "
-             "wire\"): a turn crossed a free turn with "
+      msg << "at t = " << t_ << " s wire passed into " << what << ": point " << deep.point
+          << " lies " << deep.depth_m / radius << " wire radii deep in segment " << deep.segment
+          << " (a sound coil: below 0.1): the step carried it past the contact's penalty "
+             "spring with "
           << stepper_->name() << "; "
-          << (scene_.solver.integrator == "bdf2"
-                  ? "lower solver.implicit_step"
-                  : "use bdf2, which keeps more of the wound wire carried");
+          << (scene_.solver.integrator == "bdf2" ? "lower solver.implicit_step"
+                                                 : "use bdf2, or a smaller step");
       throw IntegrationError(msg.str());
     }
   }

@@ -90,9 +90,7 @@ std::vector<StabilityCase> makeCases() {
   // A coil in two layers (3-D, 1 mm segments as wire contact assumes):
   // four turns on the core between flanges 5 mm apart, the reversal at the
   // far flange, four turns back in the grooves. (It ends with the second
-  // pass: a port held after it piles the wire onto the turn just laid,
-  // still integrated, and contact between two free segments is not yet
-  // modelled: docs/MODEL.md.)
+  // pass: a port held after it piles the wire onto the turn just laid.)
   cases.push_back({"two_layers",
                    "two layers of 4 turns between flanges 5 mm apart, wire on wire, 3-D",
                    {"wire.segment_length=1e-3", "physics.planar=false", "physics.torsion=true",

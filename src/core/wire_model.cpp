@@ -9,6 +9,7 @@
 
 #include "coil_winding_sim/core/external_forces/damping.hpp"
 #include "coil_winding_sim/core/external_forces/end_load.hpp"
+#include "coil_winding_sim/core/external_forces/free_wire_contact.hpp"
 #include "coil_winding_sim/core/external_forces/gravity.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 
@@ -98,6 +99,11 @@ WireModel::WireModel(const Scene& s)
     if (s.physics.wire_contact) contact->attachCarriedWire(carried_p_core_);
     contact_ = contact.get();
     external_.push_back(std::move(contact));
+    if (s.physics.wire_contact) {
+      auto free = std::make_unique<FreeWireContact>(c_, *contact_);
+      free_wire_contact_ = free.get();
+      external_.push_back(std::move(free));
+    }
   }
   if (s.physics.supply) {
     auto supply = std::make_unique<Supply>(c_, s, core_.get());

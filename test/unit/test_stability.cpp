@@ -293,55 +293,34 @@ TEST(Stability, NewtonStepMethodsOnTheExtremeCases) {
 }
 
 // The matrix's two-layer coil (flanges, wire on wire, a reversal at the
-// far flange) with bdf2: stable by the matrix's criteria, and no wire
-// passes through wire (no two points further apart along the wire than
-// four segments closer than 0.9 d). (implicit_euler's coil lets wire pass
-// through wire still integrated: contact between free segments is not yet
-// modelled; docs/STABILITY.md. The explicit methods take minutes: the
-// stability study's table.)
-TEST(Stability, TwoLayerWindingWithBdf2) {
-  cws::Simulation sim(scene(matrixCase("two_layers"), "bdf2"));
-  sim.run();
-  expectStable(cws::measureRun(sim));
-  const cws::WireKinematics& k = sim.model().committed();
-  const double d = sim.scene().wire.diameter;
-  double closest = 1e9;
-  for (int i = 1; i < sim.model().constants().n; ++i) {
-    for (int j = 1; j + 4 < i; ++j) {
-      closest = std::min(closest, (k.p_world.col(i) - k.p_world.col(j)).norm());
-    }
-  }
-  std::printf("two layers, bdf2: closest points %.3f d apart\n", closest / d);
-  EXPECT_GT(closest, 0.9 * d);
-}
-
-// The same case with implicit_euler leaves most of the wound wire free (39
-// of 177 wound points carried at 3 turns), and the third turn, free, runs
-// into the second, free as well: two free segments do not touch yet
-// (docs/MODEL.md). The run stops once the wire lies deeper than its radius
-// in wound wire, with the cause in the message; the point it names lies
-// that deep in the segment it names (measured here from the geometry).
-TEST(Stability, WireIntoWoundWireStopsTheRun) {
-  cws::Simulation sim(scene(matrixCase("two_layers"), "implicit_euler"));
-  try {
+// far flange) with the Newton-step methods: no wire passes through wire (no
+// two points further apart along the wire than four segments closer than
+// 0.9 d), and with bdf2 stable by the matrix's criteria. implicit_euler
+// carried little of the wound wire at 3 turns, and its third turn, landing
+// on the second while both were free, passed through it before contact
+// between free segments was modelled; now that contact holds it. (Its
+// energy balance shows 1.7 % created, beyond the matrix's 1 %: not asserted
+// here; docs/STABILITY.md. The explicit methods take minutes: the stability
+// study's table.)
+TEST(Stability, TwoLayerWindingWithNewtonSteps) {
+  for (const char* method : {"bdf2", "implicit_euler"}) {
+    SCOPED_TRACE(method);
+    cws::Simulation sim(scene(matrixCase("two_layers"), method));
     sim.run();
-    ADD_FAILURE() << "implicit_euler was expected to stop (or free segments now touch: "
-                     "then this case is stable and belongs with the bdf2 one)";
-  } catch (const cws::IntegrationError& e) {
-    const std::string msg = e.what();
-    std::printf("%s\n", msg.c_str());
-    EXPECT_NE(msg.find("wire passed into wound wire"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("use bdf2"), std::string::npos) << msg;
-    const cws::Contact::WireDepth& deep = sim.model().contact()->deepestInWire();
-    ASSERT_GE(deep.point, 0);
+    const cws::RunMeasures m = cws::measureRun(sim);
+    std::printf("two layers, %s: energy created %.2e\n", method, m.energy_signed_rel);
+    if (std::string(method) == "bdf2") expectStable(m);
     const cws::WireKinematics& k = sim.model().committed();
-    const Eigen::Vector3d p = k.p_world.col(deep.point), a = k.p_world.col(deep.segment),
-                          b = k.p_world.col(deep.segment + 1);
-    const double u = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-    const double r = sim.model().constants().radius;
-    const double depth = 2.0 * r - (p - a - u * (b - a)).norm();
-    EXPECT_GT(depth, cws::Simulation::kWireThroughWire * r);
-    EXPECT_NEAR(depth, deep.depth_m, 1e-3 * r);
+    const double d = sim.scene().wire.diameter;
+    double closest = 1e9;
+    for (int i = 1; i < sim.model().constants().n; ++i) {
+      for (int j = 1; j + 4 < i; ++j) {
+        closest = std::min(closest, (k.p_world.col(i) - k.p_world.col(j)).norm());
+      }
+    }
+    std::printf("two layers, %s: closest points %.3f d apart, %d of %d points carried\n", method,
+                closest / d, sim.model().constants().first, sim.model().constants().n);
+    EXPECT_GT(closest, 0.9 * d);
   }
 }
 

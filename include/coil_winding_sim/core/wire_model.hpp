@@ -32,6 +32,7 @@
 namespace cws {
 
 class Damping;
+class FreeWireContact;
 
 struct EnergyReport {
   double kinetic = 0.0;    // [J]
@@ -158,6 +159,8 @@ class WireModel : public OdeSystem {
   const RotatingCore* core() const { return core_.get(); }
   RotatingCore* core() { return core_.get(); }
   const Contact* contact() const { return contact_; }
+  // Contact between free segments (physics.wire_contact; else null).
+  const FreeWireContact* freeWireContact() const { return free_wire_contact_; }
   // Friction and damping coefficients changed mid-run (Simulation::
   // setFriction, setDamping; validated there).
   void setFriction(double mu_static, double mu_kinetic);
@@ -231,6 +234,7 @@ class WireModel : public OdeSystem {
   Eigen::Vector3d planar_normal_world_ = Eigen::Vector3d::Zero();  // zero: 3-D
   std::unique_ptr<RotatingCore> core_;
   Contact* contact_ = nullptr;
+  FreeWireContact* free_wire_contact_ = nullptr;
   Damping* damping_ = nullptr;
   Supply* supply_ = nullptr;
   std::unique_ptr<CoreSection> section_;  // with a core that has cylinders

@@ -35,7 +35,10 @@ void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double a
   power_dissipated = 0.0;
   boundary_force.setZero();
   boundary_fq.setZero();
-  if (jacobian_) matrix_.setZero(unknowns_, port, partial ? jacobian_top - first : -1);
+  if (jacobian_) {
+    matrix_.setZero(unknowns_, port, partial ? jacobian_top - first : -1);
+    pair_count_ = 0;
+  }
 }
 
 void SpatialAssembly::setConstraint(int row, double g, double scale) {

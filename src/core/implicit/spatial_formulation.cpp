@@ -31,6 +31,7 @@ SpatialFormulation::SpatialFormulation(WireModel& model, const Scene& scene)
   state_.qd.setZero(4, cap);
   state_.mu.setZero(3, cap);
   assembly_.resize(cap);
+  couplings_.resize(SpatialAssembly::kPerPoint * cap + 2);
   x0_.setZero(7, cap);
   v0_.setZero(7, cap);
   x_hat_.setZero(7, cap);
@@ -171,7 +172,7 @@ bool SpatialFormulation::factor() {
   SpatialAssembly::Matrix& m = assembly_.matrix();
   const int top = assembly_.jacobianTop();
   const bool ok = top < state_.n - 1 ? m.factorFrom(top - state_.first) : m.factor();
-  if (!ok) return false;
+  if (!ok || !couplings_.factor(assembly_)) return false;
   factored_ = {alpha_, kappa_, state_.first, state_.n};
   return true;
 }
@@ -180,6 +181,7 @@ double SpatialFormulation::direction() {
   const int unknowns = assembly_.unknowns();
   dx_.head(unknowns) = -r_.head(unknowns);
   assembly_.matrix().solve(dx_.head(unknowns));
+  couplings_.correct(assembly_, dx_.head(unknowns));
   // The step's size in metres: positions, and quaternions times l.
   double step = 0.0;
   for (int i = state_.first; i < state_.n; ++i) {

@@ -130,6 +130,31 @@ class Contact : public ForceEffect {
   };
   const WireDepth& deepestInWire() const { return deepest_in_wire_; }
 
+  // Normal force at penetration h [m] and speed v_n [m/s] away from the
+  // surface [N], with its derivatives in h [N/m] and v_n [N s/m]: the
+  // spring, with the dashpot if damped, never pulling. The dashpot grows
+  // over the first kDashpotRamp of the wire radius of penetration, so that
+  // the force does not jump by c v_n where a point first touches. (An
+  // implicit step keeps an active contact's spring linear below h = 0.)
+  struct NormalForce {
+    double force, d_h, d_vn;
+  };
+  NormalForce normalLaw(double h, double v_n) const {
+    const double k = p_.stiffness;
+    if (c_normal_ == 0.0 || h <= 0.0) return {k * h, k, 0.0};
+    const bool ramping = h < h_ramp_;
+    const double c = ramping ? c_normal_ * h / h_ramp_ : c_normal_;
+    const double f = k * h - c * v_n;
+    if (f <= 0.0) return {0.0, 0.0, 0.0};
+    return {f, ramping ? k - c_normal_ * v_n / h_ramp_ : k, -c};
+  }
+  // The laws' parameters, for contact between free segments
+  // (free_wire_contact.hpp): the penalty stiffness [N/m], mu_d, and the
+  // points next to a point along the wire that never count as touching it.
+  double stiffness() const { return p_.stiffness; }
+  double kineticFriction() const { return friction_ ? p_.kinetic_friction : 0.0; }
+  int skipPoints() const { return skip_points_; }
+
  private:
   // Places the cylinder axes and faces in the world at time t, once per
   // evaluation.
@@ -167,25 +192,7 @@ class Contact : public ForceEffect {
   static constexpr int kSameRun = 2;
   // Hashes the carried segments not yet hashed (all again after a release).
   void syncCarriedWire() const;
-  // Normal force at penetration h [m] and speed v_n [m/s] away from the
-  // surface [N], with its derivatives in h [N/m] and v_n [N s/m]: the
-  // spring, with the dashpot if damped, never pulling. The dashpot grows
-  // over the first kDashpotRamp of the wire radius of penetration, so that
-  // the force does not jump by c v_n where a point first touches. (An
-  // implicit step keeps an active contact's spring linear below h = 0.)
-  struct NormalForce {
-    double force, d_h, d_vn;
-  };
-  static constexpr double kDashpotRamp = 1e-3;
-  NormalForce normalLaw(double h, double v_n) const {
-    const double k = p_.stiffness;
-    if (c_normal_ == 0.0 || h <= 0.0) return {k * h, k, 0.0};
-    const bool ramping = h < h_ramp_;
-    const double c = ramping ? c_normal_ * h / h_ramp_ : c_normal_;
-    const double f = k * h - c * v_n;
-    if (f <= 0.0) return {0.0, 0.0, 0.0};
-    return {f, ramping ? k - c_normal_ * v_n / h_ramp_ : k, -c};
-  }
+  static constexpr double kDashpotRamp = 1e-3;  // (normalLaw's ramp, in wire radii)
   double normalForce(double h, double v_n) const { return normalLaw(h, v_n).force; }
   // Tangential friction force on point i [N] given the committed stick state;
   // sets `slipping` when the stick spring would exceed mu_s N.

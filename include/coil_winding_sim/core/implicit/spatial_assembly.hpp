@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <vector>
 
 #include "coil_winding_sim/core/implicit/one_leg_step.hpp"
 #include "coil_winding_sim/core/linear_algebra/block_tridiagonal_lu.hpp"
@@ -117,6 +118,26 @@ class SpatialAssembly {
   void addConstraintGradientP(int row, int i, const Eigen::Vector3d& grad);
   void addConstraintGradientQ(int row, int i, const Eigen::Vector4d& grad);
 
+  // A coupling outside the band (contact between two free segments,
+  // free_wire_contact.hpp): the Jacobian term C^T k C, where C x = p_a -
+  // (1 - t) p_b - t p_b+1 is the point's position relative to the segment's
+  // point, and k [N/m] is the block in that relative position as the matrix
+  // holds it (-(dF/dx + alpha dF/dv)). Solved through the Woodbury identity
+  // (pair_coupling_solve.hpp); at most kMaxPairCouplings of them (the
+  // Jacobian of any further pair is left out: modified Newton).
+  struct PairCoupling {
+    int a = 0, b = 0;
+    double t = 0.0;
+    Eigen::Matrix3d k = Eigen::Matrix3d::Zero();
+  };
+  static constexpr int kMaxPairCouplings = 12;
+  void addPairCoupling(int a, int b, double t, const Eigen::Matrix3d& k) {
+    if (!jacobian_ || pair_count_ == kMaxPairCouplings) return;
+    pairs_[pair_count_++] = PairCoupling{a, b, t, k};
+  }
+  int pairCouplings() const { return pair_count_; }
+  const PairCoupling& pairCoupling(int x) const { return pairs_[x]; }
+
   Eigen::VectorXd& forces() { return force_; }
   const Eigen::VectorXd& forces() const { return force_; }
   using Matrix = BlockTridiagonalLu<kPerPoint, kCoupled>;
@@ -146,6 +167,8 @@ class SpatialAssembly {
         .template block<Derived::RowsAtCompileTime, Derived::ColsAtCompileTime>(row, col) += b;
   }
 
+  PairCoupling pairs_[kMaxPairCouplings];
+  int pair_count_ = 0;
   int first_ = 1, n_ = 0, unknowns_ = 0, jacobian_top_ = -1;
   bool jacobian_ = false;
   double alpha_ = 0.0;

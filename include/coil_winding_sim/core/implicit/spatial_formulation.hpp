@@ -14,6 +14,7 @@
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
 #include "coil_winding_sim/core/implicit/newton_iteration.hpp"
+#include "coil_winding_sim/core/implicit/pair_coupling_solve.hpp"
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 
@@ -71,6 +72,7 @@ class SpatialFormulation : public NewtonFormulation {
   NewtonSettings newton_;
   SpatialState state_;
   SpatialAssembly assembly_;
+  PairCouplingSolve couplings_;  // the couplings outside the band
   // Committed state and the present step's scheme data (capacity columns).
   Eigen::MatrixXd x0_, v0_, x_hat_, v_hat_, x_try_;
   Eigen::Matrix3Xd mu_try_, mu_accepted_;

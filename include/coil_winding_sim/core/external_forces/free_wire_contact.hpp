@@ -1,0 +1,122 @@
+// Contact between two free segments of the wire (physics.wire_contact): an
+// integrated point against a segment earlier along the wire whose ends are
+// integrated too (or the boundary point), before the core carries either.
+// Contact.hpp's wire contact covers the segments the core carries; this
+// covers the rest, so that a landing turn cannot pass through a turn the
+// core does not carry yet (docs/MODEL.md, "Wire against wound wire").
+//
+// - The same capsule geometry: h = 2 r - the point's distance from the
+//   segment, node against segment, the later point against the earlier
+//   segment only (as against carried wire), neighbours along the wire
+//   within Contact::skipPoints() never counting. A point feels the nearest
+//   segment of each run of touching segments, at most kRuns runs.
+// - The same normal law (Contact::normalLaw: k h with its dashpot against
+//   the relative normal speed); the reaction acts on the segment's two ends
+//   in the ratio of the nearest point's position along it.
+// - Kinetic friction mu_d N against the relative sliding velocity, divided
+//   by at least contact.stick_speed (viscous below it). Two free segments
+//   do not stick: a stick spring needs an anchor that moves with one of
+//   them, and once the core carries one, the carried-wire contact (with
+//   stick) takes the pair over.
+// - Candidates come from a neighbour list with a skin (as molecular
+//   dynamics keeps its Verlet lists): the pairs within 2 d, built anew at a
+//   commit once a point has moved r / 2 since the last build, or the
+//   integrated span changed.
+// - In a Newton step the pair couples two distant blocks. Its Jacobian goes
+//   to the assembly as a coupling outside the band
+//   (SpatialAssembly::addPairCoupling), solved through the Woodbury
+//   identity over the band's factorization (pair_coupling_solve.hpp), so the
+//   system stays block-tridiagonal. Which pairs touch is a flag, frozen
+//   within a solve and rechecked after it, as the core's contacts are.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "coil_winding_sim/core/external_forces/contact.hpp"
+#include "coil_winding_sim/core/wire_types.hpp"
+
+namespace cws {
+
+class FreeWireContact : public ForceEffect {
+ public:
+  // contact: the core's contact, whose laws and parameters this shares.
+  FreeWireContact(const WireConstants& c, const Contact& contact);
+
+  const char* name() const override { return "free_wire_contact"; }
+  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
+  // (Wire contact is refused in the plane: nothing to add there.)
+  void addPlanarForces(const PlanarState& /*s*/, PlanarAssembly& /*a*/) const override {}
+  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
+  void beginSpatialStep(const SpatialState& s0) override;
+  bool recheckSpatialFlags(const SpatialState& s) override;
+  void commit(double t, const WireKinematics& k) override;
+  void shrink(const WireKinematics& k) override;
+  // No history (no stick): the neighbour list is built anew after a restore.
+  void restoreHistory(HistoryReader& in) override;
+  double elasticEnergy(const WireKinematics& /*k*/) const override { return elastic_committed_; }
+
+  static constexpr int kRuns = 2;
+  // The pair deepest in contact at the last commit (depth 0: none).
+  struct Deepest {
+    double depth_m = 0.0;
+    int point = -1, segment = -1;
+  };
+  const Deepest& deepest() const { return deepest_; }
+  // Pairs in the neighbour list, and those touching, at the last commit.
+  int candidates() const { return static_cast<int>(pairs_.size()); }
+  int touching() const;
+  // Tests: the force on point a of a pair (a, b) at state s, as the
+  // implicit step adds it, and its derivative in p_a (with v_a following as
+  // alpha p_a); false if the pair does not touch there.
+  bool pairForceAt(const SpatialState& s, int a, int b, Eigen::Vector3d& f_a,
+                   Eigen::Matrix3d& df_a) const;
+
+ private:
+  struct Pair {
+    int a, b;           // point a against segment b (points b, b + 1)
+    char active;        // touching at the last commit
+    char trial_active;  // an implicit step's frozen flag
+  };
+  // Point a against the nearest of segments b-1..b+1 that it may touch
+  // (first-1 <= m <= a-1-skip): segment m, the nearest point's position t
+  // along it, delta = p_a - that point, and the segment's unit direction
+  // where that point lies inside it (zero at an end). False: none (a or b
+  // no longer free, or a degenerate distance).
+  struct Geometry {
+    int m;
+    double t;
+    Eigen::Vector3d delta, tangent;
+  };
+  bool geometry(const Eigen::Matrix3Xd& p, int first, int a, int b, Geometry& g) const;
+  // The force on point a at the pair's geometry and relative velocity
+  // r_v = v_a - (1 - t) v_m - t v_m+1; with jacobian, df = dF / d p_a
+  // where the velocities follow the positions as v = alpha (x - x_hat).
+  struct PairForce {
+    Eigen::Vector3d f, f_dissipative;
+    Eigen::Matrix3d df;
+    double h;
+  };
+  PairForce pairForce(const Geometry& g, const Eigen::Vector3d& r_v, double alpha,
+                      bool jacobian) const;
+  // The neighbour list at positions p of points first-1..n-1.
+  void build(const Eigen::Matrix3Xd& p, int first, int n);
+  bool needsBuild(const Eigen::Matrix3Xd& p, int first, int n) const;
+  // The list (built anew if needed), which pairs touch, their energy and
+  // the deepest, at positions p of the committed state.
+  void refresh(const Eigen::Matrix3Xd& p, int first, int n);
+
+  const WireConstants& c_;
+  const Contact& contact_;
+  double touch_distance_;  // 2 r [m]
+  double reach_;           // 2 r plus the skin [m]
+  double rebuild_move_;    // a point's move that rebuilds the list [m]
+  int skip_;
+  std::vector<Pair> pairs_;  // reserved to the capacity once
+  Eigen::Matrix3Xd p_built_;
+  int built_first_ = -1, built_n_ = -1;
+  double elastic_committed_ = 0.0;
+  Deepest deepest_;
+};
+
+}  // namespace cws

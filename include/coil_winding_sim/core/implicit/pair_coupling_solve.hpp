@@ -1,0 +1,43 @@
+// The Newton system's couplings outside the band (contact between two free
+// segments, SpatialAssembly::PairCoupling), solved over the band's
+// factorization through the Woodbury identity:
+//   (A + U K U^T)^-1 b = y - W z,  y = A^-1 b,  W = A^-1 U,
+//   (I + K U^T W) z = K U^T y,
+// with three columns of U per pair (U_p = C_p^T) and K block-diagonal (the
+// pairs' 3 x 3 blocks, which need not be invertible). A factorization costs
+// three band solves per pair and a dense LU of 3 x 3 blocks per pair; a
+// solve, one small solve and a product. Storage is sized once.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
+
+namespace cws {
+
+class PairCouplingSolve {
+ public:
+  // Storage for systems of up to `unknowns` unknowns.
+  void resize(int unknowns);
+  // After the assembly's band matrix is factored: takes its pair couplings
+  // (none: nothing to do). False if the small system is singular.
+  bool factor(SpatialAssembly& a);
+  // x holds A^-1 b (the band's solve): makes it the full system's solution.
+  void correct(const SpatialAssembly& a, Eigen::Ref<Eigen::VectorXd> x) const;
+  int pairs() const { return m_; }
+
+ private:
+  static constexpr int kMax = 3 * SpatialAssembly::kMaxPairCouplings;
+  // C_p v for the unknowns v of pair p (rows of its points' positions).
+  Eigen::Vector3d relative(const SpatialAssembly& a, int p,
+                           const Eigen::Ref<const Eigen::VectorXd>& v) const;
+
+  int m_ = 0;
+  SpatialAssembly::PairCoupling pairs_[SpatialAssembly::kMaxPairCouplings];
+  Eigen::MatrixXd w_;                    // A^-1 U, unknowns x 3 per pair
+  Eigen::Matrix<double, kMax, kMax> s_;  // I + K U^T W, LU in place
+  int pivot_[kMax] = {};
+  mutable Eigen::Matrix<double, kMax, 1> g_;
+};
+
+}  // namespace cws
