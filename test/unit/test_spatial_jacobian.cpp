@@ -3,8 +3,9 @@
 // on states of the paper's 3-D case wound part of the way: elastic and
 // yielded springs (stretch, bend, torsion), points sticking, slipping and
 // just touching the core, the supply port's constraint. Every unknown is
-// perturbed: positions, quaternions (off the unit sphere too: the forces
-// are defined there) and the multipliers.
+// perturbed: positions, the frames' rotations (the quaternion moved along
+// its tangent basis dq/dtheta, held at the unperturbed state's as the
+// assembly holds it within an evaluation) and the multipliers.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -20,14 +21,17 @@ namespace {
 const std::string k3d = std::string(CWS_SOURCE_DIR) + "/config/scenes/paper_case_3d.yaml";
 
 // What is checked: one effect, or the frame constraints (effect null).
+// frames_q: the quaternions the frames' tangent bases are taken at.
 void assembleOne(const cws::ForceEffect* effect, cws::SpatialState& s, cws::SpatialAssembly& a,
-                 bool port, bool jacobian) {
+                 bool port, bool jacobian, const Eigen::Matrix4Xd& frames_q) {
+  a.setFrames(frames_q, s.first, s.n);
   a.begin(s.first, s.n, port, jacobian, s.alpha);
   if (effect) {
     effect->addSpatialForces(s, a);
   } else {
-    cws::addSpatialFrameConstraints(s, 3.0, 7.0, a);
+    cws::addSpatialFrameConstraints(s, 7.0, a);
   }
+  a.finish();
 }
 
 // The Newton matrix (d r / d u, r = -F on force rows and F on constraint
@@ -38,7 +42,8 @@ void checkOne(cws::SpatialState& s, const cws::ForceEffect* effect, int capacity
   a.resize(capacity);
   ap.resize(capacity);
   am.resize(capacity);
-  assembleOne(effect, s, a, port, true);
+  const Eigen::Matrix4Xd frames_q = s.q;
+  assembleOne(effect, s, a, port, true, frames_q);
   const int unknowns = a.unknowns();
   Eigen::MatrixXd analytic = Eigen::MatrixXd::Zero(unknowns, unknowns);
   for (int r = 0; r < unknowns; ++r) {
@@ -65,39 +70,48 @@ void checkOne(cws::SpatialState& s, const cws::ForceEffect* effect, int capacity
   // Which rows are constraint rows.
   std::vector<bool> constraint(unknowns, false);
   for (int i = s.first; i < s.n; ++i) {
-    for (int k = 0; k < 3; ++k) constraint[a.muRow(i) + k] = true;
+    for (int k = 0; k < A::kMultipliers; ++k) constraint[a.muRow(i) + k] = true;
   }
   if (port) constraint[unknowns - 2] = constraint[unknowns - 1] = true;
   for (int c = 0; c < unknowns; ++c) {
-    // The unknown behind column c and its perturbation.
+    // The unknown behind column c and its perturbation: one coordinate, or
+    // (a frame's rotation) the quaternion along a tangent direction.
     double* u = nullptr;
     double* rate = nullptr;
+    int frame = -1;
+    Eigen::Vector4d dq = Eigen::Vector4d::Zero();
     double eps = 1e-9;
     if (port && c >= unknowns - 2) {
       u = &s.lambda_port[c - (unknowns - 2)];
       eps = 1e-4;
     } else {
-      const int i = s.first + c / cws::SpatialAssembly::kPerPoint;
-      const int k = c % cws::SpatialAssembly::kPerPoint;
-      using A = cws::SpatialAssembly;
-      if (k >= A::kMu && k < A::kMu + 3) {
-        u = &s.mu(k - A::kMu, i);
+      const int i = s.first + c / A::kPerPoint;
+      const int k = c % A::kPerPoint;
+      if (k >= A::kMu && k < A::kMu + A::kMultipliers) {
+        u = &s.mu(1 + k - A::kMu, i);
         eps = 1e-4;
       } else if (k >= A::kP && k < A::kP + 3) {
         u = &s.p(k - A::kP, i);
         rate = &s.v(k - A::kP, i);
       } else {
-        u = &s.q(k - A::kQ, i);
-        rate = &s.qd(k - A::kQ, i);
+        frame = i;
+        dq = a.frameBasis(i).col(k - A::kQ);
         eps = 1e-7;
       }
     }
+    auto move = [&](double step) {
+      if (frame >= 0) {
+        s.q.col(frame) += step * dq;
+        s.qd.col(frame) += s.alpha * step * dq;
+        return;
+      }
+      *u += step;
+      if (rate) *rate += s.alpha * step;
+    };
     auto eval = [&](double sign, cws::SpatialAssembly& out) {
-      *u += sign * eps;
-      if (rate) *rate += sign * s.alpha * eps;
-      assembleOne(effect, s, out, port, false);
-      *u -= sign * eps;
-      if (rate) *rate -= sign * s.alpha * eps;
+      move(sign * eps);
+      assembleOne(effect, s, out, port, false, frames_q);
+      move(-sign * eps);
     };
     eval(1.0, ap);
     eval(-1.0, am);

@@ -1,28 +1,21 @@
-// The frame constraints (4) and (5) as rows of the 3-D implicit Newton
-// system: unlike the explicit model (frame_constraints.cpp), which keeps
-// them at acceleration level with Baumgarte's stabilization, an implicit
-// step holds them exactly at its end.
+// The frame constraint (5) as rows of the 3-D implicit Newton system:
+// unlike the explicit model (frame_constraints.cpp), which keeps (4) and
+// (5) at acceleration level with Baumgarte's stabilization, an implicit
+// step holds (5) exactly at its end. (4), the unit norm, needs no row: the
+// step moves each quaternion by a rotation (SpatialAssembly's frames).
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 
 namespace cws {
 
-void addSpatialFrameConstraints(const SpatialState& s, double scale_unit, double scale_direction,
-                                SpatialAssembly& a) {
+void addSpatialFrameConstraints(const SpatialState& s, double scale_direction, SpatialAssembly& a) {
   for (int i = s.first; i < s.n; ++i) {
     const quat::Vec4 q = s.q.col(i);
     const Eigen::Vector3d d = s.segment(i - 1);
     const Eigen::Vector3d mu = s.mu.col(i);
     const int row = a.muRow(i);
     const bool jacobian = a.wantsJacobianAt(i - 1);
-    // (4): |q|^2 - 1, gradient 2 q, Hessian 2 I.
-    a.addQForce(i, mu[0] * 2.0 * q);
-    a.setConstraint(row, q.squaredNorm() - 1.0, scale_unit);
-    if (jacobian) {
-      a.addConstraintGradientQ(row, i, 2.0 * q);
-      a.addStiffnessQQ(i, i, 2.0 * mu[0] * Eigen::Matrix4d::Identity());
-    }
-    // (5): d . xi and d . eta, d = p_i - p_{i-1}.
+    // (5): d . xi and d . eta, d = p_i - p_{i-1} (multipliers mu[1], mu[2]).
     const Eigen::Vector3d axis[2] = {quat::xi(q), quat::eta(q)};
     const quat::Mat34 jac[2] = {quat::xiJacobian(q), quat::etaJacobian(q)};
     for (int r = 0; r < 2; ++r) {
@@ -31,11 +24,11 @@ void addSpatialFrameConstraints(const SpatialState& s, double scale_unit, double
       a.addForce(i, m * axis[r]);
       a.addForce(i - 1, -m * axis[r]);
       a.addQForce(i, m * grad_q);
-      a.setConstraint(row + 1 + r, d.dot(axis[r]), scale_direction);
+      a.setConstraint(row + r, d.dot(axis[r]), scale_direction);
       if (!jacobian) continue;
-      a.addConstraintGradientP(row + 1 + r, i, axis[r]);
-      a.addConstraintGradientP(row + 1 + r, i - 1, -axis[r]);
-      a.addConstraintGradientQ(row + 1 + r, i, grad_q);
+      a.addConstraintGradientP(row + r, i, axis[r]);
+      a.addConstraintGradientP(row + r, i - 1, -axis[r]);
+      a.addConstraintGradientQ(row + r, i, grad_q);
       a.addStiffnessPQ(i, i, m * jac[r]);
       a.addStiffnessPQ(i - 1, i, -m * jac[r]);
       a.addStiffnessQP(i, i, m * jac[r].transpose());

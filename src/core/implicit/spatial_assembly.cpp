@@ -1,5 +1,7 @@
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 
+#include "coil_winding_sim/core/quaternion.hpp"
+
 namespace cws {
 
 void SpatialAssembly::resize(int capacity_points) {
@@ -14,6 +16,39 @@ void SpatialAssembly::resize(int capacity_points) {
   // and stretching j to j+1, a frame's rows to p_i-1); the port's two rows
   // form a block of their own after the last point's.
   matrix_.resize(unknowns);
+  basis_.assign(capacity_points, Eigen::Matrix<double, 4, 3>::Zero());
+  q_.assign(capacity_points, Eigen::Vector4d::Zero());
+  radial_.setZero(capacity_points);
+  fq4_.setZero(4, capacity_points);
+  kqq_.assign(3 * capacity_points, Eigen::Matrix4d::Zero());
+  kpq_.assign(3 * capacity_points, Eigen::Matrix<double, 3, 4>::Zero());
+  kqp_.assign(3 * capacity_points, Eigen::Matrix<double, 4, 3>::Zero());
+}
+
+void SpatialAssembly::finish() {
+  for (int i = first_; i < n_; ++i) {
+    const Eigen::Vector4d f = fq4_.col(i);
+    force_.segment<3>(qRow(i)) += basis_[i].transpose() * f;
+    radial_[i] = q_[i].dot(f);
+  }
+  if (!jacobian_) return;
+  const int top = std::min(n_ - 1, jacobian_top_);
+  for (int i = first_; i <= top; ++i) {
+    for (int j = std::max(first_, i - 1); j <= std::min(n_ - 1, i + 1); ++j) {
+      const int k = slot(i, j);
+      auto& b = matrix_.blockAt(i - first_, j - first_);
+      b.template block<3, 3>(kQ, kQ) += basis_[i].transpose() * kqq_[k] * basis_[j];
+      b.template block<3, 3>(kP, kQ) += kpq_[k] * basis_[j];
+      b.template block<3, 3>(kQ, kP) += basis_[i].transpose() * kqp_[k];
+    }
+  }
+}
+
+void SpatialAssembly::setFrames(const Eigen::Matrix4Xd& q, int first, int n) {
+  for (int i = first; i < n; ++i) {
+    q_[i] = q.col(i);
+    basis_[i] = 0.5 * quat::G(q_[i]).transpose();
+  }
 }
 
 void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double alpha,
@@ -26,6 +61,15 @@ void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double a
   jacobian_top_ = partial ? jacobian_top : n;  // (n: also the port's rows)
   alpha_ = alpha;
   force_.head(unknowns_).setZero();
+  fq4_.middleCols(first, n - first).setZero();
+  if (jacobian) {
+    const int top = std::min(n - 1, jacobian_top_);
+    for (int k = 3 * first; k < 3 * (top + 1); ++k) {
+      kqq_[k].setZero();
+      kpq_[k].setZero();
+      kqp_[k].setZero();
+    }
+  }
   const int from = std::max(0, first - 1);
   f_work.middleCols(from, n - from).setZero();
   f_dissipative.middleCols(from, n - from).setZero();
@@ -56,11 +100,12 @@ void SpatialAssembly::addConstraintGradientP(int row, int i, const Eigen::Vector
   }
 }
 
-void SpatialAssembly::addConstraintGradientQ(int row, int i, const Eigen::Vector4d& grad) {
+void SpatialAssembly::addConstraintGradientQ(int row, int i, const Eigen::Vector4d& grad_q) {
   if (!jacobian_ || i < first_) return;
   const int c = qRow(i);
   const bool row_wanted = rowWanted(row), col_wanted = rowWanted(c);
-  for (int a = 0; a < 4; ++a) {
+  const Eigen::Vector3d grad = basis_[i].transpose() * grad_q;
+  for (int a = 0; a < 3; ++a) {
     if (row_wanted) matrix_.at(row, c + a) += -scale_[row] * grad[a];
     if (col_wanted) matrix_.at(c + a, row) += -grad[a];
   }

@@ -20,10 +20,8 @@ SpatialFormulation::SpatialFormulation(WireModel& model, const Scene& scene)
       carried_(model.core()) {
   const int cap = model.constants().capacity;
   for (ForceEffect* e : model.effectList()) effects_.push_back(e);
-  // Constraint rows in the force rows' unit: the axial rigidity EA [N]
-  // for the unit quaternion, the axial stiffness EA / l [N/m] for a
-  // direction (as the planar port constraint).
-  scale_unit_ = scene.wire.stretch.elastic_rigidity;
+  // Constraint rows in the force rows' unit: the axial stiffness EA / l
+  // [N/m] for a direction (as the planar port constraint).
   scale_direction_ = scene.wire.stretch.elastic_rigidity / segment_length_;
   state_.p.setZero(3, cap);
   state_.v.setZero(3, cap);
@@ -39,6 +37,7 @@ SpatialFormulation::SpatialFormulation(WireModel& model, const Scene& scene)
   x_try_.setZero(7, cap);
   mu_try_.setZero(3, cap);
   mu_accepted_.setZero(3, cap);
+  radial_r_.setZero(cap);
   r_.setZero(SpatialAssembly::kPerPoint * cap + 2);
   dx_.setZero(SpatialAssembly::kPerPoint * cap + 2);
 }
@@ -96,9 +95,11 @@ void SpatialFormulation::updateRates() {
 
 const SpatialAssembly& SpatialFormulation::assemble(bool jacobian, int jacobian_top) {
   if (jacobian) have_factor_ = false;  // the matrix is overwritten
+  assembly_.setFrames(state_.q, state_.first, state_.n);
   assembly_.begin(state_.first, state_.n, port_, jacobian, state_.alpha, jacobian_top);
   for (const ForceEffect* e : effects_) e->addSpatialForces(state_, assembly_);
-  addSpatialFrameConstraints(state_, scale_unit_, scale_direction_, assembly_);
+  addSpatialFrameConstraints(state_, scale_direction_, assembly_);
+  assembly_.finish();
   return assembly_;
 }
 
@@ -120,14 +121,18 @@ double SpatialFormulation::residual(bool jacobian, int top_point) {
   // assembled. The norm weighs a quaternion row [N m] by 1 / l.
   for (int i = f; i < n; ++i) {
     const int mu = assembly_.muRow(i), p = assembly_.pRow(i), q = assembly_.qRow(i);
-    r_.segment<3>(mu) = force.segment<3>(mu);
+    r_.segment<2>(mu) = force.segment<2>(mu);
     r_.segment<3>(p) =
         kappa_ * point_mass_ * (state_.v.col(i) - v_hat_.block<3, 1>(0, i)) - force.segment<3>(p);
-    r_.segment<4>(q) =
-        kappa_ * quat_mass_ * (state_.qd.col(i) - v_hat_.block<4, 1>(3, i)) - force.segment<4>(q);
+    // The frame's rows: the quaternion's inertia, projected on its tangent
+    // space as the forces are (their radial part kept for the Jacobian).
+    const Eigen::Vector4d inertia_q =
+        kappa_ * quat_mass_ * (state_.qd.col(i) - v_hat_.block<4, 1>(3, i));
+    r_.segment<3>(q) = assembly_.frameBasis(i).transpose() * inertia_q - force.segment<3>(q);
+    radial_r_[i] = state_.q.col(i).dot(inertia_q) - assembly_.radialForce(i);
     norm = std::max({norm, r_.segment<3>(p).lpNorm<Eigen::Infinity>(),
-                     r_.segment<3>(mu).lpNorm<Eigen::Infinity>(),
-                     r_.segment<4>(q).lpNorm<Eigen::Infinity>() / segment_length_});
+                     r_.segment<2>(mu).lpNorm<Eigen::Infinity>(),
+                     r_.segment<3>(q).lpNorm<Eigen::Infinity>() / segment_length_});
   }
   if (port_) {
     r_.segment<2>(unknowns - 2) = force.segment<2>(unknowns - 2);
@@ -135,10 +140,14 @@ double SpatialFormulation::residual(bool jacobian, int top_point) {
   }
   if (jacobian) {
     SpatialAssembly::Matrix& m = assembly_.matrix();
-    const double mp = kappa_ * alpha_ * point_mass_, mq = kappa_ * alpha_ * quat_mass_;
+    // Inertia; on a frame's rows B^T M B = M / 4 with B = dq/dtheta, and the
+    // curvature of q(theta) against the residual's radial part: d^2 q /
+    // dtheta^2 = -q / 4 (what the unit norm's multiplier gave before).
+    const double mp = kappa_ * alpha_ * point_mass_, mq = 0.25 * kappa_ * alpha_ * quat_mass_;
     for (int i = f; i < std::min(n, assembly_.jacobianTop() + 1); ++i) {
       for (int a = 0; a < 3; ++a) m.at(assembly_.pRow(i) + a, assembly_.pRow(i) + a) += mp;
-      for (int a = 0; a < 4; ++a) m.at(assembly_.qRow(i) + a, assembly_.qRow(i) + a) += mq;
+      const double dq = mq - 0.25 * radial_r_[i];
+      for (int a = 0; a < 3; ++a) m.at(assembly_.qRow(i) + a, assembly_.qRow(i) + a) += dq;
     }
   }
   return norm;
@@ -158,7 +167,8 @@ NewtonStats SpatialFormulation::solve(const OneLegStep& step, const Eigen::Matri
   v_hat_.middleCols(f, m) = v_hat.middleCols(f, m);
   placeBoundary(t1);
   state_.p.middleCols(f, m) = x_guess.block(0, f, 3, m);
-  state_.q.middleCols(f, m) = x_guess.block(3, f, 4, m);
+  // (Newton moves a frame by rotations: it starts on the unit sphere.)
+  for (int i = f; i < n; ++i) state_.q.col(i) = x_guess.block<4, 1>(3, i).normalized();
   updateRates();
   if (!(factored_ == FactorKey{alpha, kappa, f, n})) have_factor_ = false;
   return newtonSolve(*this, newton_, have_factor_);
@@ -185,9 +195,10 @@ double SpatialFormulation::direction() {
   // The step's size in metres: positions, and quaternions times l.
   double step = 0.0;
   for (int i = state_.first; i < state_.n; ++i) {
-    step =
-        std::max({step, dx_.segment<3>(assembly_.pRow(i)).lpNorm<Eigen::Infinity>(),
-                  segment_length_ * dx_.segment<4>(assembly_.qRow(i)).lpNorm<Eigen::Infinity>()});
+    // (A rotation dtheta moves the quaternion by |dtheta| / 2.)
+    step = std::max(
+        {step, dx_.segment<3>(assembly_.pRow(i)).lpNorm<Eigen::Infinity>(),
+         0.5 * segment_length_ * dx_.segment<3>(assembly_.qRow(i)).lpNorm<Eigen::Infinity>()});
   }
   return step;
 }
@@ -202,9 +213,13 @@ void SpatialFormulation::keepStart() {
 
 void SpatialFormulation::moveAlong(double s) {
   for (int i = state_.first; i < state_.n; ++i) {
-    state_.mu.col(i) = mu_try_.col(i) + s * dx_.segment<3>(assembly_.muRow(i));
+    state_.mu.block<2, 1>(1, i) =
+        mu_try_.block<2, 1>(1, i) + s * dx_.segment<2>(assembly_.muRow(i));
     state_.p.col(i) = x_try_.block<3, 1>(0, i) + s * dx_.segment<3>(assembly_.pRow(i));
-    state_.q.col(i) = x_try_.block<4, 1>(3, i) + s * dx_.segment<4>(assembly_.qRow(i));
+    // Along the frame's tangent dq/dtheta, back onto the unit sphere.
+    const quat::Vec4 q0 = x_try_.block<4, 1>(3, i);
+    state_.q.col(i) =
+        (q0 + (0.5 * s) * quat::G(q0).transpose() * dx_.segment<3>(assembly_.qRow(i))).normalized();
   }
   if (port_) state_.lambda_port = lambda_try_ + s * dx_.segment<2>(assembly_.portRow());
   updateRates();

@@ -45,12 +45,11 @@ struct SpatialState;
 class SpatialAssembly;
 
 // The 3-D implicit formulation's frame constraints for frames first..n-1,
-// held exactly by the multipliers s.mu (frame_constraints_spatial.cpp):
-// (4) |q_i|^2 - 1 = 0 and (5) (p_i - p_{i-1}) . (xi_i, eta_i) = 0, rows
-// scaled by scale_unit [N] and scale_direction [N/m]; their forces
-// mu . dc/dx and the derivatives of those.
-void addSpatialFrameConstraints(const SpatialState& s, double scale_unit, double scale_direction,
-                                SpatialAssembly& a);
+// held exactly by the multipliers s.mu(1..2, i) (frame_constraints_spatial.cpp):
+// (5) (p_i - p_{i-1}) . (xi_i, eta_i) = 0, rows scaled by scale_direction
+// [N/m]; their forces mu . dc/dx and the derivatives of those. (4), the
+// unit norm, holds by construction: Newton turns the frames (SpatialAssembly).
+void addSpatialFrameConstraints(const SpatialState& s, double scale_direction, SpatialAssembly& a);
 
 // Motion of the supply port [m], [m/s], [m/s^2], world frame.
 struct PortMotion {

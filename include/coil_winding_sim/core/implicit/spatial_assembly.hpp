@@ -1,14 +1,16 @@
 // The 3-D implicit formulation's view of the wire (its trial state) and the
 // Newton system every effect adds its forces and Jacobian blocks to.
 //
-// A 3-D wire keeps the explicit model's coordinates: per integrated point i
-// its position p_i and the quaternion q_i of frame i, with the constraints
-// (4) |q_i|^2 = 1 and (5) zeta_i along segment i-1 held exactly by three
-// Lagrange multipliers mu_i per frame, and with a supply the port
-// constraint's two. The effects' generalized forces are the explicit
-// model's (forces on p, generalized forces on q); they add the derivatives
-// too. docs/MODEL.md ("Implicit integration of 3-D scenes") derives the
-// system.
+// A 3-D wire keeps the explicit model's state: per integrated point i its
+// position p_i and the quaternion q_i of frame i. Newton's unknowns for a
+// frame are a rotation dtheta_i in its own axes (q_i moves along
+// dq/dtheta = G(q_i)^T / 2 and stays of unit norm, constraint (4)); the
+// constraint (5), zeta_i along segment i-1, is held exactly by two
+// Lagrange multipliers per frame, and with a supply the port constraint by
+// its two. The effects' generalized forces are the explicit model's (forces
+// on p, generalized forces on q) with their derivatives; the assembly
+// projects those on q onto the rotations (finish()). docs/MODEL.md
+// ("Implicit integration of 3-D scenes") derives the system.
 #pragma once
 
 #include <Eigen/Core>
@@ -41,11 +43,12 @@ struct SpatialState {
 };
 
 // The Newton system over the integrated points' unknowns, in blocks of
-// kPerPoint per point: q_i, then p_i, then the frame's three multipliers;
+// kPerPoint per point: the rotation of frame i, then p_i, then the frame's
+// two multipliers;
 // with a supply the port's two multipliers last. Every effect couples a
 // point only to its neighbours, so the matrix is block-tridiagonal, one
 // block per point (the port's rows a block of their own); frame i's
-// multipliers act on p_i-1, p_i and q_i only, so a block couples to the next
+// multipliers act on p_i-1, p_i and frame i only, so a block couples to the next
 // through its first kCoupled unknowns (BlockTridiagonalLu's C). The matrix holds
 //   -(d F / d x + alpha d F / d v)
 // to which the formulation adds the inertia; a constraint row holds
@@ -53,9 +56,21 @@ struct SpatialState {
 // constraint's force mu dg/dx is added by whoever owns the constraint).
 class SpatialAssembly {
  public:
-  static constexpr int kPerPoint = 10;
-  static constexpr int kQ = 0, kP = 4, kMu = 7;  // offsets in a point's block
-  static constexpr int kCoupled = 7;             // q and p
+  static constexpr int kPerPoint = 8;
+  static constexpr int kQ = 0, kP = 3, kMu = 6;  // offsets in a point's block
+  static constexpr int kCoupled = 6;             // the rotation and p
+  static constexpr int kMultipliers = 2;         // per frame: zeta along the segment
+  // The frames' tangent bases dq/dtheta = G(q)^T / 2 (4 x 3) from the trial
+  // quaternions of points first..n-1 (unit): the effects' generalized
+  // forces and blocks on q are projected with them.
+  void setFrames(const Eigen::Matrix4Xd& q, int first, int n);
+  const Eigen::Matrix<double, 4, 3>& frameBasis(int i) const { return basis_[i]; }
+  // q_i . (the generalized forces added on q_i): their part along q_i,
+  // which the projection drops.
+  double radialForce(int i) const { return radial_[i]; }
+  // Projects what the effects added on q (forces and blocks, kept in the
+  // quaternion's coordinates while they add) onto the frames' rotations.
+  void finish();
   // Storage for up to `capacity_points` points (once, before a run).
   void resize(int capacity_points);
   // Starts the system of points first..n-1 (with the port's multipliers if
@@ -93,7 +108,7 @@ class SpatialAssembly {
   }
   void addQForce(int i, const Eigen::Vector4d& f) {
     if (i >= first_) {
-      force_.segment<4>(qRow(i)) += f;
+      fq4_.col(i) += f;
     } else if (i == first_ - 1) {
       boundary_fq += f;
     }
@@ -103,14 +118,18 @@ class SpatialAssembly {
   // The same by the planar assembly's name (code shared by both).
   void addStiffness(int i, int j, const Eigen::Matrix3d& k) { addStiffnessPP(i, j, k); }
   void addStiffnessPQ(int i, int j, const Eigen::Matrix<double, 3, 4>& k) {
-    block(i, kP, j, kQ, -k);
+    if (wanted(i, j)) kpq_[slot(i, j)] -= k;
   }
   void addStiffnessQP(int i, int j, const Eigen::Matrix<double, 4, 3>& k) {
-    block(i, kQ, j, kP, -k);
+    if (wanted(i, j)) kqp_[slot(i, j)] -= k;
   }
-  void addStiffnessQQ(int i, int j, const Eigen::Matrix4d& k) { block(i, kQ, j, kQ, -k); }
+  void addStiffnessQQ(int i, int j, const Eigen::Matrix4d& k) {
+    if (wanted(i, j)) kqq_[slot(i, j)] -= k;
+  }
   void addDampingPP(int i, int j, const Eigen::Matrix3d& d) { block(i, kP, j, kP, -alpha_ * d); }
-  void addDampingQQ(int i, int j, const Eigen::Matrix4d& d) { block(i, kQ, j, kQ, -alpha_ * d); }
+  void addDampingQQ(int i, int j, const Eigen::Matrix4d& d) {
+    if (wanted(i, j)) kqq_[slot(i, j)] -= alpha_ * d;
+  }
 
   // Constraint row `row` (a frame's or the port's): its scaled residual.
   void setConstraint(int row, double g, double scale);
@@ -158,6 +177,10 @@ class SpatialAssembly {
   // Whether matrix row r belongs to a wanted point's rows (the port's rows
   // follow the last point's).
   bool rowWanted(int r) const { return r / kPerPoint + first_ <= jacobian_top_; }
+  static int slot(int i, int j) { return 3 * i + (j - i + 1); }
+  bool wanted(int i, int j) const {
+    return jacobian_ && i >= first_ && j >= first_ && i <= jacobian_top_;
+  }
   // Adds b at the rows of point i from offset `row` and the columns of
   // point j from offset `col`; nothing for the prescribed point.
   template <class Derived>
@@ -173,6 +196,17 @@ class SpatialAssembly {
   bool jacobian_ = false;
   double alpha_ = 0.0;
   Eigen::VectorXd force_, scale_;  // scale_: each constraint row's
+  std::vector<Eigen::Matrix<double, 4, 3>, Eigen::aligned_allocator<Eigen::Matrix<double, 4, 3>>>
+      basis_;
+  std::vector<Eigen::Vector4d, Eigen::aligned_allocator<Eigen::Vector4d>> q_;
+  Eigen::VectorXd radial_;
+  // What the effects add on q before finish() projects it.
+  Eigen::Matrix4Xd fq4_;
+  std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> kqq_;
+  std::vector<Eigen::Matrix<double, 3, 4>, Eigen::aligned_allocator<Eigen::Matrix<double, 3, 4>>>
+      kpq_;
+  std::vector<Eigen::Matrix<double, 4, 3>, Eigen::aligned_allocator<Eigen::Matrix<double, 4, 3>>>
+      kqp_;
   Matrix matrix_;
 };
 

@@ -68,7 +68,8 @@ class SpatialFormulation : public NewtonFormulation {
   bool port_;                      // a supply port constraint
   double point_mass_, quat_mass_;  // [kg], 4 I [kg m^2]
   double segment_length_;
-  double scale_unit_, scale_direction_;  // constraint row scales [N], [N/m]
+  double scale_direction_;    // the frame constraints' row scale [N/m]
+  Eigen::VectorXd radial_r_;  // q_i . the residual's rows of q_i, unprojected
   NewtonSettings newton_;
   SpatialState state_;
   SpatialAssembly assembly_;
