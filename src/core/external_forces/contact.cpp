@@ -62,6 +62,8 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
         std::max(3, static_cast<int>(std::ceil(3.0 * 2.0 * c.radius / c.segment_length)));
     // (Carried wire stretches little: half as long again is room enough.)
     carried_index_.reserve(c_.capacity, 2.0 * c.radius, 1.5 * c.segment_length);
+    segment_dir_core_.assign(c_.capacity, Eigen::Vector3d::Zero());
+    segment_length2_.assign(c_.capacity, 1.0);
   }
   const std::size_t slots = static_cast<std::size_t>(c_.capacity) * slots_;
   surface_.assign(slots, -1);

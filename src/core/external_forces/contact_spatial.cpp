@@ -49,7 +49,7 @@ bool Contact::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
       best = dist;
       n_core = n;
       t_core.setZero();
-      if (inside) t_core = ((*carried_p_core_)[m + 1] - (*carried_p_core_)[m]).normalized();
+      if (inside) t_core = segment_dir_core_[m].normalized();
     }
     if (best <= 0.0) return false;
     normal_world = rot_world_core_ * n_core;

@@ -24,19 +24,26 @@ void Contact::syncCarriedWire() const {
   const std::vector<Eigen::Vector3d>& p = *carried_p_core_;
   for (int j = std::max(1, indexed_segments_); j < carried; ++j) {
     carried_index_.add(j, p[j], p[j + 1]);
+    // The segment's direction and squared length, read by every query.
+    segment_dir_core_[j] = p[j + 1] - p[j];
+    segment_length2_[j] = segment_dir_core_[j].squaredNorm();
   }
   indexed_segments_ = carried;
 }
 
+double Contact::segmentOffset(int j, const Eigen::Vector3d& p_core, Eigen::Vector3d& offset_core,
+                              bool& inside) const {
+  const Eigen::Vector3d& from = (*carried_p_core_)[j];
+  const Eigen::Vector3d& d = segment_dir_core_[j];
+  const double s = (p_core - from).dot(d) / segment_length2_[j];
+  inside = s > 0.0 && s < 1.0;
+  offset_core = p_core - (from + std::clamp(s, 0.0, 1.0) * d);
+  return offset_core.squaredNorm();
+}
+
 double Contact::segmentDistance(int j, const Eigen::Vector3d& p_core, Eigen::Vector3d& n_core,
                                 bool& inside) const {
-  const std::vector<Eigen::Vector3d>& p = *carried_p_core_;
-  const Eigen::Vector3d d = p[j + 1] - p[j];
-  const double s = (p_core - p[j]).dot(d) / d.squaredNorm();
-  inside = s > 0.0 && s < 1.0;
-  const Eigen::Vector3d nearest = p[j] + std::clamp(s, 0.0, 1.0) * d;
-  n_core = p_core - nearest;
-  const double dist = n_core.norm();
+  const double dist = std::sqrt(segmentOffset(j, p_core, n_core, inside));
   if (dist > 0.0) n_core /= dist;
   return dist;
 }
@@ -51,11 +58,17 @@ int Contact::touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const 
   Eigen::Vector3d normal[kMaxHits];
   int hits = 0;
   const double reach = 2.0 * c_.radius;
+  // (Most segments of the cell lie beyond the reach: their squared
+  // distance rejects them before a root is taken.)
+  const double beyond2 = reach * reach * (1.0 + 1e-9);
   carried_index_.forEachNear(p_core, [&](int j) {
     if (j > last || hits == kMaxHits) return;
     Eigen::Vector3d n;
     bool inside;
-    const double dist = segmentDistance(j, p_core, n, inside);
+    const double dist2 = segmentOffset(j, p_core, n, inside);
+    if (dist2 > beyond2) return;
+    const double dist = std::sqrt(dist2);
+    if (dist > 0.0) n /= dist;
     if (dist >= reach || dist == 0.0) return;
     hit[hits] = j;
     depth[hits] = reach - dist;

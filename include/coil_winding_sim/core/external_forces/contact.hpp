@@ -180,6 +180,10 @@ class Contact : public ForceEffect {
   // (else at an end).
   double segmentDistance(int j, const Eigen::Vector3d& p_core, Eigen::Vector3d& n_core,
                          bool& inside) const;
+  // The same before the root: the squared distance [m^2] and the offset
+  // from the nearest point of the segment (not normalized).
+  double segmentOffset(int j, const Eigen::Vector3d& p_core, Eigen::Vector3d& offset_core,
+                       bool& inside) const;
   // Segments point i may touch: carried (both ends below c.first), and not
   // its neighbours along the wire. Largest such j (-1: none).
   int lastWireSegment(int i) const { return std::min(c_.first - 2, i - 1 - skip_points_); }
@@ -239,6 +243,10 @@ class Contact : public ForceEffect {
   // never count as touching it.
   const std::vector<Eigen::Vector3d>* carried_p_core_ = nullptr;
   mutable CarriedWireIndex carried_index_;
+  // Per carried segment j (set as it is hashed): p_j+1 - p_j in the core
+  // frame and its squared length.
+  mutable std::vector<Eigen::Vector3d> segment_dir_core_;
+  mutable std::vector<double> segment_length2_;
   mutable int indexed_segments_ = 0;
   int skip_points_ = 0;
   // Slots per point and their roles; surface ids: cylinders, faces,
