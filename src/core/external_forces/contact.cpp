@@ -52,6 +52,16 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
     flange_radius_ = swept + s.core.flange_height;
     flange_slot_ = slots_++;
   }
+  // Nothing of the core body reaches beyond its swept radius and a wire
+  // diameter (a margin over the radius a point touches it within).
+  double swept = 0.0;
+  for (const CylinderParams& cyl : s.core.cylinders) {
+    swept = std::max(swept, cyl.center_core.norm() + cyl.radius);
+  }
+  for (const FaceParams& face : coreFaces(s.core)) {
+    swept = std::max({swept, face.from_core.norm(), face.to_core.norm()});
+  }
+  body_reach_ = swept + 2.0 * c.radius;
   wire_base_ = static_cast<int>(radii_.size() + face_length_.size() + flange_at_.size());
   wire_slot_ = slots_;
   if (s.physics.wire_contact) {
@@ -128,6 +138,15 @@ int Contact::touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n
 
 bool Contact::touchAll(int i, const Eigen::Vector3d& p_world, const int* ref, Touch* out) const {
   for (int s = 0; s < slots_; ++s) out[s].surface = -1;
+  // A point farther from the core axis than any surface reaches (the free
+  // span towards the port) touches none.
+  {
+    const Eigen::Vector3d& a = core_.axisWorld();
+    const Eigen::Vector3d r = p_world - core_.originWorld();
+    const double radial2 = (r - r.dot(a) * a).squaredNorm();
+    const double reach = std::max({body_reach_, flange_radius_, carried_reach_});
+    if (radial2 > reach * reach) return false;
+  }
   out[0].surface = touch(p_world, out[0].h, out[0].n_world);
   bool any = out[0].surface >= 0;
   if (flange_slot_ < 0 && wire_slot_ == slots_) return any;
@@ -339,6 +358,7 @@ void Contact::restoreHistory(HistoryReader& in) {
   forgetCarriedSums();
   // The carried wire may be another: hashed anew when next used.
   carried_index_.clear();
+  carried_reach_ = 0.0;
   indexed_segments_ = 0;
 }
 

@@ -20,6 +20,7 @@ void Contact::syncCarriedWire() const {
   if (carried < indexed_segments_) {
     carried_index_.clear();
     indexed_segments_ = 0;
+    carried_reach_ = 0.0;
   }
   const std::vector<Eigen::Vector3d>& p = *carried_p_core_;
   for (int j = std::max(1, indexed_segments_); j < carried; ++j) {
@@ -27,6 +28,10 @@ void Contact::syncCarriedWire() const {
     // The segment's direction and squared length, read by every query.
     segment_dir_core_[j] = p[j + 1] - p[j];
     segment_length2_[j] = segment_dir_core_[j].squaredNorm();
+    // (The core axis is z in the core frame.)
+    for (const Eigen::Vector3d* e : {&p[j], &p[j + 1]}) {
+      carried_reach_ = std::max(carried_reach_, e->head<2>().norm() + 2.0 * c_.radius);
+    }
   }
   indexed_segments_ = carried;
 }

@@ -238,6 +238,10 @@ class Contact : public ForceEffect {
   std::vector<double> flange_at_;
   std::vector<double> flange_side_;
   double flange_radius_ = 0.0;  // their reach from the core axis [m]
+  // How far from the core axis the core body and the carried wire reach a
+  // point [m] (beyond both and the flanges, nothing touches).
+  double body_reach_ = 0.0;
+  mutable double carried_reach_ = 0.0;
   // Carried wire: its poses (the model's), the broad phase, how many
   // segments it holds, and the points next to a point along the wire that
   // never count as touching it.
