@@ -130,6 +130,10 @@ std::vector<std::string> keysOf(const YAML::Node& map, const std::string& path) 
       throw SceneError(path.empty() ? "(top level)" : path,
                        "a key must be a name, got " + describe(kv.first) + lineOf(kv.first));
     }
+    if (kv.first.Scalar().empty()) {
+      throw SceneError(path.empty() ? "(top level)" : path,
+                       "a key must be a name, got an empty one" + lineOf(kv.first));
+    }
     const std::string name = printable(kv.first.Scalar());
     const auto seen = std::find(names.begin(), names.end(), name);
     if (seen != names.end()) {

@@ -315,6 +315,9 @@ TEST_F(SceneFuzz, AbsurdInputsAreRefusedByName) {
        "twice"},
       {"a list as a key", "? [wire]\n: 1\n", "(top level)", "name"},
       {"a null key", "wire: {~: 1}\n", "wire", "name"},
+      // (A byte mutation of the 3-D scene found it: a lone quote on the
+      // last line reads as an empty key.)
+      {"an empty key", "process: {tension: 40}\n'", "(top level)", "empty one (line 2"},
       {"a cylinder without center", "core: {cylinders: [{radius: 1.0e-3}]}\n",
        "core.cylinders[0].center", "missing"},
       {"a keyframe without time", "end: {load: [{force: [0, 0, 1]}]}\n", "end.load[0].time",
