@@ -7,6 +7,7 @@
 #include <new>
 #include <string>
 
+#include "coil_winding_sim/core/external_forces/free_wire_contact.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 
 // GCC sees the replaced operator delete free() what operator new got from
@@ -103,5 +104,35 @@ TEST(Allocation, WireContactStepsAllocateNothing) {
               allocations.load(), carried0, sim.model().carriedPoints());
   EXPECT_EQ(allocations.load(), 0);
   EXPECT_GT(sim.model().carriedPoints(), carried0 + 50) << "the core should take on wire";
+}
+
+// Contact between free segments in a Newton step (the couplings outside
+// the band, solved through the Woodbury identity): implicit_euler on the
+// stability matrix's two-layer coil leaves the wound wire free, and its
+// third turn lands on the second.
+TEST(Allocation, FreeWireContactStepsAllocateNothing) {
+  cws::Simulation sim(cws::loadScene(
+      std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml",
+      {"wire.segment_length=1e-3", "process.core_speed_rpm=1200", "physics.planar=false",
+       "physics.torsion=true", "process.traverse_pitch=1e-3", "process.winding_width=5e-3",
+       "process.layers=2", "physics.flanges=true", "physics.wire_contact=true", "process.turns=8",
+       "solver.integrator=implicit_euler"}));
+  // Up to the first free pair that touches.
+  const cws::FreeWireContact* free = sim.model().freeWireContact();
+  ASSERT_NE(free, nullptr);
+  while (free->touching() == 0 && sim.time() < sim.endTime()) sim.step(sim.endTime());
+  ASSERT_GT(free->touching(), 0) << "no free pair touched";
+  int touching_steps = 0;
+  allocations = 0;
+  counting = true;
+  for (int i = 0; i < 300; ++i) {
+    sim.step(sim.endTime());
+    touching_steps += free->touching() > 0;
+  }
+  counting = false;
+  std::printf("allocation: free pairs touching in %d of 300 steps, %ld allocations\n",
+              touching_steps, allocations.load());
+  EXPECT_EQ(allocations.load(), 0);
+  EXPECT_GT(touching_steps, 0);
 }
 #endif

@@ -77,7 +77,7 @@ void PairCouplingSolve::correct(const SpatialAssembly& a, Eigen::Ref<Eigen::Vect
     for (int k = c + 1; k < cols; ++k) g_[c] -= s_(c, k) * g_[k];
     g_[c] /= s_(c, c);
   }
-  x -= w_.leftCols(cols).topRows(x.size()) * g_.head(cols);
+  x.noalias() -= w_.leftCols(cols).topRows(x.size()) * g_.head(cols);
 }
 
 }  // namespace cws
