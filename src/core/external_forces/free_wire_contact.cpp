@@ -38,7 +38,8 @@ bool FreeWireContact::geometry(const Eigen::Matrix3Xd& p, int first, int a, int 
 }
 
 FreeWireContact::PairForce FreeWireContact::pairForce(const Geometry& g, const Eigen::Vector3d& r_v,
-                                                      double alpha, bool jacobian) const {
+                                                      double alpha, bool jacobian,
+                                                      double floor_speed) const {
   PairForce out;
   const Eigen::Vector3d& delta = g.delta;
   const double dist = delta.norm();
@@ -49,12 +50,12 @@ FreeWireContact::PairForce FreeWireContact::pairForce(const Geometry& g, const E
   const double normal = law.force;
   out.f = normal * n;
   out.f_dissipative = (normal - contact_.stiffness() * out.h) * n;
-  // Kinetic friction against the sliding velocity, viscous below the
-  // stick speed.
+  // Kinetic friction against the sliding velocity (viscous below
+  // floor_speed).
   const double mu = contact_.kineticFriction();
   const Eigen::Vector3d vh = r_v - vn * n;
   const double speed = vh.norm();
-  const double scale = std::max({speed, contact_.stickSpeed(), Contact::kTinySlidingSpeed});
+  const double scale = std::max({speed, floor_speed, Contact::kTinySlidingSpeed});
   const Eigen::Vector3d e = vh / scale;
   if (mu > 0.0) {
     out.f -= mu * normal * e;
@@ -88,7 +89,7 @@ void FreeWireContact::addForces(double /*t*/, const WireKinematics& k, WireForce
     const int m = g.m;
     const Eigen::Vector3d r_v =
         k.v_world.col(pair.a) - (1.0 - g.t) * k.v_world.col(m) - g.t * k.v_world.col(m + 1);
-    const PairForce pf = pairForce(g, r_v, 0.0, false);
+    const PairForce pf = pairForce(g, r_v, 0.0, false, 0.0);
     // On the point, and its reaction on the segment's ends.
     f.f_world.col(pair.a) += pf.f;
     f.f_world.col(m) -= (1.0 - g.t) * pf.f;
@@ -107,7 +108,7 @@ void FreeWireContact::addSpatialForces(const SpatialState& s, SpatialAssembly& a
     const int m = g.m;
     const Eigen::Vector3d r_v = s.v.col(pair.a) - (1.0 - g.t) * s.v.col(m) - g.t * s.v.col(m + 1);
     // An active pair's spring stays linear past h = 0 within the solve.
-    const PairForce pf = pairForce(g, r_v, s.alpha, a.wantsJacobian());
+    const PairForce pf = pairForce(g, r_v, s.alpha, a.wantsJacobian(), contact_.stickSpeed());
     a.addForce(pair.a, pf.f);
     a.addForce(m, -(1.0 - g.t) * pf.f);
     a.addForce(m + 1, -g.t * pf.f);
@@ -230,7 +231,7 @@ bool FreeWireContact::pairForceAt(const SpatialState& s, int a, int b, Eigen::Ve
   Geometry g;
   if (!geometry(s.p, s.first, a, b, g)) return false;
   const Eigen::Vector3d r_v = s.v.col(a) - (1.0 - g.t) * s.v.col(g.m) - g.t * s.v.col(g.m + 1);
-  const PairForce pf = pairForce(g, r_v, s.alpha, true);
+  const PairForce pf = pairForce(g, r_v, s.alpha, true, contact_.stickSpeed());
   f_a = pf.f;
   df_a = pf.df;
   return true;

@@ -13,11 +13,13 @@
 // - The same normal law (Contact::normalLaw: k h with its dashpot against
 //   the relative normal speed); the reaction acts on the segment's two ends
 //   in the ratio of the nearest point's position along it.
-// - Kinetic friction mu_d N against the relative sliding velocity, divided
-//   by at least contact.stick_speed (viscous below it). Two free segments
-//   do not stick: a stick spring needs an anchor that moves with one of
-//   them, and once the core carries one, the carried-wire contact (with
-//   stick) takes the pair over.
+// - Kinetic friction mu_d N against the relative sliding velocity. Two
+//   free segments do not stick: a stick spring needs an anchor that moves
+//   with one of them, and once the core carries one, the carried-wire
+//   contact (with stick) takes the pair over. An implicit step divides by
+//   at least contact.stick_speed (viscous below it, so that Newton does not
+//   chase the kink at rest); the explicit methods take the direction as it
+//   is (a bounded force: a viscous law that stiff would hold their step).
 // - Candidates come from a neighbour list with a skin (as molecular
 //   dynamics keeps its Verlet lists): the pairs within 2 d, built anew at a
 //   commit once a point has moved r / 2 since the last build, or the
@@ -92,13 +94,15 @@ class FreeWireContact : public ForceEffect {
   // The force on point a at the pair's geometry and relative velocity
   // r_v = v_a - (1 - t) v_m - t v_m+1; with jacobian, df = dF / d p_a
   // where the velocities follow the positions as v = alpha (x - x_hat).
+  // Friction is divided by at least floor_speed [m/s] (0: the Coulomb
+  // direction, zero at rest).
   struct PairForce {
     Eigen::Vector3d f, f_dissipative;
     Eigen::Matrix3d df;
     double h;
   };
-  PairForce pairForce(const Geometry& g, const Eigen::Vector3d& r_v, double alpha,
-                      bool jacobian) const;
+  PairForce pairForce(const Geometry& g, const Eigen::Vector3d& r_v, double alpha, bool jacobian,
+                      double floor_speed) const;
   // The neighbour list at positions p of points first-1..n-1.
   void build(const Eigen::Matrix3Xd& p, int first, int n);
   bool needsBuild(const Eigen::Matrix3Xd& p, int first, int n) const;
