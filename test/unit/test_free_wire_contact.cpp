@@ -24,8 +24,9 @@ const std::string k3d = std::string(CWS_SOURCE_DIR) + "/config/scenes/paper_case
 // Two strands of one free wire (points 3..23 integrated, point 2 the
 // boundary): points 0..10 along x at y = 0, 1 mm apart; points 11..23 far
 // off at y = 20 mm, but for point 15, pressed h1 onto segment 4 from above
-// (at t = 0.3), and point 18, pressed h2 onto segment 2 (the boundary
-// point's) from the side (at t = 0.6).
+// (at t = 0.3), point 18, pressed h2 onto segment 3 from the side (at
+// t = 0.6), and point 21, pressed h2 onto the boundary segment 2 from below
+// (the carried wire's contact has that one).
 struct Bench {
   static constexpr int kN = 24, kFirst = 3;
   static constexpr double h1 = 2e-5, h2 = 1e-5;  // [m]
@@ -53,7 +54,8 @@ struct Bench {
     for (int i = 0; i <= 10; ++i) k.p_world.col(i) = Eigen::Vector3d(i * 1e-3, 0.0, 0.0);
     for (int i = 11; i < kN; ++i) k.p_world.col(i) = Eigen::Vector3d(i * 1e-3, 20e-3, 0.0);
     k.p_world.col(15) = Eigen::Vector3d(4.3e-3, 0.0, d - h1);
-    k.p_world.col(18) = Eigen::Vector3d(2.6e-3, -(d - h2), 0.0);
+    k.p_world.col(18) = Eigen::Vector3d(3.6e-3, -(d - h2), 0.0);
+    k.p_world.col(21) = Eigen::Vector3d(2.5e-3, 0.0, -(d - h2));
   }
   static cws::Scene load(std::vector<std::string> extra) {
     extra.push_back("physics.wire_contact=true");
@@ -87,8 +89,8 @@ struct Bench {
 }  // namespace
 
 // The forces at rest: k h on the pressed point along the line from the
-// segment's axis, -(1 - t) and -t of it on the segment's ends (the boundary
-// point's share booked on it as on any other), nothing on the others.
+// segment's axis, -(1 - t) and -t of it on the segment's ends, nothing on
+// the others, nor from the boundary segment.
 TEST(FreeWireContact, PressedWiresFollowThePenaltyLaw) {
   Bench b;
   const double k = b.scene.contact.stiffness;
@@ -102,13 +104,12 @@ TEST(FreeWireContact, PressedWiresFollowThePenaltyLaw) {
         << "point " << i << ": " << b.f.f_world.col(i).transpose();
   };
   expectNear(15, f15);
-  expectNear(4, -0.7 * f15);
+  expectNear(4, -0.7 * f15 - 0.6 * f18);
   expectNear(5, -0.3 * f15);
   expectNear(18, f18);
-  expectNear(2, -0.4 * f18);
-  expectNear(3, -0.6 * f18);
+  expectNear(3, -0.4 * f18);
   for (int i = 0; i < Bench::kN; ++i) {
-    if (i == 2 || i == 3 || i == 4 || i == 5 || i == 15 || i == 18) continue;
+    if (i == 3 || i == 4 || i == 5 || i == 15 || i == 18) continue;
     EXPECT_EQ(b.f.f_world.col(i).norm(), 0.0) << i;
   }
   // The energy of the two springs, and the deeper of them.
@@ -164,6 +165,7 @@ TEST(FreeWireContact, CouplingsOutsideTheBandSolveAsTheWholeMatrix) {
   cws::SpatialState s = b.state(1.5e4);
   s.v.col(15) = Eigen::Vector3d(0.05, 0.1, -0.01);
   s.v.col(18) = Eigen::Vector3d(-0.02, 0.01, 0.1);
+  s.v.col(21) = Eigen::Vector3d(0.01, 0.03, 0.0);
   b.free.beginSpatialStep(s);
   using A = cws::SpatialAssembly;
   A a;

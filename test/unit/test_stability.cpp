@@ -293,15 +293,13 @@ TEST(Stability, NewtonStepMethodsOnTheExtremeCases) {
 }
 
 // The matrix's two-layer coil (flanges, wire on wire, a reversal at the
-// far flange) with the Newton-step methods: no wire passes through wire (no
-// two points further apart along the wire than four segments closer than
-// 0.9 d), and with bdf2 stable by the matrix's criteria. implicit_euler
+// far flange) with the Newton-step methods: stable by the matrix's
+// criteria, and no wire passes through wire (no two points further apart
+// along the wire than four segments closer than 0.9 d). implicit_euler
 // carried little of the wound wire at 3 turns, and its third turn, landing
 // on the second while both were free, passed through it before contact
-// between free segments was modelled; now that contact holds it. (Its
-// energy balance shows 1.7 % created, beyond the matrix's 1 %: not asserted
-// here; docs/STABILITY.md. The explicit methods take minutes: the stability
-// study's table.)
+// between free segments was modelled; now that contact holds it. (The
+// explicit methods take minutes: the stability study's table.)
 TEST(Stability, TwoLayerWindingWithNewtonSteps) {
   for (const char* method : {"bdf2", "implicit_euler"}) {
     SCOPED_TRACE(method);
@@ -309,7 +307,7 @@ TEST(Stability, TwoLayerWindingWithNewtonSteps) {
     sim.run();
     const cws::RunMeasures m = cws::measureRun(sim);
     std::printf("two layers, %s: energy created %.2e\n", method, m.energy_signed_rel);
-    if (std::string(method) == "bdf2") expectStable(m);
+    expectStable(m);
     const cws::WireKinematics& k = sim.model().committed();
     const double d = sim.scene().wire.diameter;
     double closest = 1e9;

@@ -21,7 +21,7 @@ FreeWireContact::FreeWireContact(const WireConstants& c, const Contact& contact)
 
 bool FreeWireContact::geometry(const Eigen::Matrix3Xd& p, int first, int a, int b,
                                Geometry& g) const {
-  const int lo = std::max(first - 1, b - 1), hi = std::min(b + 1, a - 1 - skip_);
+  const int lo = std::max(first, b - 1), hi = std::min(b + 1, a - 1 - skip_);
   if (a < first || lo > hi) return false;
   double best = -1.0;
   for (int m = lo; m <= hi; ++m) {
@@ -155,6 +155,8 @@ void FreeWireContact::build(const Eigen::Matrix3Xd& p, int first, int n) {
   pairs_.clear();
   const int b0 = std::max(0, first - 1);
   p_built_.middleCols(b0, n - b0) = p.middleCols(b0, n - b0);
+  // (Segments from `first` on: the boundary segment joins the carried
+  // wire, whose last point's sphere the carried-wire contact already has.)
   built_first_ = first;
   built_n_ = n;
   // A segment is within reach of a point only if its first end is within
@@ -166,7 +168,7 @@ void FreeWireContact::build(const Eigen::Matrix3Xd& p, int first, int n) {
     double run_dist[kRuns];
     int runs = 0;
     bool full = false;
-    for (int b = b0; b <= a - 1 - skip_ && !full; ++b) {
+    for (int b = first; b <= a - 1 - skip_ && !full; ++b) {
       if ((p.col(a) - p.col(b)).squaredNorm() > coarse * coarse) continue;
       const Eigen::Vector3d d = p.col(b + 1) - p.col(b);
       const double t = std::clamp((p.col(a) - p.col(b)).dot(d) / d.squaredNorm(), 0.0, 1.0);

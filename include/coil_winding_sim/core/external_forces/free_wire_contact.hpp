@@ -1,6 +1,9 @@
 // Contact between two free segments of the wire (physics.wire_contact): an
 // integrated point against a segment earlier along the wire whose ends are
-// integrated too (or the boundary point), before the core carries either.
+// integrated too, before the core carries either. (The boundary segment,
+// from the last carried point to the first integrated one, is left to the
+// carried wire's contact, which has that point's sphere at its end: with
+// both, a point beside the junction would feel two springs.)
 // Contact.hpp's wire contact covers the segments the core carries; this
 // covers the rest, so that a landing turn cannot pass through a turn the
 // core does not carry yet (docs/MODEL.md, "Wire against wound wire").
@@ -81,7 +84,7 @@ class FreeWireContact : public ForceEffect {
     char trial_active;  // an implicit step's frozen flag
   };
   // Point a against the nearest of segments b-1..b+1 that it may touch
-  // (first-1 <= m <= a-1-skip): segment m, the nearest point's position t
+  // (first <= m <= a-1-skip): segment m, the nearest point's position t
   // along it, delta = p_a - that point, and the segment's unit direction
   // where that point lies inside it (zero at an end). False: none (a or b
   // no longer free, or a degenerate distance).
