@@ -30,6 +30,17 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
   face_from_world_.resize(face_length_.size());
   face_dir_world_.resize(face_length_.size());
   face_normal_world_.resize(face_length_.size());
+  // The core's swept radius: its farthest surface from the axis. Nothing of
+  // the core body reaches a point beyond it and a wire diameter (a margin
+  // over the radius a point touches it within).
+  double swept = 0.0;
+  for (const CylinderParams& cyl : s.core.cylinders) {
+    swept = std::max(swept, cyl.center_core.norm() + cyl.radius);
+  }
+  for (const FaceParams& face : coreFaces(s.core)) {
+    swept = std::max({swept, face.from_core.norm(), face.to_core.norm()});
+  }
+  body_reach_ = swept + 2.0 * c.radius;
   if (s.physics.flanges) {
     // The winding runs from half a wire diameter behind the port's start,
     // in the traverse's first direction, over the winding width.
@@ -41,27 +52,9 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
         s.core.flange_spacing > 0.0 ? s.core.flange_spacing : s.process.winding_width;
     flange_at_ = {first, first + side * spacing};
     flange_side_ = {side, -side};
-    // The core's swept radius: its farthest surface from the axis.
-    double swept = 0.0;
-    for (const CylinderParams& cyl : s.core.cylinders) {
-      swept = std::max(swept, cyl.center_core.norm() + cyl.radius);
-    }
-    for (const FaceParams& face : coreFaces(s.core)) {
-      swept = std::max({swept, face.from_core.norm(), face.to_core.norm()});
-    }
     flange_radius_ = swept + s.core.flange_height;
     flange_slot_ = slots_++;
   }
-  // Nothing of the core body reaches beyond its swept radius and a wire
-  // diameter (a margin over the radius a point touches it within).
-  double swept = 0.0;
-  for (const CylinderParams& cyl : s.core.cylinders) {
-    swept = std::max(swept, cyl.center_core.norm() + cyl.radius);
-  }
-  for (const FaceParams& face : coreFaces(s.core)) {
-    swept = std::max({swept, face.from_core.norm(), face.to_core.norm()});
-  }
-  body_reach_ = swept + 2.0 * c.radius;
   wire_base_ = static_cast<int>(radii_.size() + face_length_.size() + flange_at_.size());
   wire_slot_ = slots_;
   if (s.physics.wire_contact) {
