@@ -80,7 +80,9 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
         << "  \"newton_factorizations_per_step\": " << num(nc->factorizations / steps) << ",\n"
         << "  \"newton_flag_rounds\": " << nc->flag_rounds << ",\n"
         << "  \"newton_line_searches\": " << nc->line_searches << ",\n"
-        << "  \"newton_retried_steps\": " << nc->retried_steps << ",\n";
+        << "  \"newton_retried_steps\": " << nc->retried_steps << ",\n"
+        << "  \"newton_predictor_retries\": " << nc->predictor_retries << ",\n"
+        << "  \"newton_return_mapped_solves\": " << nc->return_mapped_steps << ",\n";
   }
   out << "  \"nodes\": " << sim.model().constants().n << ",\n"
       << "  \"segment_length_m\": " << num(sim.model().constants().segment_length) << ",\n"

@@ -187,6 +187,12 @@ std::vector<SceneKey> declareKeys() {
       key<&S::solver, &Solver::flag_check_tol>("solver.flag_check_tol", "m", kNonNegative,
                                                "a solve's step this small rechecks its flags "
                                                "before converging (0: off)"),
+      key<&S::solver, &Solver::return_mapping_round>("solver.return_mapping_round", "-", count(100),
+                                                     "from this flag round on, the laws' "
+                                                     "lines return-mapped within the solve"),
+      key<&S::solver, &Solver::predictor_tol>("solver.predictor_tol", "m", kPositive,
+                                              "a step whose points end farther than this from "
+                                              "the predictor is retried at 1/4"),
       key<&S::solver, &Solver::carry_stuck_wire>("solver.carry_stuck_wire", "", kAny,
                                                  "stuck wound wire moves rigidly with the core"),
 

@@ -120,6 +120,37 @@ TEST(FreeWireContact, PressedWiresFollowThePenaltyLaw) {
   EXPECT_EQ(b.free.deepest().segment, 4);
 }
 
+// A point with three runs of wire within reach keeps the two nearest, not
+// the first two in index order. Point 22 lies 1.5 d above strand A (points
+// 0-6 along x), 1.2 d below strand B (9-11) and 1.0 d beside strand C
+// (14-16); the strands come from and go to points far off. Moved 0.1 d
+// closer (less than the move that rebuilds the list), strand C touches the
+// point, and the pair is there to feel it.
+TEST(FreeWireContact, APointKeepsTheNearestRunsWithinReach) {
+  Bench b;
+  const double d = b.d, mm = 1e-3;
+  const Eigen::Vector3d p(4.5 * mm, 0.0, 1.5 * d);
+  auto at = [&](int i, double x, double y, double z) { b.k.p_world.col(i) << x, y, z; };
+  for (int i = 0; i < Bench::kN; ++i) at(i, i * mm, 50 * mm, 50 * mm);  // far off
+  for (int i = 0; i <= 6; ++i) at(i, (1.5 + i) * mm, 0.0, 0.0);
+  at(7, 7.5 * mm, 0.0, -50 * mm);
+  at(8, 3.5 * mm, 0.0, 50 * mm);
+  for (int i = 9; i <= 11; ++i) at(i, (i - 5.5) * mm, 0.0, p.z() + 1.2 * d);
+  at(12, 5.5 * mm, 0.0, 50 * mm);
+  at(13, 3.0 * mm, -50 * mm, p.z());
+  for (int i = 14; i <= 16; ++i) at(i, (i - 11.0) * mm, -1.0 * d, p.z());
+  at(17, 5.0 * mm, -50 * mm, p.z());
+  b.k.p_world.col(22) = p;
+  b.free.commit(0.0, b.k);
+  EXPECT_EQ(b.free.touching(), 0);
+  for (int i = 14; i <= 16; ++i) b.k.p_world(1, i) += 0.1 * d;
+  b.free.commit(0.0, b.k);
+  EXPECT_EQ(b.free.touching(), 1);
+  EXPECT_NEAR(b.free.deepest().depth_m, 0.1 * d, 1e-12);
+  EXPECT_EQ(b.free.deepest().point, 22);
+  EXPECT_EQ(b.free.deepest().segment, 15);
+}
+
 // dF / dp_a with v_a = alpha (p_a - p_hat) against central differences,
 // with the normal dashpot and kinetic friction: sliding faster than the
 // stick speed, and slower (the viscous part). The segment's ends move

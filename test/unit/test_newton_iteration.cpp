@@ -33,6 +33,7 @@ struct TwoLawProblem {
     return std::abs(dx);
   }
   void keepStart() { x_kept = x; }
+  void returnMapping(bool) {}
   void moveAlong(double s) { x = x_kept + s * dx; }
   bool recheckFlags() {
     ++rechecks;
@@ -91,6 +92,90 @@ TEST(NewtonIteration, AnEarlyCheckThatHoldsIsRepeatedAtConvergence) {
   EXPECT_EQ(st.flag_rounds, 0);
   EXPECT_EQ(p.rechecks, 2);  // once early, once converged
   EXPECT_NEAR(p.x, rootOfFlagOne(), 1e-11);
+}
+
+// A law with three kinks, continuous and softening (slopes 8, 4, 2, 1 of g
+// between the kinks at 0.5, 1 and 1.5), as a two-line law's yield is:
+//   r(x) = x + g(x) - 9.5,  root x = 2 on the last line.
+// Each frozen line's extension stops short, on the next line but one, so
+// frozen rounds walk 0 -> 2 -> 3 and need two rounds after the first
+// solve; a return-mapped round takes the line x lies on at every
+// evaluation and needs none after it.
+struct KinkedLawProblem {
+  int line = 0;
+  bool mapped = false;
+  double x = 0.0, x_kept = 0.0, dx = 0.0;
+  double r = 0.0, slope = 0.0, factored_slope = 0.0;
+
+  static int lineOf(double x) { return x <= 0.5 ? 0 : x <= 1.0 ? 1 : x <= 1.5 ? 2 : 3; }
+  double residual(bool jacobian, int /*top*/ = -1) {
+    static const double start[4] = {0.0, 0.5, 1.0, 1.5}, g0[4] = {0.0, 4.0, 6.0, 7.0},
+                        k[4] = {8.0, 4.0, 2.0, 1.0};
+    const int l = mapped ? lineOf(x) : line;
+    r = x + g0[l] + k[l] * (x - start[l]) - 9.5;
+    if (jacobian) slope = 1.0 + k[l];
+    return std::abs(r);
+  }
+  bool factor() {
+    factored_slope = slope;
+    return true;
+  }
+  int changedTop() const { return -1; }
+  double direction() {
+    dx = -r / factored_slope;
+    return std::abs(dx);
+  }
+  void keepStart() { x_kept = x; }
+  void moveAlong(double s) { x = x_kept + s * dx; }
+  void returnMapping(bool on) { mapped = on; }
+  bool recheckFlags() {
+    const int holds = lineOf(x);
+    if (mapped || holds == line) {
+      line = holds;
+      return false;
+    }
+    line = holds;
+    return true;
+  }
+};
+
+cws::NewtonStats solveKinked(int flag_rounds, int return_mapping_round, KinkedLawProblem& p) {
+  cws::NewtonSettings s;
+  s.tol = 1e-12;
+  s.flag_rounds = flag_rounds;
+  s.return_mapping_round = return_mapping_round;
+  bool have_factor = false;
+  return cws::newtonSolve(p, s, have_factor);
+}
+
+// Frozen lines need two rounds; with one allowed, the solve fails (and its
+// step would be retried smaller).
+TEST(NewtonIteration, FrozenLinesNeedARoundPerLineTheyMissed) {
+  KinkedLawProblem enough, short_of_rounds;
+  const cws::NewtonStats st = solveKinked(2, 1000, enough);
+  ASSERT_TRUE(st.converged);
+  EXPECT_EQ(st.flag_rounds, 2);
+  EXPECT_NEAR(enough.x, 2.0, 1e-12);
+  EXPECT_EQ(enough.line, 3);
+  EXPECT_FALSE(solveKinked(1, 1000, short_of_rounds).converged);
+}
+
+// From the return-mapping round on, the solve crosses the remaining kinks
+// itself: one round suffices, at the same root, and the recheck records
+// the line the root lies on.
+TEST(NewtonIteration, ReturnMappedRoundsCrossTheKinksWithinOneSolve) {
+  KinkedLawProblem p;
+  const cws::NewtonStats st = solveKinked(1, 1, p);
+  ASSERT_TRUE(st.converged);
+  EXPECT_EQ(st.flag_rounds, 1);
+  EXPECT_NEAR(p.x, 2.0, 1e-12);
+  EXPECT_EQ(p.line, 3);
+  // Return-mapped from the first solve: no round at all.
+  KinkedLawProblem q;
+  const cws::NewtonStats st0 = solveKinked(0, 0, q);
+  ASSERT_TRUE(st0.converged);
+  EXPECT_EQ(st0.flag_rounds, 0);
+  EXPECT_NEAR(q.x, 2.0, 1e-12);
 }
 
 }  // namespace

@@ -131,11 +131,17 @@ struct SolverParams {
   double implicit_step = 1.0e-4;
   double newton_tol = 1.0e-8;
   int newton_max_iterations = 30;
-  int flag_rounds = 4;
+  int flag_rounds = 8;
   int line_search_halvings = 5;  // of a Newton step that does not lower the residual
   // A solve whose Newton step falls below this [m] rechecks its flags before
   // it converges to newton_tol (0: only at convergence).
   double flag_check_tol = 3.0e-7;
+  // From this flag round on, a solve return-maps the laws' lines (beyond
+  // flag_rounds: never).
+  int return_mapping_round = 2;
+  // A step whose solution lies farther than this from the predictor x0 + h
+  // v0 + h^2 / 2 a0 [m] is retried at a quarter.
+  double predictor_tol = 1.0e-4;
   // Wound wire held by static friction moves rigidly with the core and leaves
   // the integrated system (with contact, friction and start.frame core;
   // elsewhere it has no effect).

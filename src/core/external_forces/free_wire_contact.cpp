@@ -163,12 +163,14 @@ void FreeWireContact::build(const Eigen::Matrix3Xd& p, int first, int n) {
   // reach plus its length (segments stretch little: half as long again).
   const double coarse = reach_ + 1.5 * c_.segment_length;
   for (int a = first; a < n; ++a) {
-    // The runs of touching segments, in index order, the nearest of each.
-    int run_b[kRuns], last_b = -10;
-    double run_dist[kRuns];
+    // The runs of segments within reach, in index order, the nearest of
+    // each; the point keeps the kRuns nearest runs. (Taking the first ones
+    // in index order lost the turn a landing point was about to pass
+    // through, behind two older turns it grazed.)
+    int run_b[kCandidateRuns], last_b = -10;
+    double run_dist[kCandidateRuns];
     int runs = 0;
-    bool full = false;
-    for (int b = first; b <= a - 1 - skip_ && !full; ++b) {
+    for (int b = first; b <= a - 1 - skip_; ++b) {
       if ((p.col(a) - p.col(b)).squaredNorm() > coarse * coarse) continue;
       const Eigen::Vector3d d = p.col(b + 1) - p.col(b);
       const double t = std::clamp((p.col(a) - p.col(b)).dot(d) / d.squaredNorm(), 0.0, 1.0);
@@ -179,16 +181,29 @@ void FreeWireContact::build(const Eigen::Matrix3Xd& p, int first, int n) {
           run_b[runs - 1] = b;
           run_dist[runs - 1] = dist;
         }
-      } else if (runs < kRuns) {
+      } else if (runs < kCandidateRuns) {
         run_b[runs] = b;
         run_dist[runs] = dist;
         ++runs;
       } else {
-        full = true;
+        // More runs than candidates: this one replaces the farthest if
+        // nearer (it starts a run of its own, not merged into that one).
+        const int far = static_cast<int>(std::max_element(run_dist, run_dist + runs) - run_dist);
+        if (dist < run_dist[far]) {
+          run_b[far] = b;
+          run_dist[far] = dist;
+        }
       }
       last_b = b;
     }
-    for (int r = 0; r < runs; ++r) pairs_.push_back(Pair{a, run_b[r], 0, 0});
+    // The kRuns nearest (selection: few).
+    for (int kept = 0; kept < kRuns && runs > 0; ++kept) {
+      const int near = static_cast<int>(std::min_element(run_dist, run_dist + runs) - run_dist);
+      pairs_.push_back(Pair{a, run_b[near], 0, 0});
+      run_b[near] = run_b[runs - 1];
+      run_dist[near] = run_dist[runs - 1];
+      --runs;
+    }
   }
 }
 

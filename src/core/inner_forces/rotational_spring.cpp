@@ -32,10 +32,14 @@ double RotationalSpring::stressOf(double x, int idx) const {
   return plastic_ ? law_.stress(x, upper_[idx]) : law_.elasticRigidity() * x;
 }
 
-double RotationalSpring::stressTangent(double x, int idx, double& tangent) const {
+double RotationalSpring::stressTangent(double x, int idx, bool mapped, double& tangent) const {
   if (!plastic_) {
     tangent = law_.elasticRigidity();
     return tangent * x;
+  }
+  if (mapped) {
+    tangent = law_.tangent(x, upper_[idx]);
+    return law_.stress(x, upper_[idx]);
   }
   return law_.stressOnBranch(x, upper_[idx], line_[idx], tangent);
 }
@@ -64,7 +68,7 @@ void RotationalSpring::beginLines(int first, int n) {
 }
 
 template <class Argument>
-int RotationalSpring::recheckLines(int first, int n, Argument argument) {
+int RotationalSpring::recheckLines(int first, int n, bool mapped, Argument argument) {
   if (!plastic_) return -1;
   int changed = -1;
   for (int j = first - 1; j + 1 < n; ++j) {
@@ -72,6 +76,11 @@ int RotationalSpring::recheckLines(int first, int n, Argument argument) {
       double x;
       if (!argument(j, c, x)) continue;
       const int idx = j * count_ + c;
+      // Return-mapped: the line the solve used, recorded for the commit.
+      if (mapped) {
+        line_[idx] = static_cast<signed char>(law_.branch(x, upper_[idx]));
+        continue;
+      }
       if (!law_.lineHolds(x, upper_[idx], line_[idx])) {
         line_[idx] = static_cast<signed char>(law_.branch(x, upper_[idx]));
         changed = j;
@@ -90,7 +99,7 @@ Eigen::Vector3d RotationalSpring::darboux(const SpatialState& s, int j) const {
 void RotationalSpring::beginImplicitStep(const PlanarState& s0) { beginLines(s0.first, s0.n); }
 
 bool RotationalSpring::recheckFlags(const PlanarState& s) {
-  return recheckLines(s.first, s.n,
+  return recheckLines(s.first, s.n, s.return_mapping,
                       [&](int j, int c, double& x) { return planarArgument(s, j, c, x); }) >= 0;
 }
 
@@ -108,7 +117,7 @@ bool RotationalSpring::recheckSpatialFlags(const SpatialState& s) {
   // One Darboux vector per joint for all of its components.
   int joint = -1;
   Eigen::Vector3d omega;
-  const int changed = recheckLines(s.first, s.n, [&](int j, int c, double& x) {
+  const int changed = recheckLines(s.first, s.n, s.return_mapping, [&](int j, int c, double& x) {
     if (j != joint) {
       joint = j;
       omega = darboux(s, j);
@@ -170,7 +179,7 @@ void RotationalSpring::addPlanarForces(const PlanarState& s, PlanarAssembly& a) 
       const double w = s.n_material[first_ + c];
       if (w == 0.0) continue;
       double k;
-      m += w * stressTangent(kappa * w, j * count_ + c, k);
+      m += w * stressTangent(kappa * w, j * count_ + c, s.return_mapping, k);
       dm += w * w * k;
     }
     // Generalized force on dphi: Q = -d(lambda W)/d dphi = -m cos(dphi / 2).
@@ -240,7 +249,7 @@ void RotationalSpring::addSpatialForces(const SpatialState& s, SpatialAssembly& 
     Eigen::Vector3d m = Eigen::Vector3d::Zero(), dm = Eigen::Vector3d::Zero();
     for (int i = 0; i < count_; ++i) {
       double k;
-      m[first_ + i] = stressTangent(omega[first_ + i], j * count_ + i, k);
+      m[first_ + i] = stressTangent(omega[first_ + i], j * count_ + i, s.return_mapping, k);
       dm[first_ + i] = k;
     }
     a.addQForce(j, 2.0 * gb.transpose() * m);

@@ -25,10 +25,14 @@ double Stretching::stressOf(double x, int j) const {
   return plastic_ ? law_.stress(x, upper_[j]) : law_.elasticRigidity() * x;
 }
 
-double Stretching::stressTangent(double x, int j, double& tangent) const {
+double Stretching::stressTangent(double x, int j, bool mapped, double& tangent) const {
   if (!plastic_) {
     tangent = law_.elasticRigidity();
     return tangent * x;
+  }
+  if (mapped) {
+    tangent = law_.tangent(x, upper_[j]);
+    return law_.stress(x, upper_[j]);
   }
   return law_.stressOnBranch(x, upper_[j], line_[j], tangent);
 }
@@ -52,6 +56,11 @@ bool Stretching::recheckLines(const State& s) {
   const double l = c_.segment_length;
   for (int j = s.first - 1; j + 1 < s.n; ++j) {
     const double x = (s.segment(j).norm() - l) / l;
+    // Return-mapped: the line the solve used, recorded for the commit.
+    if (s.return_mapping) {
+      line_[j] = static_cast<signed char>(law_.branch(x, upper_[j]));
+      continue;
+    }
     if (!law_.lineHolds(x, upper_[j], line_[j])) {
       line_[j] = static_cast<signed char>(law_.branch(x, upper_[j]));
       changed = true;
@@ -105,7 +114,7 @@ void Stretching::addImplicitForces(const State& s, Assembly& a) const {
     const Vec d = s.segment(j);
     const double len = d.norm();
     double k;
-    const double tension = stressTangent((len - l) / l, j, k);
+    const double tension = stressTangent((len - l) / l, j, s.return_mapping, k);
     const Vec t = d / len;
     a.addForce(j, tension * t);
     a.addForce(j + 1, -tension * t);

@@ -90,9 +90,9 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
       x_hat_.middleCols(first, m) = x0.middleCols(first, m);
       v_hat_.middleCols(first, m) = v0.middleCols(first, m);
     }
-    // Newton starts from x0 + h v0 + h^2 / 2 a0, with a0 the last step's
-    // mean acceleration (where there is one): 11 % fewer iterations on the
-    // 3-D spiral than from x0 + h v0 (docs/PERFORMANCE.md).
+    // Newton starts from the predictor x0 + h v0 + h^2 / 2 a0, with a0 the
+    // last step's mean acceleration (where there is one): 11 % fewer
+    // iterations on the 3-D spiral than from x0 + h v0 (docs/PERFORMANCE.md).
     guess_.middleCols(first, m) = x0.middleCols(first, m) + h * v0.block(0, first, xr, m);
     if (have_prev_) {
       guess_.middleCols(first, m) +=
@@ -104,17 +104,32 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     newton_.flag_rounds += st.flag_rounds;
     newton_.line_searches += st.line_searches;
     newton_.factorizations += st.factorizations;
-    if (!st.converged) {
+    if (st.return_mapped) ++newton_.return_mapped_steps;
+    // A solution farther from the predictor than solver.predictor_tol: the
+    // step is too long for what happens within it (the distance estimates
+    // its local error, as variable-step BDF codes take it). Frozen flags
+    // that still change after the last round say the same.
+    const bool accurate = st.converged && f.largestMoveFrom(guess_) <= p_.predictor_tol;
+    if (st.converged && !accurate) ++newton_.predictor_retries;
+    if (!accurate) {
       ++counts_.rejected;
       ++newton_.retried_steps;
       h_ = 0.25 * h;
       have_prev_ = false;
       if (h_ < p_.min_step) {
         std::ostringstream msg;
-        msg << "Newton's method did not converge at t = " << t << " s even at a step of " << h
-            << " s with " << name()
-            << ": the scene is beyond what the implicit step can follow; use rkf45 or "
-               "symplectic_euler, or raise solver.newton_max_iterations";
+        if (st.converged) {
+          msg << "the step's solution lay farther than solver.predictor_tol = " << p_.predictor_tol
+              << " m from its predictor at t = " << t << " s even at a step of " << h << " s with "
+              << name()
+              << ": the scene is beyond what the implicit step can follow; use rkf45 or "
+                 "symplectic_euler, or raise solver.predictor_tol";
+        } else {
+          msg << "Newton's method did not converge at t = " << t << " s even at a step of " << h
+              << " s with " << name()
+              << ": the scene is beyond what the implicit step can follow; use rkf45 or "
+                 "symplectic_euler, or raise solver.newton_max_iterations";
+        }
         throw IntegrationError(msg.str());
       }
       // Back to the committed flags for the smaller step.

@@ -12,7 +12,7 @@
 //   segment, node against segment, the later point against the earlier
 //   segment only (as against carried wire), neighbours along the wire
 //   within Contact::skipPoints() never counting. A point feels the nearest
-//   segment of each run of touching segments, at most kRuns runs.
+//   segment of each run of touching segments, of the kRuns runs nearest.
 // - The same normal law (Contact::normalLaw: k h with its dashpot against
 //   the relative normal speed); the reaction acts on the segment's two ends
 //   in the ratio of the nearest point's position along it.
@@ -61,7 +61,8 @@ class FreeWireContact : public ForceEffect {
   void restoreHistory(HistoryReader& in) override;
   double elasticEnergy(const WireKinematics& /*k*/) const override { return elastic_committed_; }
 
-  static constexpr int kRuns = 2;
+  static constexpr int kRuns = 2;           // pairs a point keeps: its nearest runs
+  static constexpr int kCandidateRuns = 8;  // runs within reach compared for them
   // The pair deepest in contact at the last commit (depth 0: none).
   struct Deepest {
     double depth_m = 0.0;

@@ -19,6 +19,7 @@ struct NewtonStats {
   int flag_rounds = 0;  // solves repeated after a flag changed
   int line_searches = 0;
   int factorizations = 0;
+  bool return_mapped = false;  // the solve reached solver.return_mapping_round
 };
 
 class NewtonFormulation {
@@ -41,6 +42,9 @@ class NewtonFormulation {
   // first..n-1), from x_guess.
   virtual NewtonStats solve(const OneLegStep& step, const Eigen::MatrixXd& x_hat,
                             const Eigen::MatrixXd& v_hat, const Eigen::MatrixXd& x_guess) = 0;
+  // The largest distance of an integrated point's solution from its
+  // position in x (columns first..n-1) [m], right after solve().
+  virtual double largestMoveFrom(const Eigen::MatrixXd& x) const = 0;
   // Writes the solution into the model's state vector y and books the work
   // and dissipation of the step of h [s] (right after solve()).
   virtual void store(double h, Eigen::VectorXd& y) = 0;

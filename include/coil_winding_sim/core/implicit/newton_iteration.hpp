@@ -9,7 +9,12 @@
 // integration"). A solve whose step has fallen below flag_check_tol
 // rechecks its flags once before it goes on to the tolerance: a change
 // starts the next round there, as the iterations from there to the
-// tolerance would serve flags that no longer hold.
+// tolerance would serve flags that no longer hold. From round
+// return_mapping_round on, the solve decides the laws' lines itself (return
+// mapping from the committed yield points at every evaluation): the rounds
+// that remain settle contact and stick/slip only, where the frozen lines of
+// the bending laws (their elastic band is narrow) could take turns with
+// them without end.
 #pragma once
 
 #include <cmath>
@@ -35,12 +40,13 @@ struct NewtonSettings {
   int max_iterations = 30;
   int flag_rounds = 4;
   int line_search_halvings = 5;
-  double flag_check_tol = 0.0;  // [m]; 0: flags rechecked only at convergence
+  double flag_check_tol = 0.0;      // [m]; 0: flags rechecked only at convergence
+  int return_mapping_round = 1000;  // the first round that return-maps (beyond flag_rounds: none)
   // The scene's (solver.newton_tol, newton_max_iterations, flag_rounds,
-  // line_search_halvings, flag_check_tol).
+  // line_search_halvings, flag_check_tol, return_mapping_round).
   static NewtonSettings of(const SolverParams& s) {
-    return {s.newton_tol, s.newton_max_iterations, s.flag_rounds, s.line_search_halvings,
-            s.flag_check_tol};
+    return {s.newton_tol,           s.newton_max_iterations, s.flag_rounds,
+            s.line_search_halvings, s.flag_check_tol,        s.return_mapping_round};
   }
 };
 
@@ -56,12 +62,22 @@ struct NewtonSettings {
 //   void keepStart()                remembers the present iterate
 //   void moveAlong(double s)        iterate = kept + s direction (rates too)
 //   bool recheckFlags()             true: a flag changed
+//   void returnMapping(bool on)     the laws' lines return-mapped (on) or
+//                                   frozen (off)
 // have_factor: the system's matrix holds a usable factorization (in, out).
 template <class Problem>
 NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) {
   NewtonStats st;
   int top = -1;  // the next factorization: all of it, or from a flag round's highest point down
+  p.returnMapping(c.return_mapping_round <= 0);
+  st.return_mapped = c.return_mapping_round <= 0;
   for (int round = 0; round <= c.flag_rounds; ++round) {
+    // (The Jacobian at the switch is that of the last recheck's lines: the
+    // partial factorization that round asked for still serves.)
+    if (round > 0 && round == c.return_mapping_round) {
+      p.returnMapping(true);
+      st.return_mapped = true;
+    }
     bool converged = false, evaluated = true;
     bool checked_early = false, changed_early = false;
     // A round that will factor assembles the Jacobian with its first

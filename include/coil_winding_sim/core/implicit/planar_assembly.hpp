@@ -92,6 +92,9 @@ struct PlanarState {
   // curvature vector kappa n_material.
   Eigen::Vector3d n_material = Eigen::Vector3d::UnitX();
   PlaneBasis plane;
+  // The solve's last rounds (solver.return_mapping_round): each two-line
+  // law takes the line its strain lies on at every evaluation.
+  bool return_mapping = false;
 
   Eigen::Vector2d segment(int j) const { return x.col(j + 1) - x.col(j); }
   // (The planar system is factored whole after a flag change.)

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <vector>
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
@@ -50,6 +51,13 @@ class PlanarFormulation : public NewtonFormulation {
   // of the step of h [s] from the converged solve's last evaluation (call
   // it right after solve()); the caller then accepts the step (acceptStep).
   void store(double h, Eigen::VectorXd& y) override;
+  double largestMoveFrom(const Eigen::MatrixXd& x) const override {
+    double most = 0.0;
+    for (int i = state_.first; i < state_.n; ++i) {
+      most = std::max(most, (state_.x.col(i) - x.block<2, 1>(0, i)).norm());
+    }
+    return most;
+  }
 
   // The assembly at the present trial state (tests: Jacobians against
   // finite differences).
@@ -74,6 +82,7 @@ class PlanarFormulation : public NewtonFormulation {
   void moveAlong(double s);
   bool recheckFlags();
   int changedTop() const;
+  void returnMapping(bool on) { state_.return_mapping = on; }
 
   WireModel& model_;
   std::vector<ForceEffect*> effects_;

@@ -37,6 +37,9 @@ struct SpatialState {
   // The highest point whose blocks a flag recheck changed (-1: none): the
   // factorization is made again from there to the first point only.
   mutable int changed_top = -1;
+  // The solve's last rounds (solver.return_mapping_round): each two-line
+  // law takes the line its strain lies on at every evaluation.
+  bool return_mapping = false;
 
   Eigen::Vector3d segment(int j) const { return p.col(j + 1) - p.col(j); }
   void flagChangedAt(int i) const { changed_top = std::max(changed_top, i); }

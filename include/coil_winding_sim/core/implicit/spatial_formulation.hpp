@@ -10,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <vector>
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
@@ -38,6 +39,13 @@ class SpatialFormulation : public NewtonFormulation {
   NewtonStats solve(const OneLegStep& step, const Eigen::MatrixXd& x_hat,
                     const Eigen::MatrixXd& v_hat, const Eigen::MatrixXd& x_guess) override;
   void store(double h, Eigen::VectorXd& y) override;
+  double largestMoveFrom(const Eigen::MatrixXd& x) const override {
+    double most = 0.0;
+    for (int i = state_.first; i < state_.n; ++i) {
+      most = std::max(most, (state_.p.col(i) - x.block<3, 1>(0, i)).norm());
+    }
+    return most;
+  }
 
   // The trial state and its assembly (tests: Jacobians against finite
   // differences).
@@ -62,6 +70,7 @@ class SpatialFormulation : public NewtonFormulation {
   void moveAlong(double s);
   bool recheckFlags();
   int changedTop() const;
+  void returnMapping(bool on) { state_.return_mapping = on; }
 
   WireModel& model_;
   std::vector<ForceEffect*> effects_;

@@ -57,8 +57,9 @@ class RotationalSpring : public ForceEffect {
 
  private:
   double stressOf(double x, int idx) const;
-  // Stress [N m] and consistent tangent [N m^2] of law idx at x.
-  double stressTangent(double x, int idx, double& tangent) const;
+  // Stress [N m] and consistent tangent [N m^2] of law idx at x: on its
+  // frozen line, or (mapped) on the line x lies on.
+  double stressTangent(double x, int idx, bool mapped, double& tangent) const;
   // Length of wire that joint j stands for [m].
   double jointLength(int j) const;
   // Planar curvature of joint j [1/m], with the sine and cosine of half its
@@ -71,10 +72,12 @@ class RotationalSpring : public ForceEffect {
   Eigen::Vector3d darboux(const SpatialState& s, int j) const;
   // The implicit steps' lines at a step's start (the committed ones), and
   // their recheck given each law's argument: argument(j, c, x) sets x,
-  // false to skip the law.
+  // false to skip the law; mapped: the lines are only recorded, as the
+  // solve return-mapped them.
   void beginLines(int first, int n);
   template <class Argument>
-  int recheckLines(int first, int n, Argument argument);  // the highest joint changed, or -1
+  int recheckLines(int first, int n, bool mapped,
+                   Argument argument);  // the highest joint changed, or -1
 
   const char* name_;
   const WireConstants& c_;  // the model's: n grows with a supply

@@ -45,8 +45,9 @@ class Stretching : public ForceEffect {
 
  private:
   double stressOf(double x, int j) const;
-  // Stress [N] and consistent tangent [N] at strain x of segment j.
-  double stressTangent(double x, int j, double& tangent) const;
+  // Stress [N] and consistent tangent [N] at strain x of segment j: on its
+  // frozen line, or (mapped) on the line x lies on.
+  double stressTangent(double x, int j, bool mapped, double& tangent) const;
   // The implicit steps' lines at a step's start, and their recheck, in
   // either formulation.
   template <class State>
