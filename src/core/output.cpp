@@ -82,7 +82,7 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
         << "  \"newton_line_searches\": " << nc->line_searches << ",\n"
         << "  \"newton_retried_steps\": " << nc->retried_steps << ",\n"
         << "  \"newton_predictor_retries\": " << nc->predictor_retries << ",\n"
-        << "  \"newton_return_mapped_solves\": " << nc->return_mapped_steps << ",\n";
+        << "  \"newton_return_mapped_solves\": " << nc->return_mapped_solves << ",\n";
   }
   out << "  \"nodes\": " << sim.model().constants().n << ",\n"
       << "  \"segment_length_m\": " << num(sim.model().constants().segment_length) << ",\n"

@@ -169,32 +169,34 @@ void FreeWireContact::build(const Eigen::Matrix3Xd& p, int first, int n) {
     // through, behind two older turns it grazed.)
     int run_b[kCandidateRuns], last_b = -10;
     double run_dist[kCandidateRuns];
-    int runs = 0;
+    int runs = 0, current = -1;  // the run segment last_b belongs to (-1: one not kept)
     for (int b = first; b <= a - 1 - skip_; ++b) {
       if ((p.col(a) - p.col(b)).squaredNorm() > coarse * coarse) continue;
       const Eigen::Vector3d d = p.col(b + 1) - p.col(b);
       const double t = std::clamp((p.col(a) - p.col(b)).dot(d) / d.squaredNorm(), 0.0, 1.0);
       const double dist = (p.col(a) - p.col(b) - t * d).norm();
       if (dist >= reach_) continue;
-      if (runs > 0 && b - last_b <= 2) {
-        if (dist < run_dist[runs - 1]) {
-          run_b[runs - 1] = b;
-          run_dist[runs - 1] = dist;
+      const bool continues = b - last_b <= 2;
+      last_b = b;
+      if (continues && current >= 0) {
+        if (dist < run_dist[current]) {
+          run_b[current] = b;
+          run_dist[current] = dist;
         }
       } else if (runs < kCandidateRuns) {
-        run_b[runs] = b;
-        run_dist[runs] = dist;
-        ++runs;
+        current = runs++;
+        run_b[current] = b;
+        run_dist[current] = dist;
       } else {
-        // More runs than candidates: this one replaces the farthest if
-        // nearer (it starts a run of its own, not merged into that one).
+        // More runs than candidates: this one takes the farthest one's
+        // place if nearer.
         const int far = static_cast<int>(std::max_element(run_dist, run_dist + runs) - run_dist);
-        if (dist < run_dist[far]) {
-          run_b[far] = b;
-          run_dist[far] = dist;
+        current = dist < run_dist[far] ? far : -1;
+        if (current >= 0) {
+          run_b[current] = b;
+          run_dist[current] = dist;
         }
       }
-      last_b = b;
     }
     // The kRuns nearest (selection: few).
     for (int kept = 0; kept < kRuns && runs > 0; ++kept) {

@@ -104,7 +104,7 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     newton_.flag_rounds += st.flag_rounds;
     newton_.line_searches += st.line_searches;
     newton_.factorizations += st.factorizations;
-    if (st.return_mapped) ++newton_.return_mapped_steps;
+    if (st.return_mapped) ++newton_.return_mapped_solves;
     // A solution farther from the predictor than solver.predictor_tol: the
     // step is too long for what happens within it (the distance estimates
     // its local error, as variable-step BDF codes take it). Frozen flags

@@ -17,13 +17,13 @@ struct StepCounts {
 
 // Newton's work over a run (implicit steppers), for summary.json.
 struct NewtonCounts {
-  long iterations = 0;           // Newton iterations, all solves
-  long factorizations = 0;       // Jacobians assembled and factored (modified Newton reuses them)
-  long flag_rounds = 0;          // solves repeated after a contact, stick or slip flag changed
-  long line_searches = 0;        // halved Newton steps
-  long retried_steps = 0;        // steps retried smaller (not converged, or beyond predictor_tol)
-  long predictor_retries = 0;    // of them: converged, but beyond solver.predictor_tol
-  long return_mapped_steps = 0;  // solves that reached solver.return_mapping_round
+  long iterations = 0;            // Newton iterations, all solves
+  long factorizations = 0;        // Jacobians assembled and factored (modified Newton reuses them)
+  long flag_rounds = 0;           // solves repeated after a contact, stick or slip flag changed
+  long line_searches = 0;         // halved Newton steps
+  long retried_steps = 0;         // steps retried smaller (not converged, or beyond predictor_tol)
+  long predictor_retries = 0;     // of them: converged, but beyond solver.predictor_tol
+  long return_mapped_solves = 0;  // solves that reached solver.return_mapping_round
 };
 
 class TimeStepper {
