@@ -175,10 +175,15 @@ class BlockTridiagonalLu {
   // Gauss-Jordan inversion in place with partial pivoting (rows of a
   // row-major copy, so each update is one contiguous fixed-size row): the
   // pivot column becomes the inverse's column as it is eliminated, and the
-  // row exchanges are undone as column exchanges at the end.
+  // row exchanges are undone as column exchanges at the end. Every update
+  // is a whole-row operation: the pivot column's new entries come from
+  // masking that column out of a row before it is updated (a single entry
+  // stored into a row that is then read as a vector stalls the CPU's store
+  // forwarding: 2-3 % of the two-layer coil's run time).
   template <int N>
   static bool invert(Eigen::Matrix<double, N, N>& a_inout) {
     using RowBlock = Eigen::Matrix<double, N, N, Eigen::RowMajor>;
+    using Row = Eigen::Matrix<double, 1, N>;
     RowBlock w = a_inout;
     int pivot_row[N];
     for (int c = 0; c < N; ++c) {
@@ -194,17 +199,15 @@ class BlockTridiagonalLu {
       pivot_row[c] = p;
       if (p != c) w.row(p).swap(w.row(c));
       const double inv = 1.0 / w(c, c);
-      w(c, c) = 1.0;
-      w.row(c) *= inv;
+      // mask: ones but column c; the pivot row with 1 in column c, scaled.
+      const Row mask = Row::Ones() - Row::Unit(c);
+      const Row pivot = (w.row(c).cwiseProduct(mask) + Row::Unit(c)) * inv;
       for (int r = 0; r < N; ++r) {
         if (r == c) continue;
         const double f = w(r, c);
-        if (f == 0.0) continue;
-        // (Its own column set after the row's update: a store before it
-        // would hold up the vectorized row.)
-        w.row(r) -= f * w.row(c);
-        w(r, c) = -f * inv;
+        w.row(r) = w.row(r).cwiseProduct(mask) - f * pivot;
       }
+      w.row(c) = pivot;
     }
     for (int c = N - 1; c >= 0; --c) {
       if (pivot_row[c] != c) w.col(c).swap(w.col(pivot_row[c]));
