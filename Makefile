@@ -17,6 +17,8 @@
 #   make clean    remove the workspace .ws/
 #
 # Variables: JOBS (default 2), BUILD_TYPE (default Release), SKIP_DEPS=1 skips `deps`,
+#            CWS_SIMD (AUTO, ON or OFF; default AUTO): AVX2/FMA code when the build
+#            machine runs it (CMakeLists.txt; OFF for binaries copied to older CPUs),
 #            TEST_TIMEOUT (seconds, default 1200): ctest timeout for tests that set none
 #            themselves (the unit tests set CWS_UNIT_TEST_TIMEOUT=1200 in CMakeLists.txt).
 
@@ -40,6 +42,7 @@ TEST_RESULTS := $(BUILD_DIR)/test_results
 
 JOBS ?= 2
 BUILD_TYPE ?= Release
+CWS_SIMD ?= AUTO
 TEST_TIMEOUT ?= 1200
 OUT ?= out/default
 SCENE ?=
@@ -58,6 +61,7 @@ DEB_PACKAGES := \
 
 CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \
+  -DCWS_SIMD=$(CWS_SIMD) \
   -DPYTHON_EXECUTABLE=$(PYTHON) \
   -DCATKIN_ENABLE_TESTING=ON \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON

@@ -85,7 +85,7 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
     bool assembled = !have_factor;
     double norm = p.residual(assembled, top);
     double previous = std::numeric_limits<double>::infinity();
-    bool fresh = false, full_previous = false;  // (the last step taken whole)
+    bool fresh = false;
     for (int it = 0; it < c.max_iterations; ++it) {
       ++st.iterations;
       if (!have_factor) {
@@ -104,16 +104,10 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
       }
       if (!std::isfinite(step)) return st;
       p.keepStart();
-      // A step below the tolerance ends the solve, and so does one that
-      // leaves less than the tolerance to go: after a full step, the steps
-      // contract by theta = step / previous, and the distance from the end
-      // of this one to the solution is at most theta / (1 - theta) step
-      // (the simplified Newton's stopping test of Hairer and Wanner, IV.8).
-      // The residual there is evaluated only if the flags then hold (for
-      // the step's bookkeeping), as a changed flag starts a new round with
-      // an evaluation of its own.
-      const double theta = full_previous ? step / previous : 1.0;
-      if (step < c.tol || (theta < 1.0 && theta * step < (1.0 - theta) * c.tol)) {
+      // A step below the tolerance ends the solve; the residual there is
+      // evaluated only if the flags then hold (for the step's bookkeeping),
+      // as a changed flag starts a new round with an evaluation of its own.
+      if (step < c.tol) {
         p.moveAlong(1.0);
         converged = true;
         evaluated = false;
@@ -137,7 +131,6 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
       // A halved step: the Jacobian is refreshed for the next iteration.
       if (ls > 0) have_factor = false;
       previous = s * step;
-      full_previous = ls == 0;
       fresh = false;
       if (!checked_early && previous < c.flag_check_tol) {
         checked_early = true;
