@@ -39,19 +39,25 @@ bool Contact::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
     const int j = surface - wire_base_;
     const int last = lastWireSegment(i);
     const Eigen::Vector3d p_core = rot_world_core_.transpose() * (p_world - core_.originWorld());
-    double best = -1.0;
+    // (Compared by their squared distances: one root, for the nearest.)
+    double best2 = -1.0;
+    int nearest = -1;
+    bool nearest_inside = false;
     Eigen::Vector3d n_core = Eigen::Vector3d::Zero(), t_core = Eigen::Vector3d::Zero();
     for (int m = std::max(1, j - 1); m <= std::min(j + 1, last); ++m) {
-      Eigen::Vector3d n;
+      Eigen::Vector3d offset;
       bool inside;
-      const double dist = segmentDistance(m, p_core, n, inside);
-      if (best >= 0.0 && dist >= best) continue;
-      best = dist;
-      n_core = n;
-      t_core.setZero();
-      if (inside) t_core = segment_dir_core_[m].normalized();
+      const double dist2 = segmentOffset(m, p_core, offset, inside);
+      if (best2 >= 0.0 && dist2 >= best2) continue;
+      best2 = dist2;
+      nearest = m;
+      nearest_inside = inside;
+      n_core = offset;
     }
+    const double best = nearest >= 0 ? std::sqrt(best2) : -1.0;
     if (best <= 0.0) return false;
+    n_core /= best;
+    if (nearest_inside) t_core = segment_dir_core_[nearest].normalized();
     normal_world = rot_world_core_ * n_core;
     depth = 2.0 * c_.radius - best;
     const Eigen::Vector3d t_world = rot_world_core_ * t_core;

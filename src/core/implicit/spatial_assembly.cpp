@@ -92,23 +92,23 @@ void SpatialAssembly::setConstraint(int row, double g, double scale) {
 
 void SpatialAssembly::addConstraintGradientP(int row, int i, const Eigen::Vector3d& grad) {
   if (!jacobian_ || i < first_) return;
-  const int c = pRow(i);
-  const bool row_wanted = rowWanted(row), col_wanted = rowWanted(c);
-  for (int a = 0; a < 3; ++a) {
-    if (row_wanted) matrix_.at(row, c + a) += -scale_[row] * grad[a];
-    if (col_wanted) matrix_.at(c + a, row) += -grad[a];
-  }
+  addConstraintColumns(row, pRow(i), grad);
 }
 
 void SpatialAssembly::addConstraintGradientQ(int row, int i, const Eigen::Vector4d& grad_q) {
   if (!jacobian_ || i < first_) return;
-  const int c = qRow(i);
-  const bool row_wanted = rowWanted(row), col_wanted = rowWanted(c);
-  const Eigen::Vector3d grad = basis_[i].transpose() * grad_q;
-  for (int a = 0; a < 3; ++a) {
-    if (row_wanted) matrix_.at(row, c + a) += -scale_[row] * grad[a];
-    if (col_wanted) matrix_.at(c + a, row) += -grad[a];
+  addConstraintColumns(row, qRow(i), basis_[i].transpose() * grad_q);
+}
+
+void SpatialAssembly::addConstraintColumns(int row, int c, const Eigen::Vector3d& grad) {
+  // The three unknowns from column c lie in one block: the row's entries,
+  // and the multiplier's column in those unknowns' rows.
+  const int br = row / kPerPoint, ro = row % kPerPoint;
+  const int bc = c / kPerPoint, co = c % kPerPoint;
+  if (rowWanted(row)) {
+    matrix_.blockAt(br, bc).block<1, 3>(ro, co) -= scale_[row] * grad.transpose();
   }
+  if (rowWanted(c)) matrix_.blockAt(bc, br).block<3, 1>(co, ro) -= grad;
 }
 
 }  // namespace cws

@@ -181,6 +181,9 @@ class SpatialAssembly {
   // follow the last point's).
   bool rowWanted(int r) const { return r / kPerPoint + first_ <= jacobian_top_; }
   static int slot(int i, int j) { return 3 * i + (j - i + 1); }
+  // Constraint row `row`'s gradient on the unknowns c..c+2 (one point's p
+  // or rotation): the row's entries, scaled, and the multiplier's column.
+  void addConstraintColumns(int row, int c, const Eigen::Vector3d& grad);
   bool wanted(int i, int j) const {
     return jacobian_ && i >= first_ && j >= first_ && i <= jacobian_top_;
   }
