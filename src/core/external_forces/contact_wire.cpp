@@ -46,13 +46,6 @@ double Contact::segmentOffset(int j, const Eigen::Vector3d& p_core, Eigen::Vecto
   return offset_core.squaredNorm();
 }
 
-double Contact::segmentDistance(int j, const Eigen::Vector3d& p_core, Eigen::Vector3d& n_core,
-                                bool& inside) const {
-  const double dist = std::sqrt(segmentOffset(j, p_core, n_core, inside));
-  if (dist > 0.0) n_core /= dist;
-  return dist;
-}
-
 int Contact::touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const {
   const int last = lastWireSegment(i);
   if (last < 0 || !carried_p_core_) return 0;

@@ -175,13 +175,9 @@ class Contact : public ForceEffect {
   // The carried wire's runs touching point i (core-frame position), deepest
   // first, at most kWireSlots; returns how many.
   int touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const;
-  // Distance [m] of p_core from carried segment j (core frame), the unit
-  // normal from it, and whether the nearest point is inside the segment
-  // (else at an end).
-  double segmentDistance(int j, const Eigen::Vector3d& p_core, Eigen::Vector3d& n_core,
-                         bool& inside) const;
-  // The same before the root: the squared distance [m^2] and the offset
-  // from the nearest point of the segment (not normalized).
+  // Squared distance [m^2] of p_core from carried segment j (core frame),
+  // the offset from the segment's nearest point (not normalized), and
+  // whether that point is inside the segment (else at an end).
   double segmentOffset(int j, const Eigen::Vector3d& p_core, Eigen::Vector3d& offset_core,
                        bool& inside) const;
   // Segments point i may touch: carried (both ends below c.first), and not
