@@ -33,6 +33,24 @@
 
 namespace cws {
 
+// Rows of the N x N identity, and their complements (ones but the
+// diagonal entry), as constant tables.
+template <int N>
+struct UnitRows {
+  double unit[N][N], mask[N][N];
+  constexpr UnitRows() : unit(), mask() {
+    for (int r = 0; r < N; ++r) {
+      for (int c = 0; c < N; ++c) {
+        unit[r][c] = r == c ? 1.0 : 0.0;
+        mask[r][c] = r == c ? 0.0 : 1.0;
+      }
+    }
+  }
+  static const UnitRows kTable;
+};
+template <int N>
+const UnitRows<N> UnitRows<N>::kTable;
+
 template <int B, int C = B>
 class BlockTridiagonalLu {
   static_assert(C > 0 && C <= B, "coupling within the block size");
@@ -200,8 +218,11 @@ class BlockTridiagonalLu {
       if (p != c) w.row(p).swap(w.row(c));
       const double inv = 1.0 / w(c, c);
       // mask: ones but column c; the pivot row with 1 in column c, scaled.
-      const Row mask = Row::Ones() - Row::Unit(c);
-      const Row pivot = (w.row(c).cwiseProduct(mask) + Row::Unit(c)) * inv;
+      // (Both read from tables: a vector made by storing one entry into it
+      // would stall again.)
+      const Row mask = Eigen::Map<const Row>(UnitRows<N>::kTable.mask[c]);
+      const Row unit = Eigen::Map<const Row>(UnitRows<N>::kTable.unit[c]);
+      const Row pivot = (w.row(c).cwiseProduct(mask) + unit) * inv;
       for (int r = 0; r < N; ++r) {
         if (r == c) continue;
         const double f = w(r, c);
