@@ -33,23 +33,20 @@
 
 namespace cws {
 
-// Rows of the N x N identity, and their complements (ones but the
-// diagonal entry), as constant tables.
+// Rows of ones but a zero on the diagonal (row c: all columns but c), as a
+// constant table.
 template <int N>
-struct UnitRows {
-  double unit[N][N], mask[N][N];
-  constexpr UnitRows() : unit(), mask() {
+struct MaskRows {
+  double mask[N][N];
+  constexpr MaskRows() : mask() {
     for (int r = 0; r < N; ++r) {
-      for (int c = 0; c < N; ++c) {
-        unit[r][c] = r == c ? 1.0 : 0.0;
-        mask[r][c] = r == c ? 0.0 : 1.0;
-      }
+      for (int c = 0; c < N; ++c) mask[r][c] = r == c ? 0.0 : 1.0;
     }
   }
-  static const UnitRows kTable;
+  static const MaskRows kTable;
 };
 template <int N>
-const UnitRows<N> UnitRows<N>::kTable;
+const MaskRows<N> MaskRows<N>::kTable;
 
 template <int B, int C = B>
 class BlockTridiagonalLu {
@@ -217,12 +214,11 @@ class BlockTridiagonalLu {
       pivot_row[c] = p;
       if (p != c) w.row(p).swap(w.row(c));
       const double inv = 1.0 / w(c, c);
-      // mask: ones but column c; the pivot row with 1 in column c, scaled.
-      // (Both read from tables: a vector made by storing one entry into it
-      // would stall again.)
-      const Row mask = Eigen::Map<const Row>(UnitRows<N>::kTable.mask[c]);
-      const Row unit = Eigen::Map<const Row>(UnitRows<N>::kTable.unit[c]);
-      const Row pivot = (w.row(c).cwiseProduct(mask) + unit) * inv;
+      // mask: ones but column c (from a table: a vector made by storing
+      // one entry into it would stall again); the pivot row with 1 in
+      // column c, scaled.
+      const Row mask = Eigen::Map<const Row>(MaskRows<N>::kTable.mask[c]);
+      const Row pivot = (w.row(c).cwiseProduct(mask) + (Row::Ones() - mask)) * inv;
       for (int r = 0; r < N; ++r) {
         if (r == c) continue;
         const double f = w(r, c);
