@@ -25,6 +25,7 @@ void CarriedWireIndex::clear() {
   for (const Node& node : nodes_) heads_[bucketOf(node.key)] = -1;
   nodes_.clear();
   segments_ = 0;
+  ++version_;
 }
 
 std::int64_t CarriedWireIndex::cellOf(double x) const {
@@ -45,6 +46,7 @@ void CarriedWireIndex::add(int j, const Eigen::Vector3d& a_core, const Eigen::Ve
     }
   }
   segments_ = std::max(segments_, j + 1);
+  ++version_;
 }
 
 }  // namespace cws

@@ -67,6 +67,11 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
     carried_index_.reserve(c_.capacity, 2.0 * c.radius, 1.5 * c.segment_length);
     segment_dir_core_.assign(c_.capacity, Eigen::Vector3d::Zero());
     segment_length2_.assign(c_.capacity, 1.0);
+    // Points move far less than a quarter diameter in a step relative to the
+    // core: a list serves the step's queries.
+    near_skin_ = 0.5 * c.radius;
+    near_.assign(c_.capacity, NearList());
+    near_segments_.assign(static_cast<std::size_t>(c_.capacity) * kNearMax, -1);
   }
   const std::size_t slots = static_cast<std::size_t>(c_.capacity) * slots_;
   surface_.assign(slots, -1);

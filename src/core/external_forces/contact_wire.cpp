@@ -46,6 +46,35 @@ double Contact::segmentOffset(int j, const Eigen::Vector3d& p_core, Eigen::Vecto
   return offset_core.squaredNorm();
 }
 
+const int* Contact::nearSegments(int i, const Eigen::Vector3d& p_core, int& count) const {
+  NearList& list = near_[i];
+  const std::int64_t cell = carried_index_.cellKey(p_core);
+  if (list.count >= 0 && list.version == carried_index_.version() && list.cell == cell &&
+      (p_core - list.p_core).squaredNorm() <= near_skin_ * near_skin_) {
+    count = list.count;
+    return &near_segments_[static_cast<std::size_t>(i) * kNearMax];
+  }
+  // Made anew: the cell's segments that may come within the reach while the
+  // point stays within the skin.
+  int* out = &near_segments_[static_cast<std::size_t>(i) * kNearMax];
+  const double keep = 2.0 * c_.radius + near_skin_;
+  const double keep2 = keep * keep * (1.0 + 1e-9);
+  list = NearList{p_core, cell, carried_index_.version(), 0};
+  carried_index_.forEachNear(p_core, [&](int j) {
+    if (list.count < 0) return;
+    Eigen::Vector3d offset;
+    bool inside;
+    if (segmentOffset(j, p_core, offset, inside) > keep2) return;
+    if (list.count == kNearMax) {
+      list.count = -1;
+      return;
+    }
+    out[list.count++] = j;
+  });
+  count = list.count;
+  return list.count >= 0 ? out : nullptr;
+}
+
 int Contact::touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const {
   const int last = lastWireSegment(i);
   if (last < 0 || !carried_p_core_) return 0;
@@ -59,7 +88,7 @@ int Contact::touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const 
   // (Most segments of the cell lie beyond the reach: their squared
   // distance rejects them before a root is taken.)
   const double beyond2 = reach * reach * (1.0 + 1e-9);
-  carried_index_.forEachNear(p_core, [&](int j) {
+  auto visit = [&](int j) {
     if (j > last || hits == kMaxHits) return;
     Eigen::Vector3d n;
     bool inside;
@@ -72,7 +101,14 @@ int Contact::touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const 
     depth[hits] = reach - dist;
     normal[hits] = n;
     ++hits;
-  });
+  };
+  int near = 0;
+  const int* list = nearSegments(i, p_core, near);
+  if (list) {
+    for (int k = 0; k < near; ++k) visit(list[k]);
+  } else {
+    carried_index_.forEachNear(p_core, visit);
+  }
   if (hits == 0) return 0;
   // Sort by index (insertion: few), then split into runs of segments at
   // most kSameRun apart; each run's deepest segment stands for it.

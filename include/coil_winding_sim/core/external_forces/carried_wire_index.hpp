@@ -27,12 +27,19 @@ class CarriedWireIndex {
   template <class Visit>
   void forEachNear(const Eigen::Vector3d& p_core, Visit&& visit) const {
     if (nodes_.empty()) return;
-    const std::int64_t key = keyOf(cellOf(p_core.x()), cellOf(p_core.y()), cellOf(p_core.z()));
+    const std::int64_t key = cellKey(p_core);
     for (int k = heads_[bucketOf(key)]; k >= 0; k = nodes_[k].next) {
       if (nodes_[k].key == key) visit(nodes_[k].segment);
     }
   }
   int segments() const { return segments_; }
+  // The cell p_core lies in: two queries in the same cell visit the same
+  // segments in the same order while version() stays.
+  std::int64_t cellKey(const Eigen::Vector3d& p_core) const {
+    return keyOf(cellOf(p_core.x()), cellOf(p_core.y()), cellOf(p_core.z()));
+  }
+  // Counts every change of the hashed segments (an add, a clear).
+  unsigned version() const { return version_; }
 
  private:
   struct Node {
@@ -52,6 +59,7 @@ class CarriedWireIndex {
   double cell_ = 1.0;  // cell size [m]
   int shift_ = 63;     // 64 - log2(buckets)
   int segments_ = 0;
+  unsigned version_ = 0;
   std::vector<int> heads_;
   std::vector<Node> nodes_;
 };

@@ -248,6 +248,24 @@ class Contact : public ForceEffect {
   mutable std::vector<Eigen::Vector3d> segment_dir_core_;
   mutable std::vector<double> segment_length2_;
   mutable int indexed_segments_ = 0;
+  // Per point, the segments of the cell its last query read that lie within
+  // the reach and near_skin_ of where it was (in the cell's order): a
+  // Verlet list. A later query within the skin of that place, in the same
+  // cell and with the same index, reads the list instead of the cell, and
+  // meets the same segments in the same order, less ones it cannot touch.
+  struct NearList {
+    Eigen::Vector3d p_core = Eigen::Vector3d::Zero();
+    std::int64_t cell = 0;
+    unsigned version = 0;
+    int count = -1;  // -1: none (or more than kNearMax)
+  };
+  static constexpr int kNearMax = 32;
+  mutable std::vector<NearList> near_;
+  mutable std::vector<int> near_segments_;  // kNearMax per point
+  double near_skin_ = 0.0;                  // [m]
+  // The list of point i valid at p_core, made anew where it is not;
+  // nullptr: too many segments near, read the cell.
+  const int* nearSegments(int i, const Eigen::Vector3d& p_core, int& count) const;
   int skip_points_ = 0;
   // Slots per point and their roles; surface ids: cylinders, faces,
   // flanges, then the carried segments from wire_base_.
