@@ -85,6 +85,7 @@ WireModel::WireModel(const Scene& s)
   if (s.physics.torsion) {
     twisting_ = std::make_unique<Twisting>(c_, s.wire.torsion, plastic);
     all_.push_back(twisting_.get());
+    bending_->shareSpatialPass(*twisting_);
   }
   if (s.physics.gravity) {
     external_.push_back(std::make_unique<Gravity>(c_, s.gravity.acceleration_world));

@@ -239,7 +239,9 @@ void RotationalSpring::addSpatialForces(const SpatialState& s, SpatialAssembly& 
   // f_a = 2 G(q_b)^T m and f_b = -2 G(q_a)^T m, with m(Omega) the laws'
   // moments and Omega = (2 / lambda) G(q_a) q_b, whose derivatives are
   // -(2 / lambda) G(q_b) and (2 / lambda) G(q_a). G(q)^T m is linear in q
-  // (quat::gTransposeTimes).
+  // (quat::gTransposeTimes), and everything is linear in m and dm: a
+  // partner's components join this pass.
+  if (in_shared_pass_) return;
   for (int j = s.first - 1; j + 1 < s.n; ++j) {
     const quat::Vec4 qa = s.q.col(j);
     const quat::Vec4 qb = s.q.col(j + 1);
@@ -251,6 +253,14 @@ void RotationalSpring::addSpatialForces(const SpatialState& s, SpatialAssembly& 
       double k;
       m[first_ + i] = stressTangent(omega[first_ + i], j * count_ + i, s.return_mapping, k);
       dm[first_ + i] = k;
+    }
+    if (partner_) {
+      const RotationalSpring& o = *partner_;
+      for (int i = 0; i < o.count_; ++i) {
+        double k;
+        m[o.first_ + i] = o.stressTangent(omega[o.first_ + i], j * o.count_ + i, s.return_mapping, k);
+        dm[o.first_ + i] = k;
+      }
     }
     a.addQForce(j, 2.0 * gb.transpose() * m);
     a.addQForce(j + 1, -2.0 * ga.transpose() * m);

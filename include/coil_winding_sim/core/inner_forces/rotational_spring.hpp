@@ -54,6 +54,14 @@ class RotationalSpring : public ForceEffect {
   double plasticValue(int j, int m) const;
   int first() const { return first_; }
   int count() const { return count_; }
+  // 3-D implicit steps: `partner`, the other components of the same joints
+  // (torsion beside bending), is evaluated in this spring's pass, which
+  // then forms the Darboux vector and the joints' blocks once for both;
+  // the partner's own pass adds nothing.
+  void shareSpatialPass(RotationalSpring& partner) {
+    partner_ = &partner;
+    partner.in_shared_pass_ = true;
+  }
 
  private:
   double stressOf(double x, int idx) const;
@@ -90,6 +98,8 @@ class RotationalSpring : public ForceEffect {
   std::vector<signed char> line_committed_;  // the lines of the last accepted step
   int from_ = 0, to_ = 0;                    // laws of the present implicit step
   double work_committed_ = 0.0;
+  RotationalSpring* partner_ = nullptr;  // evaluated in this pass (3-D)
+  bool in_shared_pass_ = false;          // evaluated in another spring's pass (3-D)
 };
 
 }  // namespace cws
