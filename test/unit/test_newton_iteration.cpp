@@ -35,6 +35,8 @@ struct TwoLawProblem {
   void keepStart() { x_kept = x; }
   void returnMapping(bool) {}
   void moveAlong(double s) { x = x_kept + s * dx; }
+  void forgetSteps() {}
+  bool keepStep() { return true; }
   bool recheckFlags() {
     ++rechecks;
     const int holds = x > 0.5 ? 1 : 0;
@@ -127,6 +129,8 @@ struct KinkedLawProblem {
   }
   void keepStart() { x_kept = x; }
   void moveAlong(double s) { x = x_kept + s * dx; }
+  void forgetSteps() {}
+  bool keepStep() { return true; }
   void returnMapping(bool on) { mapped = on; }
   bool recheckFlags() {
     const int holds = lineOf(x);

@@ -40,6 +40,8 @@ SpatialFormulation::SpatialFormulation(WireModel& model, const Scene& scene)
   radial_r_.setZero(cap);
   r_.setZero(SpatialAssembly::kPerPoint * cap + 2);
   dx_.setZero(SpatialAssembly::kPerPoint * cap + 2);
+  secant_.reserve(SpatialAssembly::kPerPoint * cap + 2);
+  weight_.setZero(SpatialAssembly::kPerPoint * cap + 2);
 }
 
 void SpatialFormulation::load(double t0) {
@@ -170,6 +172,15 @@ NewtonStats SpatialFormulation::solve(const OneLegStep& step, const Eigen::Matri
   // (Newton moves a frame by rotations: it starts on the unit sphere.)
   for (int i = f; i < n; ++i) state_.q.col(i) = x_guess.block<4, 1>(3, i).normalized();
   updateRates();
+  // (The port's multipliers, last, weigh nothing.)
+  const double w_rotation = 0.25 * segment_length_ * segment_length_;
+  for (int i = f; i < n; ++i) {
+    const int row = SpatialAssembly::kPerPoint * (i - f);
+    weight_.segment<SpatialAssembly::kPerPoint>(row).setZero();
+    weight_.segment<3>(row + SpatialAssembly::kQ).setConstant(w_rotation);
+    weight_.segment<3>(row + SpatialAssembly::kP).setConstant(1.0);
+  }
+  weight_.segment<2>(SpatialAssembly::kPerPoint * m).setZero();
   if (!(factored_ == FactorKey{alpha, kappa, f, n})) have_factor_ = false;
   return newtonSolve(*this, newton_, have_factor_);
 }
@@ -192,6 +203,9 @@ double SpatialFormulation::direction() {
   dx_.head(unknowns) = -r_.head(unknowns);
   assembly_.matrix().solve(dx_.head(unknowns));
   couplings_.correct(assembly_, dx_.head(unknowns));
+  // The steps taken since the factorization update it (secant_steps.hpp);
+  // where they do not contract, no step: a new factorization.
+  if (!secant_.correct(dx_.head(unknowns), weight_)) return std::numeric_limits<double>::infinity();
   // The step's size in metres: positions, and quaternions times l.
   double step = 0.0;
   for (int i = state_.first; i < state_.n; ++i) {

@@ -61,6 +61,11 @@ struct NewtonSettings {
 //   double direction()              the Newton direction; its size [m]
 //   void keepStart()                remembers the present iterate
 //   void moveAlong(double s)        iterate = kept + s direction (rates too)
+//   void forgetSteps()              the steps taken no longer update the
+//                                   factorization (a new one, new flags)
+//   bool keepStep()                 the full step just taken updates the
+//                                   factorization for the next directions
+//                                   (secant_steps.hpp); false: no room left
 //   bool recheckFlags()             true: a flag changed
 //   void returnMapping(bool on)     the laws' lines return-mapped (on) or
 //                                   frozen (off)
@@ -83,6 +88,7 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
     // A round that will factor assembles the Jacobian with its first
     // residual (`assembled`: the matrix holds the present iterate's).
     bool assembled = !have_factor;
+    p.forgetSteps();
     double norm = p.residual(assembled, top);
     double previous = std::numeric_limits<double>::infinity();
     bool fresh = false;
@@ -93,6 +99,7 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
         assembled = false;
         if (!p.factor()) return st;
         top = -1;
+        p.forgetSteps();
         have_factor = fresh = true;
         ++st.factorizations;
       }
@@ -128,8 +135,9 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
         converged = true;
         break;
       }
-      // A halved step: the Jacobian is refreshed for the next iteration.
-      if (ls > 0) have_factor = false;
+      // A halved step: the Jacobian is refreshed for the next iteration. A
+      // full one updates it (secant steps), while there is room for one.
+      if (ls > 0 || !p.keepStep()) have_factor = false;
       previous = s * step;
       fresh = false;
       if (!checked_early && previous < c.flag_check_tol) {

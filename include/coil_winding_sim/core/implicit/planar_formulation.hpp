@@ -80,6 +80,9 @@ class PlanarFormulation : public NewtonFormulation {
   double direction();
   void keepStart();
   void moveAlong(double s);
+  // (No secant updates in the plane.)
+  void forgetSteps() {}
+  bool keepStep() { return true; }
   bool recheckFlags();
   int changedTop() const;
   void returnMapping(bool on) { state_.return_mapping = on; }

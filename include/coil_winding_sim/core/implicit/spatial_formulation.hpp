@@ -16,6 +16,7 @@
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
 #include "coil_winding_sim/core/implicit/newton_iteration.hpp"
 #include "coil_winding_sim/core/implicit/pair_coupling_solve.hpp"
+#include "coil_winding_sim/core/implicit/secant_steps.hpp"
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 
@@ -68,6 +69,8 @@ class SpatialFormulation : public NewtonFormulation {
   double direction();
   void keepStart();
   void moveAlong(double s);
+  void forgetSteps() { secant_.clear(); }
+  bool keepStep() { return secant_.push(dx_.head(assembly_.unknowns()), weight_); }
   bool recheckFlags();
   int changedTop() const;
   void returnMapping(bool on) { state_.return_mapping = on; }
@@ -88,6 +91,11 @@ class SpatialFormulation : public NewtonFormulation {
   Eigen::Matrix3Xd mu_try_, mu_accepted_;
   Eigen::Vector2d lambda_accepted_ = Eigen::Vector2d::Zero(), lambda_try_ = Eigen::Vector2d::Zero();
   Eigen::VectorXd r_, dx_;
+  // The steps taken with the present factorization (secant updates), and
+  // their inner product's weight per unknown: 1 for a position [m],
+  // (l / 2)^2 for a rotation [rad] (the step's measure), 0 for a multiplier.
+  SecantSteps secant_;
+  Eigen::VectorXd weight_;
   double alpha_ = 0.0, kappa_ = 0.0;
   // The scheme velocity of the core's material (the surface friction sees),
   // and the prescribed point's exact rates.
