@@ -1,7 +1,8 @@
 // What the parts of a 3-D Newton iteration cost on the two-layer coil
 // (config/scenes/two_layers.yaml) wound for 0.4 s (Google Benchmark): the
 // assembly of the forces alone (a line search's residual), of the forces
-// and the whole Jacobian, and the factorization of that Jacobian. Unlike
+// and the whole Jacobian, the factorization of that Jacobian and a solve
+// with it (a Newton direction). Unlike
 // a run of the coil, whose Newton path moves with the last bit of any
 // change, these repeat exactly: `bench_newton` tells a change of the
 // arithmetic apart from a change of the path.
@@ -59,9 +60,25 @@ void BM_Factorization(benchmark::State& state) {
   state.counters["points"] = w.form.n() - w.form.first();
 }
 
+void BM_Solve(benchmark::State& state) {
+  Wound& w = wound();
+  const cws::SpatialAssembly& a = w.form.assemble(true);
+  cws::SpatialAssembly::Matrix m = const_cast<cws::SpatialAssembly&>(a).matrix();
+  m.factor();
+  const Eigen::VectorXd rhs = a.forces().head(a.unknowns());
+  Eigen::VectorXd x(rhs.size());
+  for (auto _ : state) {
+    x = rhs;
+    m.solve(x);
+    benchmark::DoNotOptimize(x.data());
+  }
+  state.counters["points"] = w.form.n() - w.form.first();
+}
+
 }  // namespace
 
 BENCHMARK(BM_ForcesOnly);
 BENCHMARK(BM_ForcesAndJacobian);
 BENCHMARK(BM_Factorization);
+BENCHMARK(BM_Solve);
 BENCHMARK_MAIN();

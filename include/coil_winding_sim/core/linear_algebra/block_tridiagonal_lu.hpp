@@ -163,21 +163,21 @@ class BlockTridiagonalLu {
       y = yp.template head<B>();
       k = m_ - 3;
     } else {
-      y = inv_[k].lazyProduct(work_.template segment<B>(k * B));
+      y = columnSum(inv_[k], Segment(work_.template segment<B>(k * B)));
       work_.template segment<B>(k * B) = y;
       --k;
     }
     for (; k >= 0; --k) {
       Segment r = work_.template segment<B>(k * B);
-      r.template head<C>().noalias() -= u_[k].lazyProduct(y);
-      y.noalias() = inv_[k].lazyProduct(r);
+      r.template head<C>() -= columnSum(u_[k], y);
+      y = columnSum(inv_[k], r);
       work_.template segment<B>(k * B) = y;
     }
     // From block 0 down: x_k = y_k - W_k x_k-1.
     const int singles = merge_ ? m_ - 2 : m_;
     for (k = 1; k < singles; ++k) {
       const Eigen::Matrix<double, C, 1> x_prev = work_.template segment<C>((k - 1) * B);
-      work_.template segment<B>(k * B).noalias() -= w_[k].lazyProduct(x_prev);
+      work_.template segment<B>(k * B) -= columnSum(w_[k], x_prev);
     }
     if (merge_ && m_ > 2) {
       const Eigen::Matrix<double, C, 1> x_prev = work_.template segment<C>((m_ - 3) * B);
@@ -187,6 +187,22 @@ class BlockTridiagonalLu {
   }
 
  private:
+  // m v for a fixed-size column-major m, as a sum of its columns in two
+  // independent chains: each sweep of the solve is a chain of such
+  // products, bound by their latency rather than their arithmetic.
+  template <class M, class V>
+  static Eigen::Matrix<double, M::RowsAtCompileTime, 1> columnSum(const M& m, const V& v) {
+    constexpr int kCols = M::ColsAtCompileTime;
+    using Column = Eigen::Matrix<double, M::RowsAtCompileTime, 1>;
+    Column even = m.col(0) * v[0], odd = m.col(1) * v[1];
+    for (int j = 2; j + 1 < kCols; j += 2) {
+      even += m.col(j) * v[j];
+      odd += m.col(j + 1) * v[j + 1];
+    }
+    if (kCols % 2 == 1) even += m.col(kCols - 1) * v[kCols - 1];
+    return even + odd;
+  }
+
   // Gauss-Jordan inversion in place with partial pivoting (rows of a
   // row-major copy, so each update is one contiguous fixed-size row): the
   // pivot column becomes the inverse's column as it is eliminated, and the
