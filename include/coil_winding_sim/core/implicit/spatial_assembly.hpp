@@ -152,7 +152,7 @@ class SpatialAssembly {
     double t = 0.0;
     Eigen::Matrix3d k = Eigen::Matrix3d::Zero();
   };
-  static constexpr int kMaxPairCouplings = 12;
+  static constexpr int kMaxPairCouplings = 40;
   void addPairCoupling(int a, int b, double t, const Eigen::Matrix3d& k) {
     if (!jacobian_ || pair_count_ == kMaxPairCouplings) return;
     pairs_[pair_count_++] = PairCoupling{a, b, t, k};

@@ -71,6 +71,7 @@ class BlockTridiagonalLu {
     work_.setZero(static_cast<Eigen::Index>(blocks) * B);
     n_ = m_ = 0;
     factored_n_ = -1;
+    for (int c = 0; c < B; ++c) learned_[c] = c;
   }
   // Starts a matrix of size n (<= capacity): all zero. merge_last: the last
   // block is inverted together with the one before it (it needs two blocks
@@ -138,7 +139,7 @@ class BlockTridiagonalLu {
         const Coupling& w_next = (merge_ && k + 1 == m_ - 2) ? pair_w_top_ : w_[k + 1];
         s.template topLeftCorner<C, C>().noalias() -= u_[k].lazyProduct(w_next);
       }
-      if (!invert(s)) return false;
+      if (!invert(s, learned_)) return false;
       inv_[k] = s;
       if (k > 0) {
         assert(lower_[k].template rightCols<B - C>().isZero(0.0));
@@ -211,20 +212,44 @@ class BlockTridiagonalLu {
   // masking that column out of a row before it is updated (a single entry
   // stored into a row that is then read as a vector stalls the CPU's store
   // forwarding: 2-3 % of the two-layer coil's run time).
+  //
+  // A search for each pivot puts a chain of comparisons on the critical
+  // path of every column. The blocks of one system pivot alike, so a
+  // diagonal block first takes the rows its last search chose (`learned`),
+  // and keeps the result where each of them is at least kPivotRatio of the
+  // largest entry at or below it in its column (threshold pivoting, as
+  // sparse LU codes do): those comparisons run beside the elimination and
+  // are judged at its end. A block that fails is inverted again with the
+  // search, which teaches its rows.
+  static constexpr double kPivotRatio = 0.1;
   template <int N>
-  static bool invert(Eigen::Matrix<double, N, N>& a_inout) {
+  static bool invert(Eigen::Matrix<double, N, N>& a_inout, int* learned = nullptr) {
+    if (learned && eliminate<N, false>(a_inout, learned)) return true;
+    return eliminate<N, true>(a_inout, learned);
+  }
+  template <int N, bool kSearch>
+  static bool eliminate(Eigen::Matrix<double, N, N>& a_inout, int* learned) {
     using RowBlock = Eigen::Matrix<double, N, N, Eigen::RowMajor>;
     using Row = Eigen::Matrix<double, 1, N>;
     RowBlock w = a_inout;
     int pivot_row[N];
+    bool held = true;
     for (int c = 0; c < N; ++c) {
       int p = c;
       double best = std::abs(w(c, c));
-      for (int r = c + 1; r < N; ++r) {
-        if (std::abs(w(r, c)) > best) {
-          best = std::abs(w(r, c));
-          p = r;
+      if (kSearch) {
+        for (int r = c + 1; r < N; ++r) {
+          if (std::abs(w(r, c)) > best) {
+            best = std::abs(w(r, c));
+            p = r;
+          }
         }
+      } else {
+        p = learned[c];
+        best = std::abs(w(p, c));
+        double largest = best;
+        for (int r = c; r < N; ++r) largest = std::max(largest, std::abs(w(r, c)));
+        held = held && best >= kPivotRatio * largest;
       }
       if (!(best > 0.0) || !std::isfinite(best)) return false;
       pivot_row[c] = p;
@@ -242,6 +267,8 @@ class BlockTridiagonalLu {
       }
       w.row(c) = pivot;
     }
+    if (!kSearch && !held) return false;
+    if (kSearch && learned) std::copy(pivot_row, pivot_row + N, learned);
     for (int c = N - 1; c >= 0; --c) {
       if (pivot_row[c] != c) w.col(c).swap(w.col(pivot_row[c]));
     }
@@ -269,6 +296,7 @@ class BlockTridiagonalLu {
 
   int n_ = 0, m_ = 0;
   bool merge_ = false;
+  int learned_[B] = {};  // the diagonal blocks' pivot rows (invert)
   int factored_n_ = -1;  // the size of the last complete factorization
   bool factored_merge_ = false;
   std::vector<Block, Eigen::aligned_allocator<Block>> diag_, lower_, upper_, inv_;
