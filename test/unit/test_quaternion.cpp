@@ -25,6 +25,9 @@ TEST(Quaternion, GTimesIsTheVectorPartOfTheConjugateProduct) {
     const Eigen::Vector3d expected = vectorPartOfConjProduct(a, b);
     EXPECT_LT((cws::quat::gTimes(a, b) - expected).norm(), 1e-15);
     EXPECT_LT((cws::quat::G(a) * b - expected).norm(), 1e-15);
+    // G(a)^T v: v . (G(a) b) = (G(a)^T v) . b for every b.
+    const Eigen::Vector3d v(u(rng), u(rng), u(rng));
+    EXPECT_NEAR(cws::quat::gTransposeApply(a, v).dot(b), v.dot(expected), 1e-14);
   }
 }
 

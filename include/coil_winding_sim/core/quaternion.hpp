@@ -39,6 +39,13 @@ inline Eigen::Vector3d gTimes(const Vec4& a, const Vec4& b) {
           -a[3] * b[0] + a[2] * b[1] - a[1] * b[2] + a[0] * b[3]};
 }
 
+// G(q)^T v without forming G (a matrix built on the stack entry by entry and
+// read back at once stalls the CPU's store forwarding).
+inline Vec4 gTransposeApply(const Vec4& q, const Eigen::Vector3d& v) {
+  return Vec4(-q[1] * v[0] - q[2] * v[1] - q[3] * v[2], q[0] * v[0] - q[3] * v[1] + q[2] * v[2],
+              q[3] * v[0] + q[0] * v[1] - q[1] * v[2], -q[2] * v[0] + q[1] * v[1] + q[0] * v[2]);
+}
+
 // E(q): world angular velocity omega_world = 2 E(q) qdot.
 inline Mat34 E(const Vec4& q) {
   Mat34 m;

@@ -36,16 +36,6 @@ void Contact::syncCarriedWire() const {
   indexed_segments_ = carried;
 }
 
-double Contact::segmentOffset(int j, const Eigen::Vector3d& p_core, Eigen::Vector3d& offset_core,
-                              bool& inside) const {
-  const Eigen::Vector3d& from = (*carried_p_core_)[j];
-  const Eigen::Vector3d& d = segment_dir_core_[j];
-  const double s = (p_core - from).dot(d) / segment_length2_[j];
-  inside = s > 0.0 && s < 1.0;
-  offset_core = p_core - (from + std::clamp(s, 0.0, 1.0) * d);
-  return offset_core.squaredNorm();
-}
-
 const int* Contact::nearSegments(int i, const Eigen::Vector3d& p_core, int& count) const {
   NearList& list = near_[i];
   const std::int64_t cell = carried_index_.cellKey(p_core);

@@ -246,7 +246,6 @@ void RotationalSpring::addSpatialForces(const SpatialState& s, SpatialAssembly& 
     const quat::Vec4 qa = s.q.col(j);
     const quat::Vec4 qb = s.q.col(j + 1);
     const double lambda = jointLength(j);
-    const quat::Mat34 ga = quat::G(qa), gb = quat::G(qb);
     const Eigen::Vector3d omega = (2.0 / lambda) * quat::gTimes(qa, qb);
     Eigen::Vector3d m = Eigen::Vector3d::Zero(), dm = Eigen::Vector3d::Zero();
     for (int i = 0; i < count_; ++i) {
@@ -262,9 +261,10 @@ void RotationalSpring::addSpatialForces(const SpatialState& s, SpatialAssembly& 
         dm[o.first_ + i] = k;
       }
     }
-    a.addQForce(j, 2.0 * gb.transpose() * m);
-    a.addQForce(j + 1, -2.0 * ga.transpose() * m);
+    a.addQForce(j, 2.0 * quat::gTransposeApply(qb, m));
+    a.addQForce(j + 1, -2.0 * quat::gTransposeApply(qa, m));
     if (!a.wantsJacobianAt(j)) continue;
+    const quat::Mat34 ga = quat::G(qa), gb = quat::G(qb);
     const Eigen::Matrix4d gm = quat::gTransposeTimes(m);
     const Eigen::Matrix<double, 4, 3> gad = ga.transpose() * dm.asDiagonal();
     const Eigen::Matrix<double, 4, 3> gbd = gb.transpose() * dm.asDiagonal();

@@ -178,8 +178,16 @@ class Contact : public ForceEffect {
   // Squared distance [m^2] of p_core from carried segment j (core frame),
   // the offset from the segment's nearest point (not normalized), and
   // whether that point is inside the segment (else at an end).
+  // (Inline: every query takes a few.)
   double segmentOffset(int j, const Eigen::Vector3d& p_core, Eigen::Vector3d& offset_core,
-                       bool& inside) const;
+                       bool& inside) const {
+    const Eigen::Vector3d& from = (*carried_p_core_)[j];
+    const Eigen::Vector3d& d = segment_dir_core_[j];
+    const double s = (p_core - from).dot(d) / segment_length2_[j];
+    inside = s > 0.0 && s < 1.0;
+    offset_core = p_core - (from + std::clamp(s, 0.0, 1.0) * d);
+    return offset_core.squaredNorm();
+  }
   // Segments point i may touch: carried (both ends below c.first), and not
   // its neighbours along the wire. Largest such j (-1: none).
   int lastWireSegment(int i) const { return std::min(c_.first - 2, i - 1 - skip_points_); }
