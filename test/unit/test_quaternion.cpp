@@ -56,9 +56,12 @@ TEST(Quaternion, AxisGradientsMatchDifferencesOfTheRotationMatrix) {
     }
     EXPECT_LT((cws::quat::xiJacobianTransposeTimes(q, d) - xi_fd).norm(), 1e-9);
     EXPECT_LT((cws::quat::etaJacobianTransposeTimes(q, d) - eta_fd).norm(), 1e-9);
-    EXPECT_LT((cws::quat::xiJacobianTransposeTimes(q, d) -
-               cws::quat::xiJacobian(q).transpose() * d).norm(), 1e-14);
-    EXPECT_LT((cws::quat::etaJacobianTransposeTimes(q, d) -
-               cws::quat::etaJacobian(q).transpose() * d).norm(), 1e-14);
+    EXPECT_LT((cws::quat::xiJacobianTransposeTimes(q, d) - cws::quat::xiJacobian(q).transpose() * d)
+                  .norm(),
+              1e-14);
+    EXPECT_LT(
+        (cws::quat::etaJacobianTransposeTimes(q, d) - cws::quat::etaJacobian(q).transpose() * d)
+            .norm(),
+        1e-14);
   }
 }

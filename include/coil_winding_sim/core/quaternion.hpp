@@ -96,14 +96,14 @@ inline Mat34 etaJacobian(const Vec4& q) {
 // (the frame constraints' hot path: a matrix built on the stack entry by
 // entry and read back by columns stalls the CPU's store forwarding).
 inline Vec4 xiJacobianTransposeTimes(const Vec4& q, const Eigen::Vector3d& d) {
-  return 2.0 * Vec4(q[0] * d[0] + q[3] * d[1] - q[2] * d[2], q[1] * d[0] + q[2] * d[1] + q[3] * d[2],
-                    -q[2] * d[0] + q[1] * d[1] - q[0] * d[2],
-                    -q[3] * d[0] + q[0] * d[1] + q[1] * d[2]);
+  return 2.0 *
+         Vec4(q[0] * d[0] + q[3] * d[1] - q[2] * d[2], q[1] * d[0] + q[2] * d[1] + q[3] * d[2],
+              -q[2] * d[0] + q[1] * d[1] - q[0] * d[2], -q[3] * d[0] + q[0] * d[1] + q[1] * d[2]);
 }
 inline Vec4 etaJacobianTransposeTimes(const Vec4& q, const Eigen::Vector3d& d) {
-  return 2.0 * Vec4(-q[3] * d[0] + q[0] * d[1] + q[1] * d[2], q[2] * d[0] - q[1] * d[1] + q[0] * d[2],
-                    q[1] * d[0] + q[2] * d[1] + q[3] * d[2],
-                    -q[0] * d[0] - q[3] * d[1] + q[2] * d[2]);
+  return 2.0 *
+         Vec4(-q[3] * d[0] + q[0] * d[1] + q[1] * d[2], q[2] * d[0] - q[1] * d[1] + q[0] * d[2],
+              q[1] * d[0] + q[2] * d[1] + q[3] * d[2], -q[0] * d[0] - q[3] * d[1] + q[2] * d[2]);
 }
 
 // Derivatives of the bilinear forms: d f(q, q) / d q (3x4) and

@@ -233,7 +233,8 @@ void SpatialFormulation::moveAlong(double s) {
     // Along the frame's tangent dq/dtheta, back onto the unit sphere.
     const quat::Vec4 q0 = x_try_.block<4, 1>(3, i);
     state_.q.col(i) =
-        (q0 + (0.5 * s) * quat::gTransposeApply(q0, dx_.segment<3>(assembly_.qRow(i)))).normalized();
+        (q0 + (0.5 * s) * quat::gTransposeApply(q0, dx_.segment<3>(assembly_.qRow(i))))
+            .normalized();
   }
   if (port_) state_.lambda_port = lambda_try_ + s * dx_.segment<2>(assembly_.portRow());
   updateRates();

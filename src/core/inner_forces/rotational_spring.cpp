@@ -257,7 +257,8 @@ void RotationalSpring::addSpatialForces(const SpatialState& s, SpatialAssembly& 
       const RotationalSpring& o = *partner_;
       for (int i = 0; i < o.count_; ++i) {
         double k;
-        m[o.first_ + i] = o.stressTangent(omega[o.first_ + i], j * o.count_ + i, s.return_mapping, k);
+        m[o.first_ + i] =
+            o.stressTangent(omega[o.first_ + i], j * o.count_ + i, s.return_mapping, k);
         dm[o.first_ + i] = k;
       }
     }

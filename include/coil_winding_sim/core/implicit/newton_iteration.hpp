@@ -1,6 +1,8 @@
 // The Newton iterations both implicit formulations share (planar and 3-D):
 // modified Newton (a factorization serves while the steps it gives shrink
-// to less than half; otherwise, or after a halved step, it is made anew), a
+// to less than half; otherwise, or after a halved step, it is made anew;
+// the full steps taken with it update it, where the problem keeps secant
+// steps: secant_steps.hpp), a
 // backtracking line search on the residual's norm (halving up to
 // solver.line_search_halvings times), convergence when the step is below the tolerance, and flag
 // rounds: after a converged solve the effects recheck their frozen flags

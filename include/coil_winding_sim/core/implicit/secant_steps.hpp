@@ -46,7 +46,8 @@ class SecantSteps {
 
   // A full step taken with the present factorization (and its corrections).
   // False: its weighted norm is zero, or no room is left (nothing kept).
-  bool push(const Eigen::Ref<const Eigen::VectorXd>& dx, const Eigen::Ref<const Eigen::VectorXd>& w) {
+  bool push(const Eigen::Ref<const Eigen::VectorXd>& dx,
+            const Eigen::Ref<const Eigen::VectorXd>& w) {
     if (count_ == kMax) return false;
     const int n = static_cast<int>(dx.size());
     const double n2 = dot(dx, dx, w);
