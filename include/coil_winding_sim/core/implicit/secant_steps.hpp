@@ -25,12 +25,10 @@ class SecantSteps {
     norm2_.setZero();
   }
   void clear() { count_ = 0; }
-  int count() const { return count_; }
-  bool full() const { return count_ == kMax; }
 
   // Turns v = -J_0^-1 F(x) at the iterate the last kept step reached into
   // the updated step. False where the update breaks down (a >= 1/2: the
-  // steps do not contract): v is then left as J_0 gives it.
+  // steps do not contract): v is then no step, and J_0 wants refreshing.
   bool correct(Eigen::Ref<Eigen::VectorXd> v, const Eigen::Ref<const Eigen::VectorXd>& w) const {
     if (count_ == 0) return true;
     const int n = static_cast<int>(v.size());
