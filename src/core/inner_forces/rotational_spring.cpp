@@ -248,20 +248,17 @@ void RotationalSpring::addSpatialForces(const SpatialState& s, SpatialAssembly& 
     const double lambda = jointLength(j);
     const Eigen::Vector3d omega = (2.0 / lambda) * quat::gTimes(qa, qb);
     Eigen::Vector3d m = Eigen::Vector3d::Zero(), dm = Eigen::Vector3d::Zero();
-    for (int i = 0; i < count_; ++i) {
-      double k;
-      m[first_ + i] = stressTangent(omega[first_ + i], j * count_ + i, s.return_mapping, k);
-      dm[first_ + i] = k;
-    }
-    if (partner_) {
-      const RotationalSpring& o = *partner_;
-      for (int i = 0; i < o.count_; ++i) {
+    // Each spring's components: moment and tangent from its own laws.
+    auto laws = [&](const RotationalSpring& r) {
+      for (int i = 0; i < r.count_; ++i) {
         double k;
-        m[o.first_ + i] =
-            o.stressTangent(omega[o.first_ + i], j * o.count_ + i, s.return_mapping, k);
-        dm[o.first_ + i] = k;
+        m[r.first_ + i] =
+            r.stressTangent(omega[r.first_ + i], j * r.count_ + i, s.return_mapping, k);
+        dm[r.first_ + i] = k;
       }
-    }
+    };
+    laws(*this);
+    if (partner_) laws(*partner_);
     a.addQForce(j, 2.0 * quat::gTransposeApply(qb, m));
     a.addQForce(j + 1, -2.0 * quat::gTransposeApply(qa, m));
     if (!a.wantsJacobianAt(j)) continue;
