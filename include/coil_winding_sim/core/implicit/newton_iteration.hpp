@@ -85,7 +85,7 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
       p.returnMapping(true);
       st.return_mapped = true;
     }
-    bool converged = false, evaluated = true;
+    bool converged = false;
     bool checked_early = false, changed_early = false;
     // A round that will factor assembles the Jacobian with its first
     // residual (`assembled`: the matrix holds the present iterate's).
@@ -112,16 +112,14 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
         continue;
       }
       if (!std::isfinite(step)) return st;
-      p.keepStart();
-      // A step below the tolerance ends the solve; the residual there is
-      // evaluated only if the flags then hold (for the step's bookkeeping),
-      // as a changed flag starts a new round with an evaluation of its own.
+      // A step below the tolerance ends the solve at the present iterate:
+      // the one its residual (forces, bookkeeping) was evaluated at, within
+      // the tolerance of the solution.
       if (step < c.tol) {
-        p.moveAlong(1.0);
         converged = true;
-        evaluated = false;
         break;
       }
+      p.keepStart();
       // Line search: halve the step while the residual does not fall.
       double s = 1.0, trial = 0.0;
       int ls = 0;
@@ -152,7 +150,6 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
     }
     if (!converged && !changed_early) return st;
     if (!changed_early && !p.recheckFlags()) {
-      if (!evaluated) p.residual(false);
       st.converged = true;
       return st;
     }
