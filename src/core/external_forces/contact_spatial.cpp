@@ -200,11 +200,12 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
     touchAll(i, p, &trial_surface_[i * slots_], touches);
     for (int slot = 0; slot < slots_; ++slot) {
       const int x = i * slots_ + slot;
+      // (touchAll's depth and normal are spatialSurface's for the surface
+      // it found: the nearest segment of a run, the deepest cylinder.)
       const int surface = touches[slot].surface;
-      Eigen::Vector3d nrm;
-      double h = 0.0;
-      Eigen::Matrix3d dn;
-      const bool on = surface >= 0 && spatialSurface(i, surface, p, nrm, h, dn);
+      const Eigen::Vector3d& nrm = touches[slot].n_world;
+      const double h = touches[slot].h;
+      const bool on = surface >= 0;
       // Another segment of the same run of carried wire is the same
       // surface (the solve already took the nearest of its neighbours).
       const bool fresh = !sameSurface(surface, trial_surface_[x]);
