@@ -17,7 +17,7 @@ namespace cws {
 
 bool Contact::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
                              Eigen::Vector3d& normal_world, double& depth,
-                             Eigen::Matrix3d& dnormal) const {
+                             Eigen::Matrix3d* dnormal) const {
   const int cylinders = static_cast<int>(radii_.size());
   if (surface < cylinders) {
     // Distance from the cylinder's axis (the core axis through its centre).
@@ -28,9 +28,11 @@ bool Contact::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
     if (dist == 0.0) return false;
     normal_world = d_perp / dist;
     depth = radii_[surface] + c_.radius - dist;
-    dnormal = (Eigen::Matrix3d::Identity() - a * a.transpose() -
-               normal_world * normal_world.transpose()) /
-              dist;
+    if (dnormal) {
+      *dnormal = (Eigen::Matrix3d::Identity() - a * a.transpose() -
+                  normal_world * normal_world.transpose()) /
+                 dist;
+    }
     return true;
   }
   if (surface >= wire_base_) {
@@ -57,16 +59,18 @@ bool Contact::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
     const double best = nearest >= 0 ? std::sqrt(best2) : -1.0;
     if (best <= 0.0) return false;
     n_core /= best;
-    if (nearest_inside) t_core = segment_dir_core_[nearest].normalized();
     normal_world = rot_world_core_ * n_core;
     depth = 2.0 * c_.radius - best;
-    const Eigen::Vector3d t_world = rot_world_core_ * t_core;
-    dnormal = (Eigen::Matrix3d::Identity() - t_world * t_world.transpose() -
-               normal_world * normal_world.transpose()) /
-              best;
+    if (dnormal) {
+      if (nearest_inside) t_core = segment_dir_core_[nearest].normalized();
+      const Eigen::Vector3d t_world = rot_world_core_ * t_core;
+      *dnormal = (Eigen::Matrix3d::Identity() - t_world * t_world.transpose() -
+                  normal_world * normal_world.transpose()) /
+                 best;
+    }
     return true;
   }
-  dnormal.setZero();
+  if (dnormal) dnormal->setZero();
   const int f = surface - cylinders;
   if (f >= static_cast<int>(face_length_.size())) {
     // A flange, normal to the core axis.
@@ -89,10 +93,13 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
     if (surface < 0) continue;
     const int i = x / slots_;
     const Eigen::Vector3d p = s.p.col(i);
+    // The Jacobian's blocks only where the evaluation wants them (most
+    // evaluations are of the forces alone).
+    const bool jacobian = a.wantsJacobianAt(i);
     Eigen::Vector3d nrm;
     double h;
     Eigen::Matrix3d dn;
-    if (!spatialSurface(i, surface, p, nrm, h, dn)) continue;
+    if (!spatialSurface(i, surface, p, nrm, h, jacobian ? &dn : nullptr)) continue;
     // The core's velocity as the scheme gives it (one_leg_step.hpp), and
     // the relative velocity r = v - u with its normal part.
     const Eigen::Vector3d u = s.carried.velocity(p);
@@ -107,19 +114,23 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
     // dashpot, N = k h - c_n r . n, never pulling.
     const NormalForce law = normalLaw(h, rn);
     const double normal = law.force;
-    Eigen::RowVector3d dnormal_dp = -law.d_h * nrm.transpose(),
+    Eigen::RowVector3d dnormal_dp = Eigen::RowVector3d::Zero(),
                        dnormal_dv = Eigen::RowVector3d::Zero();
+    if (jacobian) dnormal_dp = -law.d_h * nrm.transpose();
     if (c_normal_ > 0.0) {
-      // v_n = r . n with r = v - u(p).
-      dnormal_dp += law.d_vn * (r.transpose() * dn - nrm.transpose() * du);
-      dnormal_dv = law.d_vn * nrm.transpose();
       const Eigen::Vector3d f_d = (normal - k * h) * nrm;
       a.f_dissipative.col(i) += f_d;
       a.power_dissipated += f_d.dot(u);
-      a.addDampingPP(i, i, nrm * dnormal_dv);
+      if (jacobian) {
+        // v_n = r . n with r = v - u(p).
+        dnormal_dp += law.d_vn * (r.transpose() * dn - nrm.transpose() * du);
+        dnormal_dv = law.d_vn * nrm.transpose();
+        a.addDampingPP(i, i, nrm * dnormal_dv);
+      }
     }
     Eigen::Vector3d f = normal * nrm;
-    Eigen::Matrix3d kp = nrm * dnormal_dp + normal * dn;
+    Eigen::Matrix3d kp;
+    if (jacobian) kp = nrm * dnormal_dp + normal * dn;
     if (friction_) {
       Eigen::Vector3d ft = Eigen::Vector3d::Zero();
       if (trial_stuck_[x]) {
@@ -129,12 +140,16 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
             p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[x]);
         const double dnn = delta.dot(nrm);
         ft = -p_.stick_stiffness * (delta - dnn * nrm);
-        kp += -p_.stick_stiffness *
-              (id - nrm * (nrm.transpose() + delta.transpose() * dn) - dnn * dn);
+        if (jacobian) {
+          kp += -p_.stick_stiffness *
+                (id - nrm * (nrm.transpose() + delta.transpose() * dn) - dnn * dn);
+        }
         if (c_stick_ > 0.0) {
           ft -= c_stick_ * (r - rn * nrm);
-          kp -= c_stick_ * dvhDp();
-          a.addDampingPP(i, i, -c_stick_ * pn);
+          if (jacobian) {
+            kp -= c_stick_ * dvhDp();
+            a.addDampingPP(i, i, -c_stick_ * pn);
+          }
         }
       } else {
         // Slip: mu_d N against the sliding velocity vh = P_n (v - u),
@@ -151,16 +166,18 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
         const double scale = std::max({speed, floor, kTinySlidingSpeed});
         const Eigen::Vector3d dir = vh / scale;
         ft = -p_.kinetic_friction * normal * dir;
-        const Eigen::Matrix3d proj = (speed >= scale ? id - dir * dir.transpose() : id) / scale;
-        kp += -p_.kinetic_friction * (dir * dnormal_dp + normal * proj * dvhDp());
-        a.addDampingPP(i, i, -p_.kinetic_friction * (normal * proj * pn + dir * dnormal_dv));
+        if (jacobian) {
+          const Eigen::Matrix3d proj = (speed >= scale ? id - dir * dir.transpose() : id) / scale;
+          kp += -p_.kinetic_friction * (dir * dnormal_dp + normal * proj * dvhDp());
+          a.addDampingPP(i, i, -p_.kinetic_friction * (normal * proj * pn + dir * dnormal_dv));
+        }
       }
       f += ft;
       a.f_dissipative.col(i) += ft;
       a.power_dissipated += ft.dot(u);
     }
     a.addForce(i, f);
-    a.addStiffnessPP(i, i, kp);
+    if (jacobian) a.addStiffnessPP(i, i, kp);
     // The moving surface does work on the wire (at its exact velocity).
     a.power_external += f.dot(s.carried.exactVelocity(p));
   }
@@ -180,10 +197,9 @@ void Contact::beginSpatialStep(const SpatialState& s0) {
     trial_releases_[x] = 0;
     Eigen::Vector3d nrm;
     double h;
-    Eigen::Matrix3d dn;
     const int i = x / slots_;
     const Eigen::Vector3d p = s0.p.col(i);
-    if (surface_[x] >= 0 && spatialSurface(i, surface_[x], p, nrm, h, dn)) {
+    if (surface_[x] >= 0 && spatialSurface(i, surface_[x], p, nrm, h, nullptr)) {
       const Eigen::Vector3d v_rel = s0.v.col(i) - s0.carried.velocity(p);
       const Eigen::Vector3d vh = v_rel - v_rel.dot(nrm) * nrm;
       if (vh.norm() > 0.0) trial_slip_world_[x] = vh.normalized();

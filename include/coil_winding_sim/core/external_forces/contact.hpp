@@ -217,11 +217,11 @@ class Contact : public ForceEffect {
   Eigen::Vector2d planarSurfaceVelocity(const PlanarState& s, const Eigen::Vector2d& x) const;
   // Its gradient d u / d x in the plane [1/s].
   Eigen::Matrix2d planarCarriedGradient(const PlanarState& s) const;
-  // The same in 3-D for point i: outward normal, penetration [m], d normal /
-  // dp [1/m]. A carried segment j stands for the run j-1..j+1 (the nearest
-  // of the three).
+  // The same in 3-D for point i: outward normal, penetration [m], and d
+  // normal / dp [1/m] where `dnormal` is given. A carried segment j stands
+  // for the run j-1..j+1 (the nearest of the three).
   bool spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
-                      Eigen::Vector3d& normal_world, double& depth, Eigen::Matrix3d& dnormal) const;
+                      Eigen::Vector3d& normal_world, double& depth, Eigen::Matrix3d* dnormal) const;
 
   // Sums the carried points' penetration again from the first one on.
   void forgetCarriedSums();
