@@ -215,8 +215,9 @@ void PlanarFormulation::store(double h, Eigen::VectorXd& y) {
   const WireKinematics& k = model_.integratedKinematics();
   const PlaneBasis& pl = state_.plane;
   const int f = state_.first, n = state_.n;
-  // Bookkeeping at the end state: a converged solve's last evaluation was
-  // there, with the flags it kept, so its forces and powers are at hand.
+  // Bookkeeping with a converged solve's last evaluation: within newton_tol
+  // of the end state (its last step is not evaluated again), with the flags
+  // it kept, so its forces and powers are at hand.
   double work = assembly_.power_external, dissipated = assembly_.power_dissipated;
   for (int i = f; i < n; ++i) {
     work += assembly_.f_work.col(i).dot(state_.v.col(i));

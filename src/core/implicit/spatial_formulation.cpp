@@ -259,7 +259,8 @@ bool SpatialFormulation::recheckFlags() {
 
 void SpatialFormulation::store(double h, Eigen::VectorXd& y) {
   const int f = state_.first, n = state_.n;
-  // Bookkeeping at the end state (the converged solve's last evaluation).
+  // Bookkeeping with the converged solve's last evaluation (within
+  // newton_tol of the end state: its last step is not evaluated again).
   double work = assembly_.power_external, dissipated = assembly_.power_dissipated;
   for (int i = f; i < n; ++i) {
     work += assembly_.f_work.col(i).dot(state_.v.col(i)) +

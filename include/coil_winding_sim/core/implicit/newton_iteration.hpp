@@ -112,14 +112,16 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
         continue;
       }
       if (!std::isfinite(step)) return st;
-      // A step below the tolerance ends the solve at the present iterate:
-      // the one its residual (forces, bookkeeping) was evaluated at, within
-      // the tolerance of the solution.
+      p.keepStart();
+      // A step below the tolerance ends the solve, and is taken. The
+      // residual is not evaluated again there: the step's bookkeeping keeps
+      // the forces of the last evaluation, less than the tolerance away
+      // (a changed flag starts a new round with an evaluation of its own).
       if (step < c.tol) {
+        p.moveAlong(1.0);
         converged = true;
         break;
       }
-      p.keepStart();
       // Line search: halve the step while the residual does not fall.
       double s = 1.0, trial = 0.0;
       int ls = 0;
