@@ -87,6 +87,7 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
   trial_sign_.assign(slots, 1);
   trial_slip_world_.assign(slots, Eigen::Vector3d::Zero());
   trial_releases_.assign(slots, 0);
+  recheck_touches_.assign(slots, Touch());
 }
 
 void Contact::placeSurfaces(double t) const {
@@ -271,10 +272,20 @@ void Contact::commit(double t, const WireKinematics& k) {
   carried_summed_ = std::max(carried_summed_, c_.first);
   max_penetration_ = carried_max_penetration_;
   elastic_committed_ = carried_elastic_;
-  Touch touches[kMaxSlots];
+  // An implicit step's last recheck found the surfaces at this state
+  // already (its end state, at this time): they are read, not searched for.
+  const bool rechecked = recheck_.valid && recheck_.t == t && recheck_.first == c_.first &&
+                         recheck_.n == c_.n;
+  recheck_.valid = false;
+  Touch found[kMaxSlots];
   for (int i = c_.first; i < c_.n; ++i) {
     const Eigen::Vector3d p = k.p_world.col(i);
-    touchAll(i, p, &surface_[i * slots_], touches);
+    const Touch* touches = found;
+    if (rechecked) {
+      touches = &recheck_touches_[i * slots_];
+    } else {
+      touchAll(i, p, &surface_[i * slots_], found);
+    }
     for (int s = 0; s < slots_; ++s) {
       const int x = i * slots_ + s;
       const Touch& c = touches[s];
@@ -353,6 +364,7 @@ void Contact::restoreHistory(HistoryReader& in) {
   }
   max_penetration_ = in.next();
   elastic_committed_ = in.next();
+  recheck_.valid = false;
   forgetCarriedSums();
   // The carried wire may be another: hashed anew when next used.
   carried_index_.clear();

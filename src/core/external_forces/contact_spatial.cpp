@@ -184,6 +184,7 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
 }
 
 void Contact::beginSpatialStep(const SpatialState& s0) {
+  recheck_.valid = false;
   placeSurfaces(s0.t);
   syncCarriedWire();
   for (int x = s0.first * slots_; x < s0.n * slots_; ++x) {
@@ -214,6 +215,7 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
   for (int i = s.first; i < s.n; ++i) {
     const Eigen::Vector3d p = s.p.col(i);
     touchAll(i, p, &trial_surface_[i * slots_], touches);
+    std::copy(touches, touches + slots_, &recheck_touches_[i * slots_]);
     for (int slot = 0; slot < slots_; ++slot) {
       const int x = i * slots_ + slot;
       // (touchAll's depth and normal are spatialSurface's for the surface
@@ -269,6 +271,7 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
       }
     }
   }
+  recheck_ = {true, s.t, s.first, s.n};
   return changed;
 }
 

@@ -309,6 +309,16 @@ class Contact : public ForceEffect {
   std::vector<Eigen::Vector3d> trial_slip_world_;
   // 3-D: how often a slot's stick broke within the present step.
   std::vector<signed char> trial_releases_;
+  // 3-D: the surfaces the last recheck found per slot, at time t for points
+  // first..n-1 (valid until the step's commit reads them, a new step or a
+  // restore): an accepted step's end state is its last recheck's.
+  struct RecheckAt {
+    bool valid = false;
+    double t = 0.0;  // [s]
+    int first = 0, n = 0;
+  };
+  std::vector<Touch> recheck_touches_;
+  RecheckAt recheck_;
 };
 
 }  // namespace cws
