@@ -274,8 +274,8 @@ void Contact::commit(double t, const WireKinematics& k) {
   elastic_committed_ = carried_elastic_;
   // An implicit step's last recheck found the surfaces at this state
   // already (its end state, at this time): they are read, not searched for.
-  const bool rechecked = recheck_.valid && recheck_.t == t && recheck_.first == c_.first &&
-                         recheck_.n == c_.n;
+  const bool rechecked =
+      recheck_.valid && recheck_.t == t && recheck_.first == c_.first && recheck_.n == c_.n;
   recheck_.valid = false;
   Touch found[kMaxSlots];
   for (int i = c_.first; i < c_.n; ++i) {
