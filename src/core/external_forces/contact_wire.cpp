@@ -109,22 +109,26 @@ int Contact::touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const 
       std::swap(normal[b - 1], normal[b]);
     }
   }
-  Touch all[kMaxHits];
+  // (Scratch left uninitialized: Touch's defaults would be written for all
+  // kMaxHits on every query.)
+  struct Run {
+    int surface;
+    double h;
+    Eigen::Vector3d n;
+  };
+  Run all[kMaxHits];
   int m = 0;
   for (int a = 0; a < hits; ++a) {
     if (m > 0 && hit[a] - hit[a - 1] <= kSameRun) {
-      if (depth[a] > all[m - 1].h) all[m - 1] = Touch{wire_base_ + hit[a], depth[a], normal[a]};
+      if (depth[a] > all[m - 1].h) all[m - 1] = Run{wire_base_ + hit[a], depth[a], normal[a]};
       continue;
     }
-    all[m++] = Touch{wire_base_ + hit[a], depth[a], normal[a]};
+    all[m++] = Run{wire_base_ + hit[a], depth[a], normal[a]};
   }
   // The deepest runs, in the world frame.
-  std::sort(all, all + m, [](const Touch& x, const Touch& y) { return x.h > y.h; });
+  std::sort(all, all + m, [](const Run& x, const Run& y) { return x.h > y.h; });
   m = std::min(m, kWireSlots);
-  for (int g = 0; g < m; ++g) {
-    runs[g] = all[g];
-    runs[g].n_world = rot_world_core_ * all[g].n_world;
-  }
+  for (int g = 0; g < m; ++g) runs[g] = Touch{all[g].surface, all[g].h, rot_world_core_ * all[g].n};
   return m;
 }
 
