@@ -85,30 +85,4 @@ void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double a
   }
 }
 
-void SpatialAssembly::setConstraint(int row, double g, double scale) {
-  scale_[row] = scale;
-  force_[row] = -scale * g;
-}
-
-void SpatialAssembly::addConstraintGradientP(int row, int i, const Eigen::Vector3d& grad) {
-  if (!jacobian_ || i < first_) return;
-  addConstraintColumns(row, pRow(i), grad);
-}
-
-void SpatialAssembly::addConstraintGradientQ(int row, int i, const Eigen::Vector4d& grad_q) {
-  if (!jacobian_ || i < first_) return;
-  addConstraintColumns(row, qRow(i), basis_[i].transpose() * grad_q);
-}
-
-void SpatialAssembly::addConstraintColumns(int row, int c, const Eigen::Vector3d& grad) {
-  // The three unknowns from column c lie in one block: the row's entries,
-  // and the multiplier's column in those unknowns' rows.
-  const int br = row / kPerPoint, ro = row % kPerPoint;
-  const int bc = c / kPerPoint, co = c % kPerPoint;
-  if (rowWanted(row)) {
-    matrix_.blockAt(br, bc).block<1, 3>(ro, co) -= scale_[row] * grad.transpose();
-  }
-  if (rowWanted(c)) matrix_.blockAt(bc, br).block<3, 1>(co, ro) -= grad;
-}
-
 }  // namespace cws

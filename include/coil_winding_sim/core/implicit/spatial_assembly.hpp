@@ -135,10 +135,20 @@ class SpatialAssembly {
   }
 
   // Constraint row `row` (a frame's or the port's): its scaled residual.
-  void setConstraint(int row, double g, double scale);
+  // (Inline, as the other adders: every evaluation makes a few per point.)
+  void setConstraint(int row, double g, double scale) {
+    scale_[row] = scale;
+    force_[row] = -scale * g;
+  }
   // Its gradient with respect to p_i or q_i (nothing for the prescribed point).
-  void addConstraintGradientP(int row, int i, const Eigen::Vector3d& grad);
-  void addConstraintGradientQ(int row, int i, const Eigen::Vector4d& grad);
+  void addConstraintGradientP(int row, int i, const Eigen::Vector3d& grad) {
+    if (!jacobian_ || i < first_) return;
+    addConstraintColumns(row, pRow(i), grad);
+  }
+  void addConstraintGradientQ(int row, int i, const Eigen::Vector4d& grad_q) {
+    if (!jacobian_ || i < first_) return;
+    addConstraintColumns(row, qRow(i), basis_[i].transpose() * grad_q);
+  }
 
   // A coupling outside the band (contact between two free segments,
   // free_wire_contact.hpp): the Jacobian term C^T k C, where C x = p_a -
@@ -183,7 +193,16 @@ class SpatialAssembly {
   static int slot(int i, int j) { return 3 * i + (j - i + 1); }
   // Constraint row `row`'s gradient on the unknowns c..c+2 (one point's p
   // or rotation): the row's entries, scaled, and the multiplier's column.
-  void addConstraintColumns(int row, int c, const Eigen::Vector3d& grad);
+  void addConstraintColumns(int row, int c, const Eigen::Vector3d& grad) {
+    // The three unknowns from column c lie in one block: the row's entries,
+    // and the multiplier's column in those unknowns' rows.
+    const int br = row / kPerPoint, ro = row % kPerPoint;
+    const int bc = c / kPerPoint, co = c % kPerPoint;
+    if (rowWanted(row)) {
+      matrix_.blockAt(br, bc).template block<1, 3>(ro, co) -= scale_[row] * grad.transpose();
+    }
+    if (rowWanted(c)) matrix_.blockAt(bc, br).template block<3, 1>(co, ro) -= grad;
+  }
   bool wanted(int i, int j) const {
     return jacobian_ && i >= first_ && j >= first_ && i <= jacobian_top_;
   }
