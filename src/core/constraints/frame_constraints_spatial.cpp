@@ -12,33 +12,32 @@ void addSpatialFrameConstraints(const SpatialState& s, double scale_direction, S
   for (int i = s.first; i < s.n; ++i) {
     const quat::Vec4 q = s.q.col(i);
     const Eigen::Vector3d d = s.segment(i - 1);
-    const Eigen::Vector3d mu = s.mu.col(i);
+    const double m_xi = s.mu(1, i), m_eta = s.mu(2, i);
     const int row = a.muRow(i);
-    const bool jacobian = a.wantsJacobianAt(i - 1);
-    // (5): d . xi and d . eta, d = p_i - p_{i-1} (multipliers mu[1], mu[2]).
-    const Eigen::Vector3d axis[2] = {quat::xi(q), quat::eta(q)};
-    const Eigen::Vector4d grads_q[2] = {quat::xiJacobianTransposeTimes(q, d),
-                                        quat::etaJacobianTransposeTimes(q, d)};
-    for (int r = 0; r < 2; ++r) {
-      const double m = mu[1 + r];
-      const Eigen::Vector4d& grad_q = grads_q[r];
-      a.addForce(i, m * axis[r]);
-      a.addForce(i - 1, -m * axis[r]);
-      a.addQForce(i, m * grad_q);
-      a.setConstraint(row + r, d.dot(axis[r]), scale_direction);
-      if (!jacobian) continue;
-      const quat::Mat34 jac = r == 0 ? quat::xiJacobian(q) : quat::etaJacobian(q);
-      a.addConstraintGradientP(row + r, i, axis[r]);
-      a.addConstraintGradientP(row + r, i - 1, -axis[r]);
-      a.addConstraintGradientQ(row + r, i, grad_q);
-      a.addStiffnessPQ(i, i, m * jac);
-      a.addStiffnessPQ(i - 1, i, -m * jac);
-      a.addStiffnessQP(i, i, m * jac.transpose());
-      a.addStiffnessQP(i, i - 1, -m * jac.transpose());
-    }
-    if (jacobian) {
-      a.addStiffnessQQ(i, i, mu[1] * quat::xiHessian(d) + mu[2] * quat::etaHessian(d));
-    }
+    // (5): d . xi and d . eta, d = p_i - p_{i-1} (multipliers mu[1], mu[2]);
+    // the two rows' forces on p_i, p_i-1 and q_i summed before they are added.
+    const Eigen::Vector3d xi = quat::xi(q), eta = quat::eta(q);
+    const Eigen::Vector3d f = m_xi * xi + m_eta * eta;
+    a.addForce(i, f);
+    a.addForce(i - 1, -f);
+    const Eigen::Vector4d grad_xi = quat::xiJacobianTransposeTimes(q, d),
+                          grad_eta = quat::etaJacobianTransposeTimes(q, d);
+    a.addQForce(i, m_xi * grad_xi + m_eta * grad_eta);
+    a.setConstraint(row, d.dot(xi), scale_direction);
+    a.setConstraint(row + 1, d.dot(eta), scale_direction);
+    if (!a.wantsJacobianAt(i - 1)) continue;
+    a.addConstraintGradientP(row, i, xi);
+    a.addConstraintGradientP(row, i - 1, -xi);
+    a.addConstraintGradientQ(row, i, grad_xi);
+    a.addConstraintGradientP(row + 1, i, eta);
+    a.addConstraintGradientP(row + 1, i - 1, -eta);
+    a.addConstraintGradientQ(row + 1, i, grad_eta);
+    const quat::Mat34 k = m_xi * quat::xiJacobian(q) + m_eta * quat::etaJacobian(q);
+    a.addStiffnessPQ(i, i, k);
+    a.addStiffnessPQ(i - 1, i, -k);
+    a.addStiffnessQP(i, i, k.transpose());
+    a.addStiffnessQP(i, i - 1, -k.transpose());
+    a.addStiffnessQQ(i, i, m_xi * quat::xiHessian(d) + m_eta * quat::etaHessian(d));
   }
 }
 
