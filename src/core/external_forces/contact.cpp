@@ -111,7 +111,13 @@ int Contact::touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n
   for (std::size_t j = 0; j < radii_.size(); ++j) {
     const Eigen::Vector3d d = p_world - centers_world_[j];
     const Eigen::Vector3d d_perp = d - d.dot(a) * a;
-    const double dist = d_perp.norm();
+    // A cylinder clearly out of reach is passed by its squared distance
+    // (most are: the point lies at one corner of the core); the others
+    // are judged on the root, as before.
+    const double reach = radii_[j] + c_.radius - h + 1e-9 * (radii_[j] + c_.radius);
+    const double dist2 = d_perp.squaredNorm();
+    if (reach <= 0.0 || dist2 > reach * reach) continue;
+    const double dist = std::sqrt(dist2);
     const double depth = radii_[j] + c_.radius - dist;
     if (depth > h && dist > 0.0) {
       h = depth;
