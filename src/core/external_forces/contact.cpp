@@ -66,7 +66,7 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
     // (Carried wire stretches little: half as long again is room enough.)
     carried_index_.reserve(c_.capacity, 2.0 * c.radius, 1.5 * c.segment_length);
     segment_dir_core_.assign(c_.capacity, Eigen::Vector3d::Zero());
-    segment_inv_length2_.assign(c_.capacity, 1.0);
+    segment_length2_.assign(c_.capacity, 1.0);
     // Points move far less than a quarter diameter in a step relative to the
     // core: a list serves the step's queries.
     near_skin_ = 0.5 * c.radius;

@@ -27,7 +27,7 @@ void Contact::syncCarriedWire() const {
     carried_index_.add(j, p[j], p[j + 1]);
     // The segment's direction and squared length, read by every query.
     segment_dir_core_[j] = p[j + 1] - p[j];
-    segment_inv_length2_[j] = 1.0 / segment_dir_core_[j].squaredNorm();
+    segment_length2_[j] = segment_dir_core_[j].squaredNorm();
     // (The core axis is z in the core frame.)
     for (const Eigen::Vector3d* e : {&p[j], &p[j + 1]}) {
       carried_reach_ = std::max(carried_reach_, e->head<2>().norm() + 2.0 * c_.radius);

@@ -183,7 +183,7 @@ class Contact : public ForceEffect {
                        bool& inside) const {
     const Eigen::Vector3d& from = (*carried_p_core_)[j];
     const Eigen::Vector3d& d = segment_dir_core_[j];
-    const double s = (p_core - from).dot(d) * segment_inv_length2_[j];
+    const double s = (p_core - from).dot(d) / segment_length2_[j];
     inside = s > 0.0 && s < 1.0;
     offset_core = p_core - (from + std::clamp(s, 0.0, 1.0) * d);
     return offset_core.squaredNorm();
@@ -252,9 +252,9 @@ class Contact : public ForceEffect {
   const std::vector<Eigen::Vector3d>* carried_p_core_ = nullptr;
   mutable CarriedWireIndex carried_index_;
   // Per carried segment j (set as it is hashed): p_j+1 - p_j in the core
-  // frame and the inverse of its squared length.
+  // frame and its squared length.
   mutable std::vector<Eigen::Vector3d> segment_dir_core_;
-  mutable std::vector<double> segment_inv_length2_;
+  mutable std::vector<double> segment_length2_;
   mutable int indexed_segments_ = 0;
   // Per point, the segments of the cell its last query read that lie within
   // the reach and near_skin_ of where it was (in the cell's order): a
