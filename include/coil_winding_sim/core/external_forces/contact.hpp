@@ -1,42 +1,10 @@
-// Contact of the wire's mass points with the core and what it carries:
-// virtual springs on the surfaces and static/kinetic friction against the
-// moving surface, eqs. (16)-(20).
-//
-// Surfaces, all rigid with the core:
-// - its cylinders and flat faces (the core body). Penetration h = R + r -
-//   distance of the point from the cylinder axis, or r - height of the
-//   point over a face. A point feels the deepest of them;
-// - with physics.flanges, two flanges: planes normal to the core axis at
-//   the ends of process.winding_width (the first half a wire diameter
-//   behind the port's start, facing the winding), discs reaching
-//   core.flange_height beyond the core's outermost surface; h = r - the
-//   point's distance from the flange on the winding's side;
-// - with physics.wire_contact, the wound wire the core carries, its
-//   segments as capsules of the wire's radius: h = 2 r - the point's
-//   distance from the segment (node against segment; docs/MODEL.md). A
-//   point feels the nearest segment of each run of touching segments (a
-//   run: one stretch of the carried wire; the groove between two turns is
-//   two runs), up to kWireSlots of them.
-// Each point keeps one slot per surface kind (core body, flange, each wire
-// run) with its own contact, stick and anchor, so that a point in a corner
-// of core and flange, or in the groove of two turns, holds each contact.
-// The normal force is k h n (eq. 18).
-// Friction (when switched on) uses the relative velocity to the surface,
-// v_h = tangential part of (v - u_j) (eqs. 16-17), with u_j the core's
-// rigid-body velocity at the mass point: wire carried round by the core (its
-// centre at radius R + r) has no relative velocity. Stick is represented by an
-// anchor: a stuck point is tied to a material point of the core (stored in
-// the core frame) by a stiff tangential spring; the point stays stuck while
-// that spring's force is within mu_s N (eqs. 19-20: the point does not move
-// along the surface). When it exceeds mu_s N the point slips and feels
-// mu_d N against v_h (eq. 18). A slipping point sticks again, with a new
-// anchor where it is, once |v_h| falls below contact.stick_speed.
-// With contact.damping_ratio > 0 a dashpot acts beside each spring: the
-// normal force is k h - c_n v_n (never pulling), v_n the speed away from the
-// surface, and a stuck point's force -k_s delta - c_s v_h; the limit mu_s N
-// applies to that sum. Stick and
-// slip change only on accepted steps; within a step the trial state follows
-// the committed one (the paper's "the calculation is redone").
+// Contact of the wire's mass points with the core and what it carries (the
+// core body's cylinders and faces, the flanges, the wound wire): penalty
+// springs normal to each surface and static/kinetic friction against the
+// moving surface, the paper's eqs. (16)-(20). Each point keeps one slot per
+// surface kind with its own contact, stick flag and anchor; stick and slip
+// change only on accepted steps. SI units: m, m/s, N, N/m.
+// See docs/MODEL.md, section "Contact and friction (eqs. 16-20)".
 #pragma once
 
 #include <algorithm>
