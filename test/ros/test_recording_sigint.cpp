@@ -182,8 +182,9 @@ void runAndStop(const fs::path& dir, Stop stop, bool use_sim_time, RunResult& r)
     ::waitpid(pid, &status, 0);
   }
   r.output = readFile(log);
-  // What roslaunch started must have ended with it (they sit in sessions of
-  // their own, so the group kill above does not reach them: end them here).
+  // What roslaunch started must have ended with it (each runs in a process
+  // group of its own, set up by setsid, so the group kill above does not
+  // reach them: end them here).
   std::vector<std::string> left;
   for (const auto& [child, cmd] : launched) {
     if (alive(child)) {
