@@ -22,7 +22,9 @@ def main():
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
     colours = {"rkf45": "tab:blue", "symplectic_euler": "tab:orange",
                "symplectic_euler+carry": "tab:green", "rosenbrock2": "tab:red",
-               "implicit_euler+carry": "tab:purple", "bdf2+carry": "tab:brown"}
+               "implicit_euler+carry": "tab:purple", "bdf2+carry": "tab:brown",
+               # not a method: the paper's undamped springs against the reference model
+               "model:damping_ratio=0": "0.5"}
     markers = ["o", "s", "^", "D"]
     for k, arg in enumerate(sys.argv[2:]):
         label, d = arg.split("=", 1)

@@ -111,6 +111,16 @@ int runWorkPrecision(const std::string& scene_path, const std::vector<std::strin
     r.name = "symplectic_euler_carry_h" + std::string(h);
     runs.push_back(r);
   }
+  // Model uncertainty beside the step's error: the paper's undamped contact
+  // springs as printed (contact.damping_ratio 0) against the reference of
+  // the scene's model, at two converged explicit steps.
+  for (const char* h : {"2e-7", "1e-7"}) {
+    Run r = make("symplectic_euler", std::string("h") + h,
+                 {std::string("solver.fixed_step=") + h, "contact.damping_ratio=0"});
+    r.method = "model:damping_ratio=0";
+    r.name = "model_damping0_h" + std::string(h);
+    runs.push_back(r);
+  }
   // The implicit method over tolerances. It gives up where its step falls
   // 20x below the explicit method's (solver.min_step), or stays below l / c
   // (the simulation's collapse detection): slower than that, it has lost its
