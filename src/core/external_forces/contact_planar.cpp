@@ -125,6 +125,7 @@ void Contact::beginImplicitStep(const PlanarState& s0) {
     if (!friction_) continue;
     trial_stuck_[i] = stuck_[i];
     trial_anchor_core_[i] = anchor_core_[i];
+    trial_releases_[i] = 0;
     // A slipping point keeps the direction it slides in.
     trial_sign_[i] = 1;
     Eigen::Vector2d nrm;
@@ -168,14 +169,19 @@ bool Contact::recheckFlags(const PlanarState& s) {
       if (std::abs(pull) > p_.static_friction * normalForce(h, r.dot(nrm))) {
         trial_stuck_[i] = 0;
         trial_sign_[i] = pull < 0.0 ? -1 : 1;
+        ++trial_releases_[i];
         changed = true;
       }
-    } else if (p_.static_friction > 0.0 &&
+    } else if (p_.static_friction > 0.0 && trial_releases_[i] < 2 &&
                (fresh ? std::abs(vt) < p_.stick_speed : trial_sign_[i] * vt < p_.stick_speed)) {
       // Slow enough, or the sliding would have reversed within the step
       // (kinetic friction stops a point, it does not push it back): stick
       // where it is (as a commit of contact.cpp does). Without static
-      // friction a stuck point would slip at once: it keeps sliding.
+      // friction a stuck point would slip at once: it keeps sliding. A
+      // point whose stick broke twice in this step keeps slipping, as in
+      // 3-D: with almost no normal force (a point that barely touches) the
+      // dashpot's pull alone passes mu_s N, and stick and slip would take
+      // turns without end.
       trial_stuck_[i] = 1;
       trial_anchor_core_[i] =
           rot_world_core_.transpose() * (s.plane.toWorld(x) - core_.originWorld());

@@ -275,7 +275,7 @@ class Contact : public ForceEffect {
   // 3-D: the world direction a slipping point slid in at the step's start,
   // or in which it began to slip (unit; zero: none yet).
   std::vector<Eigen::Vector3d> trial_slip_world_;
-  // 3-D: how often a slot's stick broke within the present step.
+  // How often a slot's stick broke within the present step.
   std::vector<signed char> trial_releases_;
   // 3-D: the surfaces the last recheck found per slot, at time t for points
   // first..n-1 (valid until the step's commit reads them, a new step or a
