@@ -17,11 +17,13 @@
 namespace {
 const std::string kDefault = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
 
-// The paper's case at 1200 rpm, 30 N, 2 mm segments, symplectic Euler.
-cws::Scene paperCase(double turns, bool carry) {
+// The paper's case at 1200 rpm, 30 N, symplectic Euler, with segments of `segment` [m] stepped at
+// `step` [s] (2 mm and 2e-7 s unless a test says otherwise).
+cws::Scene paperCase(double turns, bool carry, const std::string& segment = "2e-3",
+                     const std::string& step = "2e-7") {
   return cws::loadScene(kDefault,
-                        {"process.core_speed_rpm=1200", "wire.segment_length=2e-3",
-                         "solver.fixed_step=2e-7", "process.turns=" + std::to_string(turns),
+                        {"process.core_speed_rpm=1200", "wire.segment_length=" + segment,
+                         "solver.fixed_step=" + step, "process.turns=" + std::to_string(turns),
                          std::string("solver.carry_stuck_wire=") + (carry ? "true" : "false")});
 }
 
@@ -49,10 +51,13 @@ void expectStandOffAsRecomputed(const cws::Simulation& sim) {
 }
 }  // namespace
 
+// At the default scene's 1 mm segments, where the full model is converged
+// in its step (a quarter of it moves the shape by 0.002 d; at 2 mm by
+// 0.019 d, more than the target below: docs/history/2026-11-27-damped-reference-model.md).
 TEST(Carry, MatchesTheFullModel) {
-  cws::Simulation full(paperCase(1.75, false));
+  cws::Simulation full(paperCase(1.75, false, "1e-3", "1e-7"));
   full.run();
-  cws::Simulation carried(paperCase(1.75, true));
+  cws::Simulation carried(paperCase(1.75, true, "1e-3", "1e-7"));
   carried.run();
   const cws::WireModel& a = full.model();
   const cws::WireModel& b = carried.model();
