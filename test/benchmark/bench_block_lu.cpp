@@ -1,5 +1,6 @@
 // The Newton system's factorization and solve against the block size
-// (design input for fewer unknowns per point, docs/PERFORMANCE.md): 40
+// (design input for fewer unknowns per point,
+// docs/history/2026-11-24-block-size-and-elimination-order.md): 40
 // points, blocks of 10 unknowns coupling through 7 (today's 3-D system:
 // position, quaternion, three frame multipliers), of 8 coupling through 6
 // (a rotation increment in the quaternion's tangent space instead of the

@@ -153,7 +153,8 @@ TEST(Carry, ContinuedRunMatchesTheOriginal) {
 // the supply takes wire back (a point leaving books the energy of the whole
 // wire); a snapshot holds the whole wire. (The release of carried wire,
 // which places it too, is not reached here: at large steps the stuck groups
-// hold where the explicit methods' ring and slip, docs/PERFORMANCE.md.)
+// hold where the explicit methods' ring and slip,
+// docs/history/2026-11-23-accuracy-gap-planar.md.)
 TEST(Carry, DeferredPlacementEqualsPlacingEveryStep) {
   const cws::Scene s = cws::loadScene(
       kDefault, {"process.core_speed_rpm=1200", "solver.integrator=bdf2", "process.turns=1.5"});

@@ -92,7 +92,8 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     }
     // Newton starts from the predictor x0 + h v0 + h^2 / 2 a0, with a0 the
     // last step's mean acceleration (where there is one): 11 % fewer
-    // iterations on the 3-D spiral than from x0 + h v0 (docs/PERFORMANCE.md).
+    // iterations on the 3-D spiral than from x0 + h v0
+    // (docs/history/2026-11-24-3d-real-time-and-stick-spring-ringing.md).
     guess_.middleCols(first, m) = x0.middleCols(first, m) + h * v0.block(0, first, xr, m);
     if (have_prev_) {
       guess_.middleCols(first, m) +=
