@@ -267,9 +267,8 @@ int run(const Args& a) {
       "      fast (real time): --set solver.integrator=bdf2; converged reference: "
       "--set solver.integrator=symplectic_euler (docs/PERFORMANCE.md)\n",
       sim.stepper().name(), sim.time(), sim.wallTime(), sim.realTimeFactor(),
-      sim.stepper().counts().accepted,
-      sim.stepper().counts().rejected, sim.maxConstraintResidual(), sim.maxAxialForce(),
-      e.imbalance(), out.c_str(), out.c_str());
+      sim.stepper().counts().accepted, sim.stepper().counts().rejected, sim.maxConstraintResidual(),
+      sim.maxAxialForce(), e.imbalance(), out.c_str(), out.c_str());
   if (estimate) {
     std::printf(
         "      error estimate (against the scene with %s): shape %.3g of the wire "
