@@ -1,9 +1,10 @@
 // Contact of the wire's mass points with the core and what it carries (the
 // core body's cylinders and faces, the flanges, the wound wire): penalty
 // springs normal to each surface and static/kinetic friction against the
-// moving surface, the paper's eqs. (16)-(20). Each point keeps one slot per
-// surface kind with its own contact, stick flag and anchor; stick and slip
-// change only on accepted steps. SI units: m, m/s, N, N/m.
+// moving surface, the paper's eqs. (16)-(20), with a dashpot beside each
+// spring (contact.damping_ratio; 1, the reference model). Each point keeps
+// one slot per surface kind with its own contact, stick flag and anchor;
+// stick and slip change only on accepted steps. SI units: m, m/s, N, N/m.
 // See docs/MODEL.md, section "Contact and friction (eqs. 16-20)".
 #pragma once
 
