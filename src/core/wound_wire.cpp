@@ -72,12 +72,8 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
   const int limit = std::min(prev_start, c_.n - 2);
   // Release: wound wire before that limit slips on the core (in contact,
   // not stuck). The tension behind it changes, so the wire back to the
-  // stuck group before the slipping point is integrated again. With fewer
-  // than two stuck groups left (a tension step that sets the wound wire
-  // sliding) the limit is the last group's start, or the wire's end.
-  const int release_limit =
-      prev_start >= 0 ? limit : std::min(last_start >= 0 ? last_start : c_.n, c_.n - 2);
-  for (int i = c_.first; i < release_limit; ++i) {
+  // stuck group before the slipping point is integrated again.
+  for (int i = c_.first; i < limit; ++i) {
     if (contact_->inContact(i) && !contact_->stuck(i)) {
       int r = i;
       while (r > 1 && !(contact_->stuck(r) && !contact_->stuck(r - 1))) --r;
