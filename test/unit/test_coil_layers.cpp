@@ -174,9 +174,13 @@ TEST(CoilLayers, APitchOfOneAndAHalfDiametersLeavesGapsAtEveryTurn) {
 // apart, move the overlap by one turn; no turn before it overlaps.
 void expectLateReversalAt(double flange_spacing, double turns, int expected) {
   std::vector<std::string> keys = drum(turns);
+  // The paper's undamped springs: with damped contact the 3.5 mm bobbin's
+  // climb crawls at steps of about 1e-6 s from t = 0.21 s (the
+  // late-reversal crawl, left for the engine's issue 39:
+  // docs/history/2026-11-27-damped-reference-model.md).
   keys.insert(keys.end(), {"process.winding_width=6e-3",
                            "core.flange_spacing=" + std::to_string(flange_spacing),
-                           "process.layers=2", "physics.flanges=true"});
+                           "process.layers=2", "physics.flanges=true", "contact.damping_ratio=0"});
   const cws::Scene s = cws::loadScene(k3d, keys);
   cws::Simulation sim(s);
   sim.run();
