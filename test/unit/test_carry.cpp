@@ -20,12 +20,17 @@ const std::string kDefault = std::string(CWS_SOURCE_DIR) + "/config/scenes/defau
 
 // The paper's case at 1200 rpm, 30 N, symplectic Euler, with segments of `segment` [m] stepped at
 // `step` [s] (2 mm and 2e-7 s unless a test says otherwise).
+std::vector<std::string> paperCaseKeys(double turns, bool carry,
+                                       const std::string& segment = "2e-3",
+                                       const std::string& step = "2e-7") {
+  return {"process.core_speed_rpm=1200", "wire.segment_length=" + segment,
+          "solver.fixed_step=" + step, "process.turns=" + std::to_string(turns),
+          std::string("solver.carry_stuck_wire=") + (carry ? "true" : "false")};
+}
+
 cws::Scene paperCase(double turns, bool carry, const std::string& segment = "2e-3",
                      const std::string& step = "2e-7") {
-  return cws::loadScene(kDefault,
-                        {"process.core_speed_rpm=1200", "wire.segment_length=" + segment,
-                         "solver.fixed_step=" + step, "process.turns=" + std::to_string(turns),
-                         std::string("solver.carry_stuck_wire=") + (carry ? "true" : "false")});
+  return cws::loadScene(kDefault, paperCaseKeys(turns, carry, segment, step));
 }
 
 void runTo(cws::Simulation& sim, double t) {
@@ -117,9 +122,9 @@ TEST(Carry, CarriedPointsMoveRigidlyWithTheCore) {
 // wire behind them. Returns the carried points before the jump and the
 // fewest after it, over 5 ms.
 std::pair<int, int> carriedAroundATensionJump(const std::string& damping_ratio) {
-  cws::Scene scene = paperCase(1.0, true);
-  scene.contact.damping_ratio = std::stod(damping_ratio);
-  cws::Simulation sim(scene);
+  std::vector<std::string> keys = paperCaseKeys(1.0, true);
+  keys.push_back("contact.damping_ratio=" + damping_ratio);
+  cws::Simulation sim(cws::loadScene(kDefault, keys));
   runTo(sim, 0.035);
   const int carried = sim.model().carriedPoints();
   sim.setSupplyTension(300.0);
