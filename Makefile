@@ -9,6 +9,8 @@
 #   make bench    per-step cost against the number of points (Google Benchmark)
 #   make work-precision   error against run time of every integrator (docs/performance)
 #   make stability        extreme cases x every integrator, checked (docs/STABILITY.md)
+#   make robustness       40 random coils, one core, each with a wall-time budget
+#                 (docs/ROBUSTNESS.md; ROBUSTNESS_ARGS="--count N --seed S", ROBUSTNESS_BUDGET)
 #   make compare  machine run vs simulation:  make compare BAG=run.bag [OUT=out/compare] [ARGS="--align angle"]
 #                 or MACHINE=a.bag SIM=b.bag instead of BAG (src/tools/compare_bags.py)
 #   make compare-demo   the same on synthetic bags with a known perturbation
@@ -66,7 +68,7 @@ CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCATKIN_ENABLE_TESTING=ON \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON
 
-.PHONY: deps build run study coil-study bench work-precision stability compare compare-demo test format format-check clean
+.PHONY: deps build run study coil-study bench work-precision stability robustness compare compare-demo test format format-check clean
 
 deps:
 ifeq ($(SKIP_DEPS),1)
@@ -132,6 +134,24 @@ stability: build
 	  cp out/stability/STABILITY.md docs/STABILITY.md; \
 	  cp out/stability/stability.csv docs/stability/stability.csv; \
 	fi; \
+	exit $$rc
+
+# The robustness suite (issue 39): coils drawn by a seeded generator, run
+# one at a time on one core, each within ROBUSTNESS_BUDGET seconds of wall
+# time, as a sweep (kept cases are not run again; ARGS="--slurm ..." would
+# submit them instead). The table: docs/ROBUSTNESS.md and
+# docs/robustness/robustness.csv. Fails when a case did not finish.
+ROBUSTNESS_OUT ?= out/robustness
+ROBUSTNESS_ARGS ?= --count 40 --seed 1
+ROBUSTNESS_BUDGET ?= 300
+robustness: build
+	mkdir -p $(ROBUSTNESS_OUT) docs/robustness
+	$(PYTHON) src/tools/robustness.py cases $(ROBUSTNESS_ARGS) > $(ROBUSTNESS_OUT)/cases.csv
+	@rc=0; taskset -c 0 $(WIRE_SIM) sweep --scene config/scenes/two_layers.yaml \
+	  --cases $(ROBUSTNESS_OUT)/cases.csv --budget $(ROBUSTNESS_BUDGET) --jobs 1 \
+	  --out $(ROBUSTNESS_OUT)/runs $(ARGS) || rc=$$?; \
+	$(PYTHON) src/tools/robustness.py report $(ROBUSTNESS_OUT)/runs docs/robustness || rc=1; \
+	if [ -f docs/robustness/ROBUSTNESS.md ]; then mv docs/robustness/ROBUSTNESS.md docs/ROBUSTNESS.md; fi; \
 	exit $$rc
 
 # Machine run vs simulation (issue 7): summary.json, summary.md and plots in

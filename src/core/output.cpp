@@ -82,7 +82,24 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
         << "  \"newton_line_searches\": " << nc->line_searches << ",\n"
         << "  \"newton_retried_steps\": " << nc->retried_steps << ",\n"
         << "  \"newton_predictor_retries\": " << nc->predictor_retries << ",\n"
-        << "  \"newton_return_mapped_solves\": " << nc->return_mapped_solves << ",\n";
+        << "  \"newton_return_mapped_solves\": " << nc->return_mapped_solves << ",\n"
+        << "  \"newton_fallback_stretches\": " << nc->fallback_stretches << ",\n"
+        << "  \"newton_fallback_steps\": " << nc->fallback_steps << ",\n";
+  }
+  // The stretch of the run that ran slowest against real time
+  // (pace_profile.hpp); null when run() did not step.
+  const PaceStretch& slow = sim.slowestStretch();
+  out << "  \"slowest_stretch\": ";
+  if (slow.valid) {
+    const double steps = std::max<long>(1, slow.steps);
+    out << "{\"start_s\": " << num(slow.start_s) << ", \"end_s\": " << num(slow.end_s)
+        << ", \"real_time_factor\": " << num(slow.realTimeFactor()) << ", \"steps\": " << slow.steps
+        << ", \"retried_steps\": " << slow.rejected
+        << ", \"mean_step_s\": " << num((slow.end_s - slow.start_s) / steps)
+        << ", \"newton_iterations_per_step\": " << num(slow.iterations / steps)
+        << ", \"newton_factorizations_per_step\": " << num(slow.factorizations / steps) << "},\n";
+  } else {
+    out << "null,\n";
   }
   out << "  \"nodes\": " << sim.model().constants().n << ",\n"
       << "  \"segment_length_m\": " << num(sim.model().constants().segment_length) << ",\n"

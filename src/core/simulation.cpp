@@ -238,17 +238,20 @@ void Simulation::run(const std::function<void(const Simulation&)>& progress,
   const double wall0 = wall_s_;
   auto last_report = start;
   const auto interval = std::chrono::duration<double>(scene_.output.progress_interval_s);
+  pace_.start(PaceProfile::count(t_, wall0, *stepper_));
   while (t_ < t_end_) {
     if (stop && stop()) break;
     step(t_end_);
     const auto now = Clock::now();
+    wall_s_ = wall0 + std::chrono::duration<double>(now - start).count();
+    pace_.record(PaceProfile::count(t_, wall_s_, *stepper_));
     if (progress && now - last_report >= interval) {
-      wall_s_ = wall0 + std::chrono::duration<double>(now - start).count();
       progress(*this);
       last_report = now;
     }
   }
   wall_s_ = wall0 + std::chrono::duration<double>(Clock::now() - start).count();
+  pace_.finish(PaceProfile::count(t_, wall_s_, *stepper_));
 }
 
 void Simulation::setFriction(double mu_static, double mu_kinetic) {

@@ -50,7 +50,7 @@ std::string casePath(const SweepPlan& plan, const std::string& dir, std::size_t 
 void writeStatus(const std::string& case_dir, const CaseStatus& s) {
   std::ostringstream out;
   out << "identity " << s.identity << "\nstatus " << s.status << "\nwall_s " << s.wall_s
-      << "\nerror " << oneLine(s.error) << "\n";
+      << "\nbudget_s " << s.budget_s << "\nerror " << oneLine(s.error) << "\n";
   cws::writeFileAtomically((fs::path(case_dir) / kSweepStatusFile).string(), out.str());
 }
 
@@ -67,8 +67,9 @@ CaseStatus readStatus(const std::string& case_dir) {
     if (key == "status") s.status = value;
     if (key == "error") s.error = value;
     if (key == "wall_s") s.wall_s = std::atof(value.c_str());
+    if (key == "budget_s") s.budget_s = std::atof(value.c_str());
   }
-  s.present = s.status == "ok" || s.status == "failed";
+  s.present = s.status == "ok" || s.status == "failed" || s.status == "budget";
   return s;
 }
 
@@ -169,19 +170,38 @@ int runSweepCase(const std::string& dir, std::size_t index, const std::function<
   cws::removeOutputs(case_dir);
   CaseStatus s;
   const auto start = std::chrono::steady_clock::now();
+  // The plan's wall-time budget per case [s] (0: none).
+  s.budget_s = std::atof(plan.option("budget", "0").c_str());
+  bool out_of_budget = false;
+  const auto within = [&] {
+    if (stop && stop()) return true;
+    if (s.budget_s <= 0.0) return false;
+    out_of_budget =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
+        s.budget_s;
+    return out_of_budget;
+  };
   try {
     s.identity = caseIdentity(plan, index);
     cws::Simulation sim(cws::loadScene(plan.scene, plan.caseOverrides(index)));
     std::cerr << "sweep-run: case " << index << " (" << plan.caseLabel(index)
               << "), until t = " << sim.endTime() << " s\n";
-    sim.run({}, stop);
+    sim.run({}, within);
     // Stopped: no result and no status, so the case reads as pending.
     if (stop && stop()) {
       std::cerr << "sweep-run: case " << index << " stopped at t = " << sim.time() << " s\n";
       return -1;
     }
+    // Out of budget: the figures of the part it ran, marked as such.
     cws::writeOutputs(sim, case_dir);
-    s.status = "ok";
+    s.status = out_of_budget ? "budget" : "ok";
+    if (out_of_budget) {
+      s.error = "not finished within the budget of " + cws::formatNumber(s.budget_s) +
+                " s of wall time: at t = " + cws::formatNumber(sim.time()) + " s of " +
+                cws::formatNumber(sim.endTime()) + " s (real-time factor " +
+                cws::formatNumber(sim.realTimeFactor(), "%.3g") + ")";
+      std::cerr << "sweep-run: case " << index << ": " << s.error << "\n";
+    }
   } catch (const std::exception& e) {
     s.status = "failed";
     s.error = e.what();
@@ -198,7 +218,11 @@ std::vector<std::size_t> casesToRun(const SweepPlan& plan, const std::string& di
   kept = 0;
   for (std::size_t i = 0; i < plan.cases.size(); ++i) {
     const CaseStatus s = readStatus(casePath(plan, dir, i));
-    if (s.present && s.status == "ok" && s.identity == caseIdentity(plan, i)) {
+    // A case that ran out of its budget is kept while the budget is not
+    // raised (it would run out again).
+    const bool kept_budget =
+        s.status == "budget" && s.budget_s >= std::atof(plan.option("budget", "0").c_str());
+    if (s.present && (s.status == "ok" || kept_budget) && s.identity == caseIdentity(plan, i)) {
       ++kept;
     } else {
       todo.push_back(i);
@@ -291,7 +315,7 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const
               << plan.caseLabel(i) << "): "
               << (s.status == "ok" ? std::string("ok in ") + wall + " s" +
                                          (s.error.empty() ? "" : ": " + s.error)
-                                   : "failed: " + s.error)
+                                   : s.status + ": " + s.error)
               << "\n";
   }
   return gatherSweep(dir);
@@ -315,10 +339,12 @@ int gatherSweep(const std::string& dir) {
       pending.push_back(i);
       continue;
     }
-    if (status[i].status != "ok") {
+    if (status[i].status == "failed") {
       ++failed;
       continue;
     }
+    // Out of budget: a row with the figures of the part it ran.
+    if (status[i].status == "budget") ++failed;
     try {
       summaryNumbers((fs::path(case_dir) / "summary.json").string(), numbers[i]);
     } catch (const std::exception& e) {
@@ -366,7 +392,7 @@ int gatherSweep(const std::string& dir) {
     csv << "\n";
     md << "| " << plan.caseDir(i) << " |";
     for (const std::string& v : plan.cases[i]) md << " " << cws::markdownCell(v) << " |";
-    if (state != "ok") {
+    if (state != "ok" && state != "budget") {
       md << " " << state << (s.error.empty() ? "" : ": " + cws::markdownCell(s.error))
          << " | | | | |\n";
       continue;
@@ -377,14 +403,14 @@ int gatherSweep(const std::string& dir) {
       std::snprintf(buf, sizeof buf, format, scale * it->second);
       return std::string(" ") + buf + " |";
     };
-    md << " ok |" << cell("bulging_height_m", 1e3, "%.4f")
-       << cell("max_penetration_ratio", 1.0, "%.3f") << cell("real_time_factor", 1.0, "%.3g")
-       << cell("wall_time_s", 1.0, "%.2f") << "\n";
+    md << " " << (state == "ok" ? state : state + ": " + cws::markdownCell(s.error)) << " |"
+       << cell("bulging_height_m", 1e3, "%.4f") << cell("max_penetration_ratio", 1.0, "%.3f")
+       << cell("real_time_factor", 1.0, "%.3g") << cell("wall_time_s", 1.0, "%.2f") << "\n";
   }
   cws::writeFileAtomically((fs::path(dir) / kSweepResultsCsv).string(), csv.str());
   cws::writeFileAtomically((fs::path(dir) / kSweepResultsMd).string(), md.str());
   std::cerr << "sweep: " << n - pending.size() - failed << " of " << n << " cases ok, " << failed
-            << " failed, " << pending.size() << " not finished; table in "
+            << " failed or out of budget, " << pending.size() << " not finished; table in "
             << (fs::path(dir) / kSweepResultsCsv).string() << "\n";
   if (!pending.empty()) {
     std::cerr << "sweep: not finished:";

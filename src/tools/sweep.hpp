@@ -24,12 +24,14 @@ extern const char* const kSweepStatusFile;  // per case: status.txt
 extern const char* const kSweepResultsCsv;  // results.csv
 extern const char* const kSweepResultsMd;   // results.md
 
-// A case's status.txt: present once its run has ended (status "ok" or
-// "failed", with the error).
+// A case's status.txt: present once its run has ended (status "ok",
+// "failed" with the error, or "budget": stopped at the plan's wall-time
+// budget, with the figures of the part it ran).
 struct SweepCaseStatus {
   bool present = false;
   std::string identity, status, error;
   double wall_s = 0.0;
+  double budget_s = 0.0;  // the wall-time budget it ran with [s] (0: none)
 };
 SweepCaseStatus readCaseStatus(const SweepPlan& plan, const std::string& dir, std::size_t i);
 void writeCaseStatus(const SweepPlan& plan, const std::string& dir, std::size_t i,

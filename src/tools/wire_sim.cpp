@@ -30,6 +30,7 @@
 #include "coil_winding_sim/core/output.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "stability.hpp"
 #include "study.hpp"
@@ -53,7 +54,8 @@ const char* kUsage =
     "                          [--method INTEGRATOR] [--budget SECONDS] [--checkpoint SECONDS]\n"
     "                          [--fresh | --report] [--slurm [Slurm options as for sweep]]\n"
     "       wire_sim sweep [--scene FILE] [--set ...] (--grid KEY=VALUES ... | --cases FILE)\n"
-    "                      [--out DIR] [--jobs N | --slurm [--partition P] [--time T] [--mem M]\n"
+    "                      [--out DIR] [--budget SECONDS]\n"
+    "                      [--jobs N | --slurm [--partition P] [--time T] [--mem M]\n"
     "                      [--account A] [--max-running N] [--max-array-size N] [--dry-run]]\n"
     "       wire_sim sweep-run DIR INDEX\n"
     "       wire_sim sweep-gather DIR\n"
@@ -83,6 +85,8 @@ const char* kUsage =
     "or the rows of a --cases CSV file (a header of keys). Every case's scene is checked\n"
     "before anything runs. A case whose result is kept in DIR from an earlier sweep of\n"
     "the same build and scene is not run again; a failed case is a row with its error.\n"
+    "With --budget a case stops after SECONDS of wall time and is a row marked budget,\n"
+    "with the figures of the part it ran (kept while the budget is not raised).\n"
     "--slurm submits the cases to run as Slurm job arrays (one task per case, at most N\n"
     "at once with --max-running; --time and --mem per task) and a gather job that\n"
     "writes the table once they have ended; DIR must be on storage the nodes share.\n"
@@ -106,6 +110,7 @@ struct Args {
   cws_tools::StabilityOptions stability;  // --only, --budget, --checkpoint, --fresh
   std::vector<cws_tools::GridAxis> grid;  // sweep: --grid
   std::string cases;                      // sweep: --cases
+  double sweep_budget_s = 0.0;            // sweep: --budget (0: none)
   std::vector<std::string> positional;    // sweep-run DIR INDEX, sweep-gather DIR
   bool slurm = false;                     // sweep: --slurm
   cws_tools::SlurmOptions slurm_options;  // --partition, --time, ... --dry-run
@@ -195,6 +200,8 @@ int run(const Args& a) {
     }
     // A relative scene path would not hold for a case run elsewhere.
     if (!plan.scene.empty()) plan.scene = std::filesystem::absolute(plan.scene).string();
+    if (a.sweep_budget_s > 0.0)
+      plan.options.emplace_back("budget", cws::formatNumber(a.sweep_budget_s, "%.17g"));
     cws_tools::checkPlan(plan);
     checkOut(out);
     if (a.slurm) return cws_tools::runSweepSlurm(plan, out, a.slurm_options, selfExe());
@@ -405,12 +412,14 @@ int main(int argc, char** argv) {
         problem = "--method: unknown integrator '" + value + "' (available: " + names + ")";
       }
       a.stability.method = value;
-    } else if ((opt == "--budget" || opt == "--checkpoint") && stability) {
+    } else if ((opt == "--budget" && (stability || sweep)) ||
+               (opt == "--checkpoint" && stability)) {
       const bool budget = opt == "--budget";
       problem = once(budget ? seen_budget : seen_checkpoint);
       if (problem.empty()) problem = take("seconds");
       if (problem.empty()) {
-        double& seconds = budget ? a.stability.budget_s : a.stability.checkpoint_s;
+        double& seconds =
+            !budget ? a.stability.checkpoint_s : (sweep ? a.sweep_budget_s : a.stability.budget_s);
         try {
           std::size_t used = 0;
           seconds = std::stod(value, &used);
@@ -459,7 +468,7 @@ int main(int argc, char** argv) {
                 (takes_out ? ", --out" : "") + (takes_jobs ? ", --jobs" : "") +
                 (a.command == "run" ? ", --error-estimate" : "") +
                 (stability ? ", --only, --method, --budget, --checkpoint, --fresh, --report" : "") +
-                (sweep ? ", --grid, --cases" : "") +
+                (sweep ? ", --grid, --cases, --budget" : "") +
                 (takes_slurm ? ", --slurm, --partition, --time, --mem, --account, --max-running, "
                                "--max-array-size, --dry-run"
                              : "") +

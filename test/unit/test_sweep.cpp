@@ -259,6 +259,40 @@ TEST_F(WireSimSweep, FailedCaseIsARowAndKeptCasesAreReused) {
   EXPECT_EQ(column(t, 1, "status"), "pending");
 }
 
+// A case that runs out of its wall-time budget is a row marked budget with
+// the figures of the part it ran; the same budget keeps it, a larger one
+// runs it again. (The long case: 20 s of the quiet wire at the explicit
+// method's step, some 10^8 steps: far beyond 0.3 s of wall time.)
+TEST_F(WireSimSweep, ACaseOutOfBudgetIsARowWithWhatItRan) {
+  const fs::path out = dir_ / "sweep";
+  const std::vector<std::string> args{"--set",    "solver.integrator=symplectic_euler",
+                                      "--grid",   "process.duration=2e-4,20",
+                                      "--budget", "0.3",
+                                      "--out",    out.string()};
+  const RunResult first = sweep(args);
+  EXPECT_EQ(first.status, 1) << first.err;
+  auto t = table(out / "results.csv");
+  ASSERT_EQ(t.size(), 3u);
+  EXPECT_EQ(column(t, 1, "status"), "ok");
+  EXPECT_EQ(column(t, 2, "status"), "budget");
+  EXPECT_TRUE(contains(column(t, 2, "error"), "budget of 0.3 s")) << column(t, 2, "error");
+  const double reached_s = std::stod(column(t, 2, "sim_time_s"));
+  EXPECT_GT(reached_s, 0.0);
+  EXPECT_LT(reached_s, 20.0);
+  EXPECT_GT(std::stod(column(t, 2, "steps_accepted")), 0.0);
+  EXPECT_TRUE(contains(readAll(out / "results.md"), "| budget: ")) << readAll(out / "results.md");
+
+  const RunResult again = sweep(args);
+  EXPECT_TRUE(contains(again.err, "2 kept from an earlier sweep, 0 to run")) << again.err;
+  std::vector<std::string> larger = args;
+  larger[5] = "0.4";
+  const RunResult third = sweep(larger);
+  EXPECT_TRUE(contains(third.err, "1 kept from an earlier sweep, 1 to run")) << third.err;
+  const RunResult bad = sweep({"--grid", "process.tension=1", "--budget", "-1"});
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_TRUE(contains(bad.err, "--budget needs a positive number")) << bad.err;
+}
+
 TEST_F(WireSimSweep, BadKeyStopsTheSweepBeforeAnyCase) {
   const fs::path out = dir_ / "sweep";
   const RunResult r = sweep({"--grid", "process.tension=20,30", "--grid", "wire.lenght=0.01,0.02",

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "coil_winding_sim/core/pace_profile.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
 #include "coil_winding_sim/core/wire_model.hpp"
@@ -103,6 +104,9 @@ class Simulation {
   double endTime() const { return t_end_; }    // [s]
   double wallTime() const { return wall_s_; }  // wall time spent in run() [s]
   double realTimeFactor() const { return wall_s_ > 0.0 ? t_ / wall_s_ : 0.0; }
+  // The stretch of run() that ran slowest against real time, with the
+  // integrator's work in it (pace_profile.hpp).
+  const PaceStretch& slowestStretch() const { return pace_.slowest(); }
   const Scene& scene() const { return scene_; }
   const WireModel& model() const { return *model_; }
   WireModel& model() { return *model_; }
@@ -151,6 +155,7 @@ class Simulation {
   double t_ = 0.0;
   double t_end_ = 0.0;
   double wall_s_ = 0.0;
+  PaceProfile pace_;
   double max_residual_ = 0.0;
   double max_axial_force_ = 0.0;
   double max_penetration_ = 0.0;

@@ -3,15 +3,16 @@
 // (implicit_euler), first order and L-stable, and the variable-step BDF2
 // (bdf2), second order and L-stable. Both solve
 //   v = alpha (x - x_hat),   alpha M (v - v_hat) = F(x, v)
-// with Newton's method at every step of solver.implicit_step; a step whose
-// Newton iterations do not converge is retried at a quarter of its size and
-// the step grows back by doubling. BDF2 starts, and restarts after a
-// retried step or a step more than twice the last, with one backward Euler
-// step. A run starts with small steps (kStartFraction), and so does the
-// step after a kink of the core's motion (kink()).
+// with Newton's method, at steps of at most solver.implicit_step chosen by
+// the distance of the solution from its predictor (below). A step whose
+// Newton iterations do not converge is retried at a quarter of its size.
+// BDF2 starts, and restarts after such a retry or a step more than twice
+// the last, with one backward Euler step. A run starts with small steps (kStartFraction), and so
+// does the step after a kink of the core's motion (kink()).
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
 #include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
@@ -30,6 +31,25 @@ class ImplicitStepper : public TimeStepper {
   // through the jerk of the clamped wire booked energy it did not get
   // (docs/MODEL.md, "Implicit integration of planar scenes").
   static constexpr double kStartFraction = 1.0 / 64.0;
+  // Step control by the distance of Newton's solution from the predictor
+  // (solver.predictor_tol, an estimate of the local error): the next step
+  // is kSafety (tol / distance)^(1 / (p + 1)) of the last, within
+  // [kMinShrink, kMaxGrowth], and at most solver.implicit_step; a step
+  // beyond the tolerance is retried so shortened, at most to kMaxShrink.
+  static constexpr double kSafety = 0.9;
+  static constexpr double kMinShrink = 0.2;
+  static constexpr double kMaxShrink = 0.5;
+  static constexpr double kMaxGrowth = 2.0;
+  // After a step whose Newton iterations failed, the next kFailMemory
+  // accepted steps stay below half of it.
+  static constexpr int kFailMemory = 20;
+  // Progress guaranteed: Newton failing kFailLimit times within
+  // kFailWindow of simulated time, or at solver.min_step, starts a stretch
+  // of kFallbackStretch of explicit steps (symplectic Euler at the scene's
+  // safe step), after which Newton steps resume. Counted in NewtonCounts.
+  static constexpr int kFailLimit = 10;
+  static constexpr double kFailWindow = 1e-3;       // [s]
+  static constexpr double kFallbackStretch = 1e-3;  // [s]
   ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme);
 
   const char* name() const override { return scheme_ == Scheme::kBdf2 ? "bdf2" : "implicit_euler"; }
@@ -43,6 +63,12 @@ class ImplicitStepper : public TimeStepper {
   void kink() override;
 
  private:
+  // The step factor the distance `move` [m] from the predictor asks for.
+  double stepFactor(double move) const;
+  // The explicit fallback: a stretch begins at t, after Newton failed at
+  // a step of h [s]; one explicit step of it.
+  void beginFallback(double t, double h);
+  void explicitStep(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit);
   SolverParams p_;
   Scheme scheme_;
   double h_, h_last_ = 0.0;
@@ -57,6 +83,12 @@ class ImplicitStepper : public TimeStepper {
   int n_prev_ = 0;
   int first_prev_ = 0;  // the first integrated point of the last step
   bool have_prev_ = false;
+  std::unique_ptr<TimeStepper> explicit_;  // the fallback's stepper
+  double fallback_until_ = -1.0;           // the stretch's end [s]
+  int failures_ = 0;                       // Newton failures since failures_since_
+  double failures_since_ = 0.0;            // [s]
+  double fail_cap_ = 0.0;                  // the cap after a failed step [s]
+  int since_fail_ = kFailMemory;           // accepted steps since then
 };
 
 }  // namespace cws
