@@ -66,14 +66,6 @@ void ImplicitStepper::explicitStep(OdeSystem& sys, double& t, Eigen::VectorXd& y
   }
 }
 
-double ImplicitStepper::stepFactor(double move) const {
-  if (!(move > 0.0)) return kMaxGrowth;
-  // The distance to the predictor estimates the local error, which goes
-  // with h^(p+1) for a method of order p.
-  const double order = scheme_ == Scheme::kBdf2 ? 2.0 : 1.0;
-  return kSafety * std::pow(p_.predictor_tol / move, 1.0 / (order + 1.0));
-}
-
 void ImplicitStepper::kink() {
   h_ = std::min(h_, kStartFraction * p_.implicit_step);
   have_prev_ = false;
@@ -161,17 +153,16 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     // step is too long for what happens within it (the distance estimates
     // its local error, as variable-step BDF codes take it). Frozen flags
     // that still change after the last round say the same.
-    const double move = st.converged ? f.largestMoveFrom(guess_) : 0.0;
-    const bool accurate = st.converged && move <= p_.predictor_tol;
+    const bool accurate = st.converged && f.largestMoveFrom(guess_) <= p_.predictor_tol;
     if (st.converged && !accurate) ++newton_.predictor_retries;
     if (!accurate) {
       ++counts_.rejected;
       ++newton_.retried_steps;
       if (st.converged) {
-        // Too far from the predictor: the step the distance asks for (the
-        // past stays valid, so BDF2 goes on with its variable-step
-        // coefficients; it shrinks, so their ratio is below 1).
-        h_ = h * std::clamp(stepFactor(move), kMinShrink, kMaxShrink);
+        // Too far from the predictor: a quarter, restarting with backward
+        // Euler.
+        h_ = 0.25 * h;
+        have_prev_ = false;
       } else {
         // Newton failed: a quarter, restarting with backward Euler; the
         // steps stay below half the failed one for the next kFailMemory
@@ -228,11 +219,10 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     t = clipped ? t_limit : t + h;
     h_last_ = h;
     sys.acceptStep(t, y);
-    // The next step from the distance to the predictor, as error-controlled
-    // codes choose it: grows by at most kMaxGrowth (back towards the
-    // scene's step after a retry), shrinks before the tolerance is reached.
+    // Grow back towards the scene's step after a retry (while a failed
+    // Newton solve is recent, below half its step).
     if (!clipped) {
-      h_ = std::min(p_.implicit_step, h * std::clamp(stepFactor(move), kMinShrink, kMaxGrowth));
+      h_ = std::min(p_.implicit_step, 2.0 * h_);
       if (since_fail_ < kFailMemory) h_ = std::min(h_, fail_cap_);
     }
     ++since_fail_;

@@ -3,11 +3,12 @@
 // (implicit_euler), first order and L-stable, and the variable-step BDF2
 // (bdf2), second order and L-stable. Both solve
 //   v = alpha (x - x_hat),   alpha M (v - v_hat) = F(x, v)
-// with Newton's method, at steps of at most solver.implicit_step chosen by
-// the distance of the solution from its predictor (below). A step whose
-// Newton iterations do not converge is retried at a quarter of its size.
-// BDF2 starts, and restarts after such a retry or a step more than twice
-// the last, with one backward Euler step. A run starts with small steps (kStartFraction), and so
+// with Newton's method at every step of solver.implicit_step; a step whose
+// Newton iterations do not converge, or whose solution lies farther than
+// solver.predictor_tol from its predictor, is retried at a quarter of its
+// size and the step grows back by doubling. BDF2 starts, and restarts after
+// a retried step or a step more than twice the last, with one backward
+// Euler step. A run starts with small steps (kStartFraction), and so
 // does the step after a kink of the core's motion (kink()).
 #pragma once
 
@@ -31,15 +32,6 @@ class ImplicitStepper : public TimeStepper {
   // through the jerk of the clamped wire booked energy it did not get
   // (docs/MODEL.md, "Implicit integration of planar scenes").
   static constexpr double kStartFraction = 1.0 / 64.0;
-  // Step control by the distance of Newton's solution from the predictor
-  // (solver.predictor_tol, an estimate of the local error): the next step
-  // is kSafety (tol / distance)^(1 / (p + 1)) of the last, within
-  // [kMinShrink, kMaxGrowth], and at most solver.implicit_step; a step
-  // beyond the tolerance is retried so shortened, at most to kMaxShrink.
-  static constexpr double kSafety = 0.9;
-  static constexpr double kMinShrink = 0.2;
-  static constexpr double kMaxShrink = 0.5;
-  static constexpr double kMaxGrowth = 2.0;
   // After a step whose Newton iterations failed, the next kFailMemory
   // accepted steps stay below half of it.
   static constexpr int kFailMemory = 20;
@@ -63,8 +55,6 @@ class ImplicitStepper : public TimeStepper {
   void kink() override;
 
  private:
-  // The step factor the distance `move` [m] from the predictor asks for.
-  double stepFactor(double move) const;
   // The explicit fallback: a stretch begins at t, after Newton failed at
   // a step of h [s]; one explicit step of it.
   void beginFallback(double t, double h);
