@@ -143,7 +143,7 @@ stability: build
 # docs/robustness/robustness.csv. Fails when a case did not finish.
 ROBUSTNESS_OUT ?= out/robustness
 ROBUSTNESS_ARGS ?= --count 40 --seed 1
-ROBUSTNESS_BUDGET ?= 300
+ROBUSTNESS_BUDGET ?= 200
 robustness: build
 	mkdir -p $(ROBUSTNESS_OUT) docs/robustness
 	$(PYTHON) src/tools/robustness.py cases $(ROBUSTNESS_ARGS) > $(ROBUSTNESS_OUT)/cases.csv
