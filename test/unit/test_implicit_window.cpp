@@ -11,13 +11,11 @@
 // (docs/history/2026-11-27-newton-convergence-and-step-control.md).
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "coil_winding_sim/core/simulation.hpp"
-#include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
 
 namespace {
 
@@ -55,34 +53,6 @@ TEST(ImplicitWindow, Bdf2AtSmallStepsIsTheExplicitModel) {
   // Half way between the two explicit runs' own spread (0.0026 d) and the
   // undamped model's 0.0099 d.
   EXPECT_LT(gap, 0.005);
-}
-
-// Progress is guaranteed (issue 39): Newton allowed one iteration fails at
-// almost every step (a step whose flags change needs more), so the stepper
-// falls back to stretches of explicit steps and resumes Newton steps after
-// each. The run reaches its end, counts its stretches, keeps its energy
-// balance, and ends where the explicit run ends (its steps are mostly
-// explicit ones).
-TEST(ImplicitWindow, NewtonThatKeepsFailingFallsBackToExplicitSteps) {
-  const std::vector<std::string> window{"process.duration=0.02"};
-  std::vector<std::string> failing = window;
-  failing.insert(failing.end(), {"solver.integrator=bdf2", "solver.newton_max_iterations=1"});
-  const cws::Simulation sim = windowRun(failing);
-  EXPECT_DOUBLE_EQ(sim.time(), sim.endTime());
-  const cws::NewtonCounts* n = sim.stepper().newtonCounts();
-  ASSERT_NE(n, nullptr);
-  std::printf("%ld stretches of explicit steps, %ld explicit steps of %ld; last: %s\n",
-              n->fallback_stretches, n->fallback_steps, sim.stepper().counts().accepted,
-              n->fallback_cause);
-  EXPECT_GT(n->fallback_stretches, 0);
-  EXPECT_GT(n->fallback_steps, 0);
-  EXPECT_TRUE(std::string(n->fallback_cause).find("Newton failed") != std::string::npos)
-      << n->fallback_cause;
-  const cws::EnergyReport e = sim.energy();
-  EXPECT_LT(std::abs(e.imbalance()), 0.01 * std::abs(e.work_done));
-  std::vector<std::string> reference = window;
-  reference.push_back("solver.integrator=symplectic_euler");
-  EXPECT_LT(pointDistance(windowRun(reference), sim), 0.005);
 }
 
 }  // namespace

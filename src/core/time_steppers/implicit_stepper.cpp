@@ -2,19 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
-
-#include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
 
 namespace cws {
 
 ImplicitStepper::ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme)
     : p_(p), scheme_(scheme), h_(kStartFraction * p.implicit_step) {
-  // The explicit fallback steps at the resolved safe step (Simulation
-  // resolves solver.fixed_step: auto); without one there is no fallback.
-  if (p.fixed_step && *p.fixed_step > 0.0)
-    explicit_ = std::make_unique<SymplecticEuler>(p, sys.capacity());
   const NewtonFormulation* f = sys.newtonFormulation();
   if (!f)
     throw std::invalid_argument(std::string(name()) + ": the scene has no Newton formulation");
@@ -35,37 +28,6 @@ void ImplicitStepper::restore(double next_step, double last_step, const StepCoun
   have_prev_ = false;  // a continued run restarts BDF2 with one Euler step
 }
 
-void ImplicitStepper::beginFallback(double t, double h) {
-  fallback_until_ = t + kFallbackStretch;
-  ++newton_.fallback_stretches;
-  // (Formatted into a fixed buffer: a step allocates nothing.)
-  if (failures_ >= kFailLimit) {
-    std::snprintf(newton_.fallback_cause, sizeof newton_.fallback_cause,
-                  "Newton failed %d times from t = %g s to %g s", failures_, failures_since_, t);
-  } else {
-    std::snprintf(newton_.fallback_cause, sizeof newton_.fallback_cause,
-                  "Newton failed at a step of %g s at t = %g s", h, t);
-  }
-  failures_ = 0;
-  failures_since_ = t;
-}
-
-void ImplicitStepper::explicitStep(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) {
-  const long before = explicit_->counts().accepted;
-  explicit_->step(sys, t, y, std::min(t_limit, fallback_until_));
-  counts_.accepted += explicit_->counts().accepted - before;
-  newton_.fallback_steps += explicit_->counts().accepted - before;
-  h_last_ = explicit_->lastStep();
-  // The stretch is over: Newton steps again, from small ones and backward
-  // Euler (the explicit steps leave BDF2 no past).
-  if (t >= fallback_until_) {
-    have_prev_ = false;
-    h_ = kStartFraction * p_.implicit_step;
-    fail_cap_ = h_;
-    since_fail_ = 0;
-  }
-}
-
 void ImplicitStepper::kink() {
   h_ = std::min(h_, kStartFraction * p_.implicit_step);
   have_prev_ = false;
@@ -77,11 +39,6 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
   // (docs/MODEL.md, "Steps that land on a time limit").
   if (t_limit - t <= kLandRounding * std::max(1.0, std::abs(t))) {
     t = t_limit;
-    return;
-  }
-  // A stretch of explicit steps under way (fallback below).
-  if (t < fallback_until_) {
-    explicitStep(sys, t, y, t_limit);
     return;
   }
   NewtonFormulation& f = *sys.newtonFormulation();
@@ -158,33 +115,8 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     if (!accurate) {
       ++counts_.rejected;
       ++newton_.retried_steps;
-      if (st.converged) {
-        // Too far from the predictor: a quarter, restarting with backward
-        // Euler.
-        h_ = 0.25 * h;
-        have_prev_ = false;
-      } else {
-        // Newton failed: a quarter, restarting with backward Euler; the
-        // steps stay below half the failed one for the next kFailMemory
-        // steps (growing straight back would fail again at the same step:
-        // a wire snapping over a turn lasts longer than a step).
-        h_ = 0.25 * h;
-        have_prev_ = false;
-        fail_cap_ = 0.5 * h;
-        since_fail_ = 0;
-        // Newton failing again and again, or at the smallest step: a
-        // stretch of explicit steps carries the run past it.
-        if (t - failures_since_ > kFailWindow) {
-          failures_since_ = t;
-          failures_ = 0;
-        }
-        ++failures_;
-        if (explicit_ && (failures_ >= kFailLimit || h_ < p_.min_step)) {
-          beginFallback(t, h);
-          explicitStep(sys, t, y, t_limit);
-          return;
-        }
-      }
+      h_ = 0.25 * h;
+      have_prev_ = false;
       if (h_ < p_.min_step) {
         std::ostringstream msg;
         if (st.converged) {
@@ -219,13 +151,8 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     t = clipped ? t_limit : t + h;
     h_last_ = h;
     sys.acceptStep(t, y);
-    // Grow back towards the scene's step after a retry (while a failed
-    // Newton solve is recent, below half its step).
-    if (!clipped) {
-      h_ = std::min(p_.implicit_step, 2.0 * h_);
-      if (since_fail_ < kFailMemory) h_ = std::min(h_, fail_cap_);
-    }
-    ++since_fail_;
+    // Grow back towards the scene's step after a retry.
+    if (!clipped) h_ = std::min(p_.implicit_step, 2.0 * h_);
     return;
   }
 }

@@ -4,16 +4,14 @@
 // (bdf2), second order and L-stable. Both solve
 //   v = alpha (x - x_hat),   alpha M (v - v_hat) = F(x, v)
 // with Newton's method at every step of solver.implicit_step; a step whose
-// Newton iterations do not converge, or whose solution lies farther than
-// solver.predictor_tol from its predictor, is retried at a quarter of its
-// size and the step grows back by doubling. BDF2 starts, and restarts after
-// a retried step or a step more than twice the last, with one backward
-// Euler step. A run starts with small steps (kStartFraction), and so
-// does the step after a kink of the core's motion (kink()).
+// Newton iterations do not converge is retried at a quarter of its size and
+// the step grows back by doubling. BDF2 starts, and restarts after a
+// retried step or a step more than twice the last, with one backward Euler
+// step. A run starts with small steps (kStartFraction), and so does the
+// step after a kink of the core's motion (kink()).
 #pragma once
 
 #include <Eigen/Core>
-#include <memory>
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
 #include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
@@ -32,16 +30,6 @@ class ImplicitStepper : public TimeStepper {
   // through the jerk of the clamped wire booked energy it did not get
   // (docs/MODEL.md, "Implicit integration of planar scenes").
   static constexpr double kStartFraction = 1.0 / 64.0;
-  // After a step whose Newton iterations failed, the next kFailMemory
-  // accepted steps stay below half of it.
-  static constexpr int kFailMemory = 20;
-  // Progress guaranteed: Newton failing kFailLimit times within
-  // kFailWindow of simulated time, or at solver.min_step, starts a stretch
-  // of kFallbackStretch of explicit steps (symplectic Euler at the scene's
-  // safe step), after which Newton steps resume. Counted in NewtonCounts.
-  static constexpr int kFailLimit = 10;
-  static constexpr double kFailWindow = 1e-3;       // [s]
-  static constexpr double kFallbackStretch = 1e-3;  // [s]
   ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme);
 
   const char* name() const override { return scheme_ == Scheme::kBdf2 ? "bdf2" : "implicit_euler"; }
@@ -55,10 +43,6 @@ class ImplicitStepper : public TimeStepper {
   void kink() override;
 
  private:
-  // The explicit fallback: a stretch begins at t, after Newton failed at
-  // a step of h [s]; one explicit step of it.
-  void beginFallback(double t, double h);
-  void explicitStep(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit);
   SolverParams p_;
   Scheme scheme_;
   double h_, h_last_ = 0.0;
@@ -73,12 +57,6 @@ class ImplicitStepper : public TimeStepper {
   int n_prev_ = 0;
   int first_prev_ = 0;  // the first integrated point of the last step
   bool have_prev_ = false;
-  std::unique_ptr<TimeStepper> explicit_;  // the fallback's stepper
-  double fallback_until_ = -1.0;           // the stretch's end [s]
-  int failures_ = 0;                       // Newton failures since failures_since_
-  double failures_since_ = 0.0;            // [s]
-  double fail_cap_ = 0.0;                  // the cap after a failed step [s]
-  int since_fail_ = kFailMemory;           // accepted steps since then
 };
 
 }  // namespace cws
