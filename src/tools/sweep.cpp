@@ -73,6 +73,9 @@ CaseStatus readStatus(const std::string& case_dir) {
   return s;
 }
 
+// The plan's wall-time budget per case [s] (wire_sim sweep --budget; 0: none).
+double caseBudget(const SweepPlan& plan) { return std::atof(plan.option("budget", "0").c_str()); }
+
 std::string readText(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw SweepError("cannot read '" + path + "'");
@@ -170,8 +173,7 @@ int runSweepCase(const std::string& dir, std::size_t index, const std::function<
   cws::removeOutputs(case_dir);
   CaseStatus s;
   const auto start = std::chrono::steady_clock::now();
-  // The plan's wall-time budget per case [s] (0: none).
-  s.budget_s = std::atof(plan.option("budget", "0").c_str());
+  s.budget_s = caseBudget(plan);
   bool out_of_budget = false;
   const auto within = [&] {
     if (stop && stop()) return true;
@@ -220,8 +222,7 @@ std::vector<std::size_t> casesToRun(const SweepPlan& plan, const std::string& di
     const CaseStatus s = readStatus(casePath(plan, dir, i));
     // A case that ran out of its budget is kept while the budget is not
     // raised (it would run out again).
-    const bool kept_budget =
-        s.status == "budget" && s.budget_s >= std::atof(plan.option("budget", "0").c_str());
+    const bool kept_budget = s.status == "budget" && s.budget_s >= caseBudget(plan);
     if (s.present && (s.status == "ok" || kept_budget) && s.identity == caseIdentity(plan, i)) {
       ++kept;
     } else {
