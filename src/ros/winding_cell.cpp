@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <thread>
 
+#include "coil_winding_sim/core/time_steppers/implicit_stepper.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/snapshot_bag.hpp"
 
@@ -143,6 +145,7 @@ void WindingCell::run() {
               rate_.last(), pace_.target());
         }
       }
+      noteFallback();
       if (!o_.follow_clock && o_.stop_at_end && !job_done_ && !failed_ && jobEnded()) endJob();
       done = paused_ || failed_ || finished();
       clock_s_ = stamp().toSec();
@@ -392,6 +395,8 @@ void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("step size [s]", sim_->stepper().lastStep());
   stat.add("max constraint residual", sim_->model().maxConstraintResidual());
   stat.add("points", sim_->model().constants().n);
+  if (const cws::NewtonCounts* n = sim_->stepper().newtonCounts())
+    stat.add("explicit fallback stretches", n->fallback_stretches);
   stat.add("static friction", sim_->scene().contact.static_friction);
   stat.add("kinetic friction", sim_->scene().contact.kinetic_friction);
   stat.add("damping translational [N s/m^2]", sim_->scene().damping.translational);
@@ -407,6 +412,10 @@ void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, message);
   } else if (finished()) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "replay done");
+  } else if (fallbackRecent()) {
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                  "explicit steps where Newton could not go on (%ld stretches; last: %s)",
+                  fallback_seen_, sim_->stepper().newtonCounts()->fallback_cause);
   } else if (!keeping_pace_) {
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
                   "not keeping pace: real-time factor %.3g, target %.3g", rtf, pace_.target());
@@ -415,6 +424,20 @@ void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   } else {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
   }
+}
+
+void WindingCell::noteFallback() {
+  const cws::NewtonCounts* n = sim_->stepper().newtonCounts();
+  if (!n || n->fallback_stretches == fallback_seen_) return;
+  // (A reset or a restore starts the count again.)
+  fallback_seen_ = n->fallback_stretches;
+  if (fallback_seen_ == 0) return;
+  fallback_wall_s_ = wallNow();
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "%s: %g ms of explicit steps carry the run on (%ld such stretches so far)",
+                n->fallback_cause, 1e3 * cws::ImplicitStepper::kFallbackStretch, fallback_seen_);
+  warn(fallback_warning_, text);
 }
 
 void WindingCell::warn(WallThrottle& throttle, const std::string& text) const {

@@ -90,6 +90,12 @@ class WindingCell {
   void publishMarkers();
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void warn(WallThrottle& throttle, const std::string& text) const;
+  // The implicit stepper's explicit fallback (implicit_stepper.hpp): a new
+  // stretch is logged and marks the wall time /diagnostics warns from.
+  void noteFallback();
+  // A stretch began within the last kFallbackWarnS of wall time.
+  static constexpr double kFallbackWarnS = 10.0;
+  bool fallbackRecent() const { return wallNow() - fallback_wall_s_ < kFallbackWarnS; }
 
   // ---- live parameters (winding_cell_reconfigure.cpp)
   void startReconfigure();
@@ -148,6 +154,9 @@ class WindingCell {
   // ~start at_rest: the core held at 0 until the first speed setpoint.
   std::atomic<bool> at_rest_{false};
   WallThrottle pace_warning_{10.0};               // "not keeping pace" on the console
+  WallThrottle fallback_warning_{10.0};           // explicit fallback stretches on the console
+  long fallback_seen_ = 0;                        // stretches noted so far
+  double fallback_wall_s_ = -1e300;               // wall time of the last new one [s]
   std::string last_status_;                       // the state last sent on cell_status
   double force_max_N_ = 1.0;                      // the wire's colour range, 0 to this [N]
   std::optional<double> run_until_;               // pause when the simulated time reaches it [s]

@@ -2,12 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
+
+#include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
 
 namespace cws {
 
 ImplicitStepper::ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme)
     : p_(p), scheme_(scheme), h_(kStartFraction * p.implicit_step) {
+  // The explicit fallback steps at the resolved safe step (Simulation
+  // resolves solver.fixed_step: auto).
+  if (p.fixed_step && *p.fixed_step > 0.0)
+    explicit_ = std::make_unique<SymplecticEuler>(p, sys.capacity());
   const NewtonFormulation* f = sys.newtonFormulation();
   if (!f)
     throw std::invalid_argument(std::string(name()) + ": the scene has no Newton formulation");
@@ -26,6 +33,35 @@ void ImplicitStepper::restore(double next_step, double last_step, const StepCoun
   h_last_ = last_step;
   counts_ = counts;
   have_prev_ = false;  // a continued run restarts BDF2 with one Euler step
+  fallback_until_ = -1.0;
+}
+
+void ImplicitStepper::beginFallback(double t, double h, bool converged) {
+  fallback_until_ = t + kFallbackStretch;
+  ++newton_.fallback_stretches;
+  newton_.fallback_last_t = t;
+  // (Formatted into a fixed buffer: a step allocates nothing.)
+  std::snprintf(newton_.fallback_cause, sizeof newton_.fallback_cause,
+                converged
+                    ? "the step's solution left its predictor at a step of %.3g s at t = %.6g s"
+                    : "Newton did not converge at a step of %.3g s at t = %.6g s",
+                h, t);
+}
+
+void ImplicitStepper::explicitStep(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) {
+  const long before = explicit_->counts().accepted;
+  explicit_->step(sys, t, y, std::min(t_limit, fallback_until_));
+  const long taken = explicit_->counts().accepted - before;
+  counts_.accepted += taken;
+  newton_.fallback_steps += taken;
+  h_last_ = explicit_->lastStep();
+  // The stretch is over: Newton steps again, from small ones and backward
+  // Euler (the explicit steps leave BDF2 no past).
+  if (t >= fallback_until_) {
+    fallback_until_ = -1.0;
+    have_prev_ = false;
+    h_ = kStartFraction * p_.implicit_step;
+  }
 }
 
 void ImplicitStepper::kink() {
@@ -39,6 +75,11 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
   // (docs/MODEL.md, "Steps that land on a time limit").
   if (t_limit - t <= kLandRounding * std::max(1.0, std::abs(t))) {
     t = t_limit;
+    return;
+  }
+  // A stretch of explicit steps under way (the fallback below).
+  if (t < fallback_until_) {
+    explicitStep(sys, t, y, t_limit);
     return;
   }
   NewtonFormulation& f = *sys.newtonFormulation();
@@ -117,6 +158,15 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
       ++newton_.retried_steps;
       h_ = 0.25 * h;
       have_prev_ = false;
+      // Below the smallest step: a stretch of explicit steps carries the
+      // run past what Newton cannot follow. (Not sooner: on a violent
+      // moment of a wound coil, Newton steps far below the explicit safe
+      // step went on where the explicit steps diverged; docs/history.)
+      if (explicit_ && h_ < p_.min_step) {
+        beginFallback(t, h, st.converged);
+        explicitStep(sys, t, y, t_limit);
+        return;
+      }
       if (h_ < p_.min_step) {
         std::ostringstream msg;
         if (st.converged) {

@@ -9,9 +9,15 @@
 // retried step or a step more than twice the last, with one backward Euler
 // step. A run starts with small steps (kStartFraction), and so does the
 // step after a kink of the core's motion (kink()).
+// Progress is guaranteed: where the retried step would fall below
+// solver.min_step, a stretch of kFallbackStretch of symplectic Euler steps
+// at the explicit safe step (solver.fixed_step as resolved) carries the run
+// on, and Newton steps resume after it (counted in NewtonCounts; the
+// node's /diagnostics warns).
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
 #include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
@@ -30,6 +36,8 @@ class ImplicitStepper : public TimeStepper {
   // through the jerk of the clamped wire booked energy it did not get
   // (docs/MODEL.md, "Implicit integration of planar scenes").
   static constexpr double kStartFraction = 1.0 / 64.0;
+  // The explicit fallback's stretch of simulated time [s].
+  static constexpr double kFallbackStretch = 1e-3;
   ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme);
 
   const char* name() const override { return scheme_ == Scheme::kBdf2 ? "bdf2" : "implicit_euler"; }
@@ -43,6 +51,11 @@ class ImplicitStepper : public TimeStepper {
   void kink() override;
 
  private:
+  // The explicit fallback: a stretch begins at t after Newton failed at a
+  // step of h [s] (converged: the solution left the predictor); one
+  // explicit step of it.
+  void beginFallback(double t, double h, bool converged);
+  void explicitStep(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit);
   SolverParams p_;
   Scheme scheme_;
   double h_, h_last_ = 0.0;
@@ -57,6 +70,8 @@ class ImplicitStepper : public TimeStepper {
   int n_prev_ = 0;
   int first_prev_ = 0;  // the first integrated point of the last step
   bool have_prev_ = false;
+  std::unique_ptr<TimeStepper> explicit_;  // the fallback's stepper (none: no safe step)
+  double fallback_until_ = -1.0;           // the stretch's end [s]
 };
 
 }  // namespace cws
