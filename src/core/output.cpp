@@ -121,7 +121,12 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
       << "  \"max_axial_force_N\": " << num(sim.maxAxialForce()) << ",\n";
   const WireModel& m = sim.model();
   const double radius = m.constants().radius;
+  // Accepted steps per turn of the core (null before it turned): how
+  // finely a method resolves the process at its speed.
+  const double turns = std::abs(sim.coreTurns());
   out << "  \"core_turns\": " << num(sim.coreTurns()) << ",\n"
+      << "  \"steps_per_core_revolution\": "
+      << (turns > 0.0 ? num(sim.stepper().counts().accepted / turns) : std::string("null")) << ",\n"
       << "  \"fed_length_m\": " << num(m.fedLength()) << ",\n"
       << "  \"supply_tension_N\": " << (m.supply() ? num(m.portAxialForce()) : std::string("null"))
       << ",\n"

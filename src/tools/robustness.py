@@ -142,6 +142,8 @@ def report(sweep_dir, out_dir, machine):
                 ),
                 "steps": fmt(number(r, "steps_accepted"), "%d"),
                 "retried_steps": fmt(number(r, "steps_rejected"), "%d"),
+                "steps_per_turn": fmt(number(r, "steps_per_core_revolution"), "%.0f"),
+                "fallback_stretches": fmt(number(r, "newton_fallback_stretches"), "%d"),
                 "slowest_stretch": slow if number(r, "slowest_stretch.start_s") is not None else "",
                 "error": r.get("error", ""),
             }
@@ -153,11 +155,11 @@ def report(sweep_dir, out_dir, machine):
         w.writerows(table)
     lo = min(factors) if factors else float("nan")
     med = statistics.median(factors) if factors else float("nan")
-    summary = "%d of %d cases finished; real-time factor: minimum %.3g, median %.3g" % (
-        finished,
-        len(rows),
-        lo,
-        med,
+    fell_back = [number(r, "newton_fallback_stretches") or 0 for r in rows]
+    summary = (
+        "%d of %d cases finished; real-time factor: minimum %.3g, median %.3g;"
+        " explicit fallback in %d cases (%d stretches)"
+        % (finished, len(rows), lo, med, sum(1 for n in fell_back if n > 0), sum(fell_back))
     )
     md = [
         "# Robustness: coils nobody tuned",
@@ -178,17 +180,20 @@ def report(sweep_dir, out_dir, machine):
         "that stopped with an error has no figures and does not count in them. The",
         "slowest stretch is the %g s of simulated time that ran slowest against" % 0.05,
         "real time (summary.json `slowest_stretch`): its real-time factor, Newton",
-        "iterations and factorizations per step, and its mean step.",
+        "iterations and factorizations per step, and its mean step. Steps / turn:",
+        "accepted steps per core revolution. Fallbacks: stretches of 1 ms of",
+        "explicit steps where Newton did not converge even at solver.min_step.",
         "",
         "| case | tension [N] | rpm | pitch / d | width [mm] | layers | mu_s | mu_k | damping |"
         " flanges | status | simulated [s] | real-time factor | iterations / step |"
-        " factorizations / step | retried steps | slowest stretch |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        " factorizations / step | retried steps | steps / turn | fallbacks | slowest stretch |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for t in table:
         status = t["status"] if t["status"] == "ok" else "**%s**" % t["status"]
         md.append(
-            "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |"
+            "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s"
+            " | %s | %s | %s |"
             % (
                 t["case"],
                 t["tension_N"],
@@ -206,6 +211,8 @@ def report(sweep_dir, out_dir, machine):
                 t["iterations_per_step"],
                 t["factorizations_per_step"],
                 t["retried_steps"],
+                t["steps_per_turn"],
+                t["fallback_stretches"],
                 t["slowest_stretch"],
             )
         )
