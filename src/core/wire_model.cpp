@@ -11,7 +11,6 @@
 #include "coil_winding_sim/core/external_forces/end_load.hpp"
 #include "coil_winding_sim/core/external_forces/free_wire_contact.hpp"
 #include "coil_winding_sim/core/external_forces/gravity.hpp"
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
 
 namespace cws {
 
@@ -163,12 +162,10 @@ WireModel::WireModel(const Scene& s)
   acc_.resize(3, c_.capacity);
   qdd_.resize(4, c_.capacity);
   unpack(0.0, y0_, committed_);
-  if (s.physics.planar) {
-    planar_ = std::make_unique<PlanarFormulation>(*this, s);
-  } else if (const IntegratorInfo* info = findIntegrator(s.solver.integrator);
-             info && info->newton_steps) {
-    spatial_ = std::make_unique<SpatialFormulation>(*this, s);
-  }
+  newton_setup_.planar = s.physics.planar;
+  newton_setup_.port = s.physics.supply;
+  newton_setup_.elastic_rigidity = s.wire.stretch.elastic_rigidity;
+  newton_setup_.core_axis_world = s.core.axis_world;
   if (supply_) {
     // The stretched start is work done on the wire before t = 0.
     for (int j = 0; j + 1 < c_.n; ++j) {
@@ -405,11 +402,6 @@ void WireModel::acceptStep(double t, Eigen::VectorXd& y) {
     while (portDistance(t, committed_) < 0.0 && c_.n - 2 > c_.first) removeLastPoint(t, y);
   }
   if (carry_) updateCarried(t, y);
-}
-
-NewtonFormulation* WireModel::newtonFormulation() {
-  if (planar_) return planar_.get();
-  return spatial_.get();
 }
 
 void WireModel::setCoreSpeed(double omega) {

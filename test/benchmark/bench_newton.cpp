@@ -10,6 +10,7 @@
 
 #include <string>
 
+#include "coil_winding_sim/core/implicit/spatial_formulation.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 
@@ -25,7 +26,7 @@ struct Wound {
       : scene(cws::loadScene(std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml",
                              {"process.duration=0.4"})),
         sim(scene),
-        form((sim.run(), sim.model()), scene) {
+        form((sim.run(), sim.model()), scene.solver) {
     form.load(sim.time());
     form.trialState().alpha = 1.0 / scene.solver.implicit_step;
   }

@@ -73,7 +73,7 @@ void checkAllAt(double t_s, double jitter, unsigned seed,
   cws::Simulation sim(scene);
   sim.run();
   cws::WireModel& model = sim.model();
-  cws::PlanarFormulation& form = *model.planarFormulation();
+  cws::PlanarFormulation form(model, scene.solver);
   form.load(sim.time());
   cws::PlanarState& s = form.trialState();
   s.alpha = 1.0 / 1e-4;

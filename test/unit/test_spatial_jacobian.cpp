@@ -162,7 +162,7 @@ Coverage checkAllAt(double t_s, unsigned seed, const std::vector<std::string>& e
   cws::Simulation sim(scene);
   sim.run();
   cws::WireModel& model = sim.model();
-  cws::SpatialFormulation form(model, scene);
+  cws::SpatialFormulation form(model, scene.solver);
   form.load(sim.time());
   cws::SpatialState& s = form.trialState();
   s.alpha = 1.0 / 1e-4;

@@ -19,8 +19,7 @@
 #include "coil_winding_sim/core/core_geometry.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/external_forces/supply.hpp"
-#include "coil_winding_sim/core/implicit/planar_formulation.hpp"
-#include "coil_winding_sim/core/implicit/spatial_formulation.hpp"
+#include "coil_winding_sim/core/implicit/newton_model_view.hpp"
 #include "coil_winding_sim/core/inner_forces/bending.hpp"
 #include "coil_winding_sim/core/inner_forces/stretching.hpp"
 #include "coil_winding_sim/core/inner_forces/twisting.hpp"
@@ -86,13 +85,13 @@ struct ModelState {
   std::vector<double> port_command;
 };
 
-class WireModel : public OdeSystem {
+class WireModel : public OdeSystem, public NewtonModelView {
  public:
   // The scene must have passed validateScene().
   explicit WireModel(const Scene& scene);
   // Whether the prescribed point moves with the core (the clamp on the
   // core, or carried wire), or stands still (a clamp in the world).
-  bool prescribedOnCore() const { return clamp_in_core_; }
+  bool prescribedOnCore() const override { return clamp_in_core_; }
 
   // The state vector: kAuxStates energy terms [W_ext, E_visc], then
   // kStatesPerPoint per free point i >= 1: p (3), q (4), v (3), qdot (4).
@@ -110,19 +109,20 @@ class WireModel : public OdeSystem {
   // constraints pass on to the segments, on the next ones: radius 2 (further
   // coupling through the constraint solve falls ~100x per point).
   ChainStructure chainStructure() const override { return {kAuxStates, kStatesPerPoint, 2}; }
-  PlanarFormulation* planarFormulation() override { return planar_.get(); }
-  NewtonFormulation* newtonFormulation() override;
+  NewtonModelView* newtonModel() override { return this; }
+  const NewtonModelSetup& newtonSetup() const override { return newton_setup_; }
+  int stateOffsetOf(int i) const override { return stateOffset(i); }
   // Offset of point i's block (p, q, v, qdot) in the state vector (i >= 1).
   static int stateOffset(int i) { return kAuxStates + kStatesPerPoint * (i - 1); }
   // Pose and motion at time t [s] of the prescribed point first-1 (the
   // clamp, or the last point the core carries) and of its frame.
   void prescribedPose(double t, Eigen::Vector3d& p_world, Eigen::Vector3d& v_world,
-                      Eigen::Vector4d& q, Eigen::Vector4d& qd) const;
+                      Eigen::Vector4d& q, Eigen::Vector4d& qd) const override;
   // All effects, in evaluation order (implicit steppers set their flags).
-  const std::vector<ForceEffect*>& effectList() { return all_; }
+  const std::vector<ForceEffect*>& effectList() override { return all_; }
 
   const Eigen::VectorXd& initialState() const { return y0_; }
-  const WireConstants& constants() const { return c_; }
+  const WireConstants& constants() const override { return c_; }
 
   // Kinematics of point 0 and of points from..n-1 for a state; returns the
   // clamp's (point 0's) acceleration [m/s^2].
@@ -134,7 +134,7 @@ class WireModel : public OdeSystem {
   }
   // The same without placing deferred carried wire: valid from the
   // boundary point first-1 on (for the steppers).
-  const WireKinematics& integratedKinematics() const { return committed_; }
+  const WireKinematics& integratedKinematics() const override { return committed_; }
 
   EnergyReport energy(const Eigen::VectorXd& y) const;
   double maxConstraintResidual() const { return constraints_.maxResidual(committed_); }
@@ -156,7 +156,7 @@ class WireModel : public OdeSystem {
   const Bending& bending() const { return *bending_; }
   const Twisting* twisting() const { return twisting_.get(); }
   // Null when the scene needs no core (no contact, supply or core clamp).
-  const RotatingCore* core() const { return core_.get(); }
+  const RotatingCore* core() const override { return core_.get(); }
   RotatingCore* core() { return core_.get(); }
   const Contact* contact() const { return contact_; }
   // Contact between free segments (physics.wire_contact; else null).
@@ -265,8 +265,7 @@ class WireModel : public OdeSystem {
   bool carried_kinematics_placed_ = true;
   mutable bool carried_state_placed_ = true;
 
-  std::unique_ptr<PlanarFormulation> planar_;    // planar scenes only
-  std::unique_ptr<SpatialFormulation> spatial_;  // 3-D scenes with Newton steps
+  NewtonModelSetup newton_setup_;  // what a Newton formulation reads of the scene
   Eigen::VectorXd y0_, atol_, rweight_;
   WireKinematics kin_, committed_;
   WireForces forces_;

@@ -6,7 +6,6 @@
 
 #include "coil_winding_sim/core/implicit/newton_iteration.hpp"
 #include "coil_winding_sim/core/quaternion.hpp"
-#include "coil_winding_sim/core/wire_model.hpp"
 
 namespace cws {
 
@@ -20,17 +19,17 @@ quat::Vec4 turnAbout(const Eigen::Vector3d& n, double angle, const quat::Vec4& q
 }
 }  // namespace
 
-PlanarFormulation::PlanarFormulation(WireModel& model, const Scene& scene)
+PlanarFormulation::PlanarFormulation(NewtonModelView& model, const SolverParams& solver)
     : model_(model),
-      multiplier_(scene.physics.supply),
+      multiplier_(model.newtonSetup().port),
       point_mass_(model.constants().point_mass),
       point_inertia_(model.constants().point_inertia),
-      newton_(NewtonSettings::of(scene.solver)),
+      newton_(NewtonSettings::of(solver)),
       carried_(model.core()) {
   const int cap = model.constants().capacity;
   for (ForceEffect* e : model.effectList()) effects_.push_back(e);
   const WireKinematics& k = model.integratedKinematics();
-  state_.plane = PlaneBasis::through(k.p_world.col(0), scene.core.axis_world);
+  state_.plane = PlaneBasis::through(k.p_world.col(0), model.newtonSetup().core_axis_world);
   // The plane normal in the material axes: the same in every frame.
   const quat::Vec4 q0 = k.q.col(0);
   const Eigen::Vector3d n = state_.plane.n_world;
@@ -229,7 +228,7 @@ void PlanarFormulation::store(double h, Eigen::VectorXd& y) {
   y[0] += h * work;
   y[1] += h * dissipated;
   for (int i = f; i < n; ++i) {
-    const int o = WireModel::stateOffset(i);
+    const int o = model_.stateOffsetOf(i);
     y.segment<3>(o) = pl.toWorld(state_.x.col(i));
     y.segment<3>(o + 7) = pl.vectorToWorld(state_.v.col(i));
     // Frame i: the committed frame turned about n onto segment i-1.

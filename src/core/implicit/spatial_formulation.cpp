@@ -6,23 +6,22 @@
 
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
 #include "coil_winding_sim/core/implicit/newton_iteration.hpp"
-#include "coil_winding_sim/core/wire_model.hpp"
 
 namespace cws {
 
-SpatialFormulation::SpatialFormulation(WireModel& model, const Scene& scene)
+SpatialFormulation::SpatialFormulation(NewtonModelView& model, const SolverParams& solver)
     : model_(model),
-      port_(scene.physics.supply),
+      port_(model.newtonSetup().port),
       point_mass_(model.constants().point_mass),
       quat_mass_(4.0 * model.constants().point_inertia),
       segment_length_(model.constants().segment_length),
-      newton_(NewtonSettings::of(scene.solver)),
+      newton_(NewtonSettings::of(solver)),
       carried_(model.core()) {
   const int cap = model.constants().capacity;
   for (ForceEffect* e : model.effectList()) effects_.push_back(e);
   // Constraint rows in the force rows' unit: the axial stiffness EA / l
   // [N/m] for a direction (as the planar port constraint).
-  scale_direction_ = scene.wire.stretch.elastic_rigidity / segment_length_;
+  scale_direction_ = model.newtonSetup().elastic_rigidity / segment_length_;
   state_.p.setZero(3, cap);
   state_.v.setZero(3, cap);
   state_.q.setZero(4, cap);
@@ -274,7 +273,7 @@ void SpatialFormulation::store(double h, Eigen::VectorXd& y) {
   y[0] += h * work;
   y[1] += h * dissipated;
   for (int i = f; i < n; ++i) {
-    const int o = WireModel::stateOffset(i);
+    const int o = model_.stateOffsetOf(i);
     y.segment<3>(o) = state_.p.col(i);
     y.segment<4>(o + 3) = state_.q.col(i);
     y.segment<3>(o + 7) = state_.v.col(i);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "coil_winding_sim/core/implicit/newton_formulations.hpp"
 #include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
 
 namespace cws {
@@ -15,9 +16,11 @@ ImplicitStepper::ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme s
   // resolves solver.fixed_step: auto).
   if (p.fixed_step && *p.fixed_step > 0.0)
     explicit_ = std::make_unique<SymplecticEuler>(p, sys.capacity());
-  const NewtonFormulation* f = sys.newtonFormulation();
-  if (!f)
-    throw std::invalid_argument(std::string(name()) + ": the scene has no Newton formulation");
+  NewtonModelView* model = sys.newtonModel();
+  if (!model)
+    throw std::invalid_argument(std::string(name()) + ": the system has no Newton formulation");
+  formulation_ = makeNewtonFormulation(*model, p);
+  const NewtonFormulation* f = formulation_.get();
   const int cap = sys.capacity();  // more than enough columns
   const int points = (cap - 2) / 14 + 1;
   const int xr = f->configRows(), vr = f->rateRows();
@@ -82,7 +85,7 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     explicitStep(sys, t, y, t_limit);
     return;
   }
-  NewtonFormulation& f = *sys.newtonFormulation();
+  NewtonFormulation& f = *formulation_;
   f.load(t);
   const int first = f.first(), n = f.n(), m = n - first;
   const int xr = f.configRows();

@@ -18,17 +18,17 @@
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
 #include "coil_winding_sim/core/implicit/newton_iteration.hpp"
+#include "coil_winding_sim/core/implicit/newton_model_view.hpp"
 #include "coil_winding_sim/core/implicit/planar_assembly.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 
 namespace cws {
 
-class WireModel;
 class ForceEffect;
 
 class PlanarFormulation : public NewtonFormulation {
  public:
-  PlanarFormulation(WireModel& model, const Scene& scene);
+  PlanarFormulation(NewtonModelView& model, const SolverParams& solver);
 
   // x: plane coordinates (2 rows); v: their rates and the frame's angular
   // velocity (3 rows), for the steppers.
@@ -87,7 +87,7 @@ class PlanarFormulation : public NewtonFormulation {
   int changedTop() const;
   void returnMapping(bool on) { state_.return_mapping = on; }
 
-  WireModel& model_;
+  NewtonModelView& model_;
   std::vector<ForceEffect*> effects_;
   bool multiplier_;  // a supply port constraint
   double point_mass_, point_inertia_;

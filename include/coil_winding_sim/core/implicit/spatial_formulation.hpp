@@ -15,6 +15,7 @@
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
 #include "coil_winding_sim/core/implicit/newton_iteration.hpp"
+#include "coil_winding_sim/core/implicit/newton_model_view.hpp"
 #include "coil_winding_sim/core/implicit/pair_coupling_solve.hpp"
 #include "coil_winding_sim/core/implicit/secant_steps.hpp"
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
@@ -22,12 +23,11 @@
 
 namespace cws {
 
-class WireModel;
 class ForceEffect;
 
 class SpatialFormulation : public NewtonFormulation {
  public:
-  SpatialFormulation(WireModel& model, const Scene& scene);
+  SpatialFormulation(NewtonModelView& model, const SolverParams& solver);
 
   // x: p (rows 0-2), q (rows 3-6); v: their rates.
   int configRows() const override { return 7; }
@@ -75,7 +75,7 @@ class SpatialFormulation : public NewtonFormulation {
   int changedTop() const;
   void returnMapping(bool on) { state_.return_mapping = on; }
 
-  WireModel& model_;
+  NewtonModelView& model_;
   std::vector<ForceEffect*> effects_;
   bool port_;                      // a supply port constraint
   double point_mass_, quat_mass_;  // [kg], 4 I [kg m^2]

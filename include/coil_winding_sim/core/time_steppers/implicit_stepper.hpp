@@ -20,6 +20,7 @@
 #include <memory>
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
+#include "coil_winding_sim/core/implicit/newton_model_view.hpp"
 #include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
 
 namespace cws {
@@ -58,6 +59,8 @@ class ImplicitStepper : public TimeStepper {
   void explicitStep(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit);
   SolverParams p_;
   Scheme scheme_;
+  // The formulation it solves, built from the system's view of its model.
+  std::unique_ptr<NewtonFormulation> formulation_;
   double h_, h_last_ = 0.0;
   StepCounts counts_;
   NewtonCounts newton_;

@@ -12,8 +12,7 @@
 
 namespace cws {
 
-class PlanarFormulation;
-class NewtonFormulation;
+class NewtonModelView;
 
 // Sparsity of a chain: `lead` leading components that nothing depends on
 // (integrated quantities such as work done), then blocks of `block`
@@ -50,12 +49,9 @@ class OdeSystem {
   virtual bool semiImplicitUpdate(double /*h*/, ConstRef /*dydt*/, Ref /*y*/) const {
     return false;
   }
-  // Reduced coordinates for implicit steppers (planar scenes); null when
-  // the system has none.
-  virtual PlanarFormulation* planarFormulation() { return nullptr; }
-  // The formulation implicit steppers solve (the planar one, or the 3-D one
-  // when the scene's integrator takes Newton steps); null when none.
-  virtual NewtonFormulation* newtonFormulation() { return nullptr; }
+  // What an implicit stepper's Newton formulation reads of the system
+  // (implicit/newton_model_view.hpp); null when it offers none.
+  virtual NewtonModelView* newtonModel() { return nullptr; }
   // Sparsity for integrators that build a banded Jacobian.
   virtual ChainStructure chainStructure() const { return {}; }
   // Called once per accepted step with the new time and state (capacity()

@@ -1,0 +1,45 @@
+// What a Newton formulation reads of the wire model: a narrow view the
+// model offers and the implicit stepper hands to the formulation it builds
+// (newton_formulations.hpp). The model does not know the formulations.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "coil_winding_sim/core/wire_types.hpp"
+
+namespace cws {
+
+class RotatingCore;
+
+// The scene's facts a formulation needs beyond the solver's keys.
+struct NewtonModelSetup {
+  bool planar = false;            // physics.planar: the planar formulation
+  bool port = false;              // physics.supply: the port's multipliers
+  double elastic_rigidity = 0.0;  // wire.stretch.elastic_rigidity EA [N]
+  Eigen::Vector3d core_axis_world = Eigen::Vector3d::UnitZ();  // core.axis_world
+};
+
+class NewtonModelView {
+ public:
+  virtual ~NewtonModelView() = default;
+  virtual const NewtonModelSetup& newtonSetup() const = 0;
+  virtual const WireConstants& constants() const = 0;
+  // Kinematics at the last accepted step, valid from the boundary point
+  // first-1 on (deferred carried wire is not placed).
+  virtual const WireKinematics& integratedKinematics() const = 0;
+  // All effects, in evaluation order (the formulation sets their flags).
+  virtual const std::vector<ForceEffect*>& effectList() = 0;
+  // Null when the scene needs no core.
+  virtual const RotatingCore* core() const = 0;
+  // Pose and motion at time t [s] of the prescribed point first-1 (the
+  // clamp, or the last point the core carries) and of its frame, and
+  // whether it moves with the core.
+  virtual void prescribedPose(double t, Eigen::Vector3d& p_world, Eigen::Vector3d& v_world,
+                              Eigen::Vector4d& q, Eigen::Vector4d& qd) const = 0;
+  virtual bool prescribedOnCore() const = 0;
+  // Offset of point i's block (p, q, v, qdot) in the state vector (i >= 1).
+  virtual int stateOffsetOf(int i) const = 0;
+};
+
+}  // namespace cws
