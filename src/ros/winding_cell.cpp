@@ -395,8 +395,8 @@ void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("step size [s]", sim_->stepper().lastStep());
   stat.add("max constraint residual", sim_->model().maxConstraintResidual());
   stat.add("points", sim_->model().constants().n);
-  if (const cws::NewtonCounts* n = sim_->stepper().newtonCounts())
-    stat.add("explicit fallback stretches", n->fallback_stretches);
+  const cws::NewtonCounts* newton = sim_->stepper().newtonCounts();
+  if (newton) stat.add("explicit fallback stretches", newton->fallback_stretches);
   stat.add("static friction", sim_->scene().contact.static_friction);
   stat.add("kinetic friction", sim_->scene().contact.kinetic_friction);
   stat.add("damping translational [N s/m^2]", sim_->scene().damping.translational);
@@ -412,10 +412,10 @@ void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, message);
   } else if (finished()) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "replay done");
-  } else if (fallbackRecent()) {
+  } else if (newton && fallbackRecent()) {
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
                   "explicit steps where Newton could not go on (%ld stretches; last: %s)",
-                  fallback_seen_, sim_->stepper().newtonCounts()->fallback_cause);
+                  fallback_seen_, newton->fallback_cause);
   } else if (!keeping_pace_) {
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
                   "not keeping pace: real-time factor %.3g, target %.3g", rtf, pace_.target());
@@ -428,10 +428,16 @@ void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
 
 void WindingCell::noteFallback() {
   const cws::NewtonCounts* n = sim_->stepper().newtonCounts();
-  if (!n || n->fallback_stretches == fallback_seen_) return;
-  // (A reset or a restore starts the count again.)
-  fallback_seen_ = n->fallback_stretches;
-  if (fallback_seen_ == 0) return;
+  const long count = n ? n->fallback_stretches : 0;
+  if (count == fallback_seen_) return;
+  // A reset or a restore starts the count again (or a method without
+  // Newton steps has none): what came before no longer warns.
+  if (count < fallback_seen_) {
+    fallback_seen_ = count;
+    fallback_wall_s_ = -1e300;
+    return;
+  }
+  fallback_seen_ = count;
   fallback_wall_s_ = wallNow();
   char text[256];
   std::snprintf(text, sizeof text,
