@@ -42,7 +42,6 @@ void ImplicitStepper::restore(double next_step, double last_step, const StepCoun
 void ImplicitStepper::beginFallback(double t, double h, bool converged) {
   fallback_until_ = t + kFallbackStretch;
   ++newton_.fallback_stretches;
-  newton_.fallback_last_t = t;
   // (Formatted into a fixed buffer: a step allocates nothing.)
   std::snprintf(newton_.fallback_cause, sizeof newton_.fallback_cause,
                 converged

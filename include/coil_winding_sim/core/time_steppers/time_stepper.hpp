@@ -26,7 +26,6 @@ struct NewtonCounts {
   long return_mapped_solves = 0;  // solves that reached solver.return_mapping_round
   long fallback_stretches = 0;    // stretches of explicit steps where Newton could not go on
   long fallback_steps = 0;        // explicit steps in them
-  double fallback_last_t = -1.0;  // [s] where the last stretch began (-1: none)
   char fallback_cause[160] = "";  // why it began (empty: none; a step allocates nothing)
 };
 
