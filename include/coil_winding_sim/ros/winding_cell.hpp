@@ -153,15 +153,15 @@ class WindingCell {
   double job_wall_s_ = 0.0;        // the ended job's wall time [s]
   // ~start at_rest: the core held at 0 until the first speed setpoint.
   std::atomic<bool> at_rest_{false};
-  WallThrottle pace_warning_{10.0};               // "not keeping pace" on the console
-  WallThrottle fallback_warning_{10.0};           // explicit fallback stretches on the console
-  long fallback_seen_ = 0;                        // stretches noted so far
-  double fallback_wall_s_ = -1e300;               // wall time of the last new one [s]
-  std::string last_status_;                       // the state last sent on cell_status
-  double force_max_N_ = 1.0;                      // the wire's colour range, 0 to this [N]
-  std::optional<double> run_until_;               // pause when the simulated time reaches it [s]
-  double compute_s_ = 0.0;                        // wall time in the present job's steps [s]
-  std::unique_ptr<JobErrorEstimator> estimator_;  // with ~error_estimate
+  WallThrottle pace_warning_{10.0};                // "not keeping pace" on the console
+  WallThrottle fallback_warning_{kFallbackWarnS};  // explicit fallback stretches on the console
+  long fallback_seen_ = 0;                         // stretches noted so far
+  double fallback_wall_s_ = -1e300;                // wall time of the last new one [s]
+  std::string last_status_;                        // the state last sent on cell_status
+  double force_max_N_ = 1.0;                       // the wire's colour range, 0 to this [N]
+  std::optional<double> run_until_;                // pause when the simulated time reaches it [s]
+  double compute_s_ = 0.0;                         // wall time in the present job's steps [s]
+  std::unique_ptr<JobErrorEstimator> estimator_;   // with ~error_estimate
   std::string failure_;
   double clock_offset_ = 0.0;
   PaceKeeper pace_;

@@ -20,7 +20,6 @@
 #include <memory>
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
-#include "coil_winding_sim/core/implicit/newton_model_view.hpp"
 #include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
 
 namespace cws {
