@@ -3,12 +3,78 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "coil_winding_sim/core/input_log.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 
 namespace cws {
+
+namespace {
+// The Newton-step methods' refinement of the step.
+constexpr double kNewtonRefinement = 0.25;
+
+bool newtonSteps(const Scene& scene) {
+  const IntegratorInfo* info = findIntegrator(scene.solver.integrator);
+  return info && info->newton_steps;
+}
+
+// Point i at the end of a run, in the core frame where there is a core.
+Eigen::Vector3d pointOf(const Simulation& sim, int i) {
+  const Eigen::Vector3d p = sim.model().committed().p_world.col(i);
+  const RotatingCore* core = sim.model().core();
+  return core ? core->pointCore(sim.time(), p) : p;
+}
+
+// How many points the wound curve of a run holds: to its last point on the core
+// (the whole wire where nothing is wound).
+int woundCount(const Simulation& sim) {
+  const BulgeReport b = sim.model().bulging();
+  const int n = sim.model().constants().n;
+  return b.valid && b.wound_points >= 2 ? std::min(b.wound_points, n) : n;
+}
+
+// Its first `count` points, core frame.
+std::vector<Eigen::Vector3d> curveOf(const Simulation& sim, int count) {
+  std::vector<Eigen::Vector3d> curve(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) curve[static_cast<std::size_t>(i)] = pointOf(sim, i);
+  return curve;
+}
+
+double pointSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d d = b - a;
+  const double len2 = d.squaredNorm();
+  const double s = len2 > 0.0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return (p - (a + s * d)).norm();
+}
+
+// The largest distance of a's points from polyline b (one way).
+double oneWay(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
+  const int nb = static_cast<int>(b.size());
+  double worst = 0.0;
+  for (int i = 0; i < static_cast<int>(a.size()); ++i) {
+    const auto& p = a[static_cast<std::size_t>(i)];
+    if (nb == 1) {
+      worst = std::max(worst, (p - b[0]).norm());
+      continue;
+    }
+    double best = std::numeric_limits<double>::infinity();
+    const int from = std::clamp(i - kCurveWindow, 0, nb - 2);
+    const int to = std::clamp(i + kCurveWindow, 0, nb - 2);
+    for (int j = from; j <= to; ++j) {
+      best = std::min(best, pointSegment(p, b[static_cast<std::size_t>(j)],
+                                         b[static_cast<std::size_t>(j + 1)]));
+    }
+    worst = std::max(worst, best);
+  }
+  return worst;
+}
+}  // namespace
+
+double refinementScale(const Scene& scene) {
+  return newtonSteps(scene) ? 1.0 / (1.0 - kNewtonRefinement) : 1.0;
+}
 
 Scene refinedScene(const Scene& scene, std::string& refinement) {
   Scene s = scene;
@@ -17,8 +83,8 @@ Scene refinedScene(const Scene& scene, std::string& refinement) {
     s.solver.fixed_step = 0.5 * fixedStep(scene);
     refinement = "solver.fixed_step / 2";
   } else if (info && info->newton_steps) {
-    s.solver.implicit_step *= 0.5;
-    refinement = "solver.implicit_step / 2";
+    s.solver.implicit_step *= kNewtonRefinement;
+    refinement = "solver.implicit_step / 4, the difference x 4/3";
   } else {
     s.solver.rtol *= 0.1;
     s.solver.atol *= 0.1;
@@ -32,38 +98,43 @@ SimulationState refinedState(const SimulationState& start, std::string& refineme
   const Scene scene = sceneFromYamlText(start.scene_yaml);
   const Scene refined = refinedScene(scene, refinement);
   st.scene_yaml = sceneToYamlText(refined);
-  // The step the stepper resumes with, halved too (the Newton-step methods
-  // resume with it; an explicit fixed step comes from the scene).
-  st.next_step_s *= 0.5;
+  // The step the stepper resumes with, refined alike (the Newton-step
+  // methods resume with it; an explicit fixed step comes from the scene).
+  st.next_step_s *= newtonSteps(scene) ? kNewtonRefinement : 0.5;
   return st;
 }
 
-namespace {
-// Point i at the end of a run, in the core frame where there is a core.
-Eigen::Vector3d pointOf(const Simulation& sim, int i) {
-  const Eigen::Vector3d p = sim.model().committed().p_world.col(i);
-  const RotatingCore* core = sim.model().core();
-  return core ? core->pointCore(sim.time(), p) : p;
+double curveDistance(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
+  if (a.empty() || b.empty()) return 0.0;
+  return std::max(oneWay(a, b), oneWay(b, a));
 }
-}  // namespace
+
+RunDifference differenceOf(const Simulation& run, const Simulation& other) {
+  RunDifference d;
+  // The part both wound (one run may have one more point down on the core:
+  // that point would stand a segment beyond the other curve's end).
+  const int count = std::min(woundCount(run), woundCount(other));
+  d.shape_rel_diameter =
+      curveDistance(curveOf(run, count), curveOf(other, count)) / run.scene().wire.diameter;
+  const BulgeReport a = run.model().bulging(), b = other.model().bulging();
+  if (a.valid && b.valid && b.height_m > 0.0) {
+    d.bulging_valid = true;
+    d.bulging_rel = std::abs(a.height_m - b.height_m) / b.height_m;
+  }
+  return d;
+}
 
 ErrorEstimate compareWithRefined(const Simulation& run, const Simulation& refined,
                                  const std::string& refinement) {
   ErrorEstimate e;
   e.refinement = refinement;
+  e.scale = refinementScale(run.scene());
   e.wall_s = run.wallTime();
   e.refined_wall_s = refined.wallTime();
-  const int common = std::min(run.model().constants().n, refined.model().constants().n);
-  double worst = 0.0;
-  for (int i = 0; i < common; ++i) {
-    worst = std::max(worst, (pointOf(run, i) - pointOf(refined, i)).norm());
-  }
-  e.shape_error_rel_diameter = worst / run.scene().wire.diameter;
-  const BulgeReport a = run.model().bulging(), b = refined.model().bulging();
-  if (a.valid && b.valid && b.height_m > 0.0) {
-    e.bulging_valid = true;
-    e.bulging_error_rel = std::abs(a.height_m - b.height_m) / b.height_m;
-  }
+  const RunDifference d = differenceOf(run, refined);
+  e.shape_error_rel_diameter = e.scale * d.shape_rel_diameter;
+  e.bulging_valid = d.bulging_valid;
+  e.bulging_error_rel = e.scale * d.bulging_rel;
   return e;
 }
 

@@ -135,6 +135,7 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
       << "  \"carried_points\": " << m.carriedPoints() << ",\n";
   if (estimate) {
     out << "  \"error_estimate\": {\"refinement\": \"" << estimate->refinement << "\", "
+        << "\"scale\": " << num(estimate->scale) << ", "
         << "\"shape_error_rel_diameter\": " << num(estimate->shape_error_rel_diameter) << ", "
         << "\"bulging_error_rel\": "
         << (estimate->bulging_valid ? num(estimate->bulging_error_rel) : std::string("null"))

@@ -1,5 +1,5 @@
 // rostest of the node's ~error_estimate: a job with a tension setpoint given
-// mid-job ends with an estimate that ran the job again at half the step
+// mid-job ends with an estimate that ran the job again at a quarter of the step
 // with the same setpoint at the same simulated time; a reset starts a new
 // job with an estimate of its own.
 #include <gtest/gtest.h>
@@ -56,11 +56,13 @@ bool pause(bool on) {
 // The checks every estimate of the 0.1 s job must pass.
 void expectSound(const coil_winding_sim::ErrorEstimate& e) {
   EXPECT_TRUE(e.failure.empty()) << e.failure;
-  EXPECT_EQ(e.refinement, "solver.implicit_step / 2");
+  EXPECT_EQ(e.refinement, "solver.implicit_step / 4, the difference x 4/3");
   EXPECT_NEAR(e.sim_time, 0.1, 1e-9);
-  // A refined run differs, but within a few percent of d: the same job.
+  // A refined run differs, but by hundredths of d (0.063 d with the
+  // estimate's 4/3; the unit test InputLog.EstimateFromInputs... finds a
+  // run without the setpoint more than ten times farther): the same job.
   EXPECT_GT(e.shape_error, 0.0);
-  EXPECT_LT(e.shape_error, 0.05);
+  EXPECT_LT(e.shape_error, 0.1);
   EXPECT_TRUE(std::isfinite(e.bulging_error)) << "the default job winds wire";
   EXPECT_LT(e.bulging_error, 0.05);
   EXPECT_GT(e.compute_time, 0.0);

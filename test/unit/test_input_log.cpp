@@ -89,23 +89,23 @@ TEST(InputLog, AnOverflowedLogRefusesToReplay) {
   EXPECT_EQ(log.size(), 0u);
 }
 
-TEST(InputLog, RefinedStateContinuesAtHalfTheStep) {
+TEST(InputLog, RefinedStateContinuesAtAQuarterOfTheStep) {
   const cws::Scene scene = shortCase();
   cws::Simulation sim(scene);
   stepTo(sim, 0.004);
   std::string what;
   const cws::SimulationState start = sim.saveState();
   auto refined = cws::Simulation::fromState(cws::refinedState(start, what));
-  EXPECT_EQ(what, "solver.implicit_step / 2");
-  EXPECT_DOUBLE_EQ(refined->scene().solver.implicit_step, 0.5 * scene.solver.implicit_step);
+  EXPECT_EQ(what, "solver.implicit_step / 4, the difference x 4/3");
+  EXPECT_DOUBLE_EQ(refined->scene().solver.implicit_step, 0.25 * scene.solver.implicit_step);
   EXPECT_DOUBLE_EQ(refined->time(), 0.004);
   EXPECT_EQ((refined->state() - sim.state()).cwiseAbs().maxCoeff(), 0.0);
-  // It resumes with half the step the run would have taken next (which
-  // may be below solver.implicit_step after a retried step).
-  EXPECT_DOUBLE_EQ(refined->stepper().nextStep(), 0.5 * sim.stepper().nextStep());
+  // It resumes with a quarter of the step the run would have taken next
+  // (which may be below solver.implicit_step after a retried step).
+  EXPECT_DOUBLE_EQ(refined->stepper().nextStep(), 0.25 * sim.stepper().nextStep());
   const double h = sim.stepper().nextStep();
   refined->step(1.0);
-  EXPECT_NEAR(refined->time() - 0.004, 0.5 * h, 1e-15);
+  EXPECT_NEAR(refined->time() - 0.004, 0.25 * h, 1e-15);
 }
 #endif
 
@@ -122,10 +122,11 @@ TEST(InputLog, EstimateFromInputsIsTheRefinedRunWithTheSameInputs) {
   stepTo(job, scene.endTime());
   const std::optional<cws::ErrorEstimate> e = cws::estimateFromInputs(start, log, job);
   ASSERT_TRUE(e.has_value());
-  EXPECT_EQ(e->refinement, "solver.implicit_step / 2");
+  EXPECT_EQ(e->refinement, "solver.implicit_step / 4, the difference x 4/3");
   EXPECT_GT(e->refined_wall_s, 0.0);
-  std::printf("bdf2 against half its step, tension step at 6 ms: shape %.4f d, bulging %.4f\n",
-              e->shape_error_rel_diameter, e->bulging_error_rel);
+  std::printf(
+      "bdf2 against a quarter of its step, tension step at 6 ms: shape %.4f d, bulging %.4f\n",
+      e->shape_error_rel_diameter, e->bulging_error_rel);
 
   // Independently: the refined scene run by hand with the same step.
   std::string what;

@@ -50,13 +50,40 @@ TEST(Integrators, NewtonStepMethodsTakeA3DScene) {
 TEST(ErrorEstimate, RefinesTheSettingTheMethodReads) {
   std::string what;
   cws::Scene s = cws::loadScene(kDefault, {"solver.integrator=bdf2"});
-  EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.implicit_step, 0.5 * s.solver.implicit_step);
-  EXPECT_EQ(what, "solver.implicit_step / 2");
+  EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.implicit_step, 0.25 * s.solver.implicit_step);
+  EXPECT_EQ(what, "solver.implicit_step / 4, the difference x 4/3");
+  // A first-order error e(h) = c h: the difference to h / 4 is 3/4 of it.
+  EXPECT_DOUBLE_EQ(cws::refinementScale(s), 4.0 / 3.0);
   s = cws::loadScene(kDefault, {"solver.integrator=symplectic_euler"});
   EXPECT_DOUBLE_EQ(*cws::refinedScene(s, what).solver.fixed_step, 0.5 * cws::fixedStep(s));
+  EXPECT_EQ(cws::refinementScale(s), 1.0);
   s = cws::loadScene(kDefault, {"solver.integrator=rkf45"});
   EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.rtol, 0.1 * s.solver.rtol);
   EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.atol, 0.1 * s.solver.atol);
+  EXPECT_EQ(cws::refinementScale(s), 1.0);
+}
+
+// The shape error is the distance of the two curves, not of the points
+// with the same index: a wire that was fed a little more or less lies on
+// the same curve, its points shifted along it.
+TEST(ErrorEstimate, CurveDistanceIsTheLargestOffsetBetweenTwoCurves) {
+  const double l = 1e-3;
+  std::vector<Eigen::Vector3d> a, along, offset, bump;
+  for (int i = 0; i < 40; ++i) {
+    a.emplace_back(i * l, 0.0, 0.0);
+    along.emplace_back((i + 0.3) * l, 0.0, 0.0);
+    offset.emplace_back(i * l, 2e-5, 0.0);
+    bump.emplace_back(i * l, i == 20 ? 5e-5 : 0.0, 0.0);
+  }
+  // Shifted along itself: only the end that sticks out counts (0.3 l past
+  // the last point of a), nothing in between.
+  EXPECT_NEAR(cws::curveDistance(a, along), 0.3 * l, 1e-12);
+  along.pop_back();
+  along.erase(along.begin());
+  EXPECT_NEAR(cws::curveDistance(a, along), 1.3 * l, 1e-12);  // a's first point from along's start
+  EXPECT_NEAR(cws::curveDistance(a, offset), 2e-5, 1e-12);
+  EXPECT_NEAR(cws::curveDistance(a, bump), 5e-5, 1e-12);
+  EXPECT_EQ(cws::curveDistance(a, a), 0.0);
 }
 
 TEST(ErrorEstimate, ARunAgainstItselfHasNoErrorAndAgainstItsRefinementSome) {
@@ -67,11 +94,12 @@ TEST(ErrorEstimate, ARunAgainstItselfHasNoErrorAndAgainstItsRefinementSome) {
   b.run();
   const cws::ErrorEstimate same = cws::compareWithRefined(a, b, "none");
   EXPECT_EQ(same.shape_error_rel_diameter, 0.0);
+  EXPECT_EQ(same.scale, 4.0 / 3.0);
   std::string what;
   cws::Simulation fine(cws::refinedScene(s, what));
   fine.run();
   const cws::ErrorEstimate e = cws::compareWithRefined(a, fine, what);
-  std::printf("bdf2 1e-4 against 5e-5 at t = 0.03 s: shape %.3g d, bulging %.3g\n",
+  std::printf("bdf2 1e-4 against 2.5e-5 at t = 0.03 s (x 4/3): shape %.3g d, bulging %.3g\n",
               e.shape_error_rel_diameter, e.bulging_error_rel);
   // The wound wire is wound: both runs agree to a few percent of d, and they
   // are not the same run.

@@ -1,8 +1,8 @@
 // The inputs a run received while it ran (core speed and tension setpoints,
 // port commands), each with the simulated time it was given at, so that the
 // run can be repeated from its start with another solver setting: the ROS
-// node's ~error_estimate runs a finished job again at half the step and
-// compares the two.
+// node's ~error_estimate runs a finished job again at a quarter of the step
+// and compares the two.
 #pragma once
 
 #include <Eigen/Core>
