@@ -27,8 +27,8 @@ struct ErrorEstimate {
   // nothing is wound) over d, times `scale`: the shape error the accuracy
   // figures measure.
   double shape_error_rel_diameter = 0.0;
-  double bulging_error_rel =
-      0.0;  // |difference| / refined bulging height, times `scale` (0 without one)
+  // |difference| / refined bulging height, times `scale` (0 without one).
+  double bulging_error_rel = 0.0;
   bool bulging_valid = false;
   double scale = 1.0;           // what the differences were multiplied by (refinementScale)
   double wall_s = 0.0;          // the run's own wall time [s]
