@@ -114,6 +114,10 @@ std::vector<SceneKey> declareKeys() {
                                                   "tangential spring holding a stuck point"),
       key<&S::contact, &Contact::stick_speed>("contact.stick_speed", "m/s", kPositive,
                                               "a slipping point sticks again below this speed"),
+      key<&S::contact, &Contact::friction_law>("contact.friction_law", "",
+                                               oneOf({"stick_speed", "elastic_slip"}),
+                                               "stick below stick_speed, or elastic slip "
+                                               "returned onto the friction cone"),
       key<&S::contact, &Contact::damping_ratio>("contact.damping_ratio", "-", kNonNegative,
                                                 "dashpots of the normal and stick springs, "
                                                 "fraction of critical; 0: the paper's"),

@@ -57,8 +57,8 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
   // the first integrated point.)
   int last_start = -1, prev_start = -1, last_end = -1;
   for (int i = c_.n - 1; i >= std::max(1, c_.first) && prev_start < 0; --i) {
-    if (last_end < 0 && contact_->stuck(i)) last_end = i;
-    if (contact_->stuck(i) && !contact_->stuck(i - 1))
+    if (last_end < 0 && contact_->resting(i)) last_end = i;
+    if (contact_->resting(i) && !contact_->resting(i - 1))
       (last_start < 0 ? last_start : prev_start) = i;
   }
   if (last_start < 0 && last_end >= 0) last_start = std::max(1, c_.first);
@@ -74,9 +74,9 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
   // not stuck). The tension behind it changes, so the wire back to the
   // stuck group before the slipping point is integrated again.
   for (int i = c_.first; i < limit; ++i) {
-    if (contact_->inContact(i) && !contact_->stuck(i)) {
+    if (contact_->inContact(i) && !contact_->resting(i)) {
       int r = i;
-      while (r > 1 && !(contact_->stuck(r) && !contact_->stuck(r - 1))) --r;
+      while (r > 1 && !(contact_->resting(r) && !contact_->resting(r - 1))) --r;
       // On a long group (a drum, a layer on a layer) no further back than
       // half a turn.
       r = std::max(r, halfTurnBehind(t, i, r));

@@ -1,12 +1,15 @@
 // Static and kinetic friction against closed forms: the tip of a clamped
 // wire is pressed onto a cylinder whose surface slides along the wire's axis
 // beneath it. The friction force on the tip is carried to the clamp as the
-// wire's axial force, so the axial force of segment 0 measures it.
+// wire's axial force, so the axial force of segment 0 measures it. Each
+// closed form holds for both friction laws (contact.friction_law), with
+// explicit steps and with the Newton steps of bdf2.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "wire_test_support.hpp"
@@ -22,8 +25,11 @@ constexpr double kPress = 1.0;    // tip force pressing onto the cylinder [N]
 // `surface_speed` [m/s] in +x, away from the clamp. (Contact uses the core's
 // rigid-body velocity at the mass point, u_j of eqs. 16-17, so that wire
 // carried by the core has no relative velocity.)
-cws::Scene pressedTip(double surface_speed, double duration) {
+cws::Scene pressedTip(double surface_speed, double duration, const std::string& law = "stick_speed",
+                      const std::string& integrator = "") {
   cws::Scene s = cws_test::cantilever(kL, 10);
+  s.contact.friction_law = law;
+  if (!integrator.empty()) s.solver.integrator = integrator;
   s.physics.plasticity = false;
   s.physics.contact = true;
   s.physics.friction = true;
@@ -50,12 +56,33 @@ double normalForce(const cws::Simulation& sim) {
   const double h = kRadius + 0.5 * s.wire.diameter - Eigen::Vector2d(d.x(), d.z()).norm();
   return s.contact.stiffness * h;
 }
+
+// A friction law and an integrator ("": the cantilever's explicit one).
+struct LawCase {
+  const char* law;
+  const char* integrator;
+};
+class FrictionLaw : public ::testing::TestWithParam<LawCase> {
+ protected:
+  cws::Scene tip(double surface_speed, double duration) const {
+    return pressedTip(surface_speed, duration, GetParam().law, GetParam().integrator);
+  }
+};
 }  // namespace
 
-TEST(Friction, SlidingSurfaceDragsWithKineticFriction) {
+INSTANTIATE_TEST_SUITE_P(Laws, FrictionLaw,
+                         ::testing::Values(LawCase{"stick_speed", ""}, LawCase{"elastic_slip", ""},
+                                           LawCase{"elastic_slip", "bdf2"}),
+                         [](const ::testing::TestParamInfo<LawCase>& info) {
+                           return std::string(info.param.law) +
+                                  (info.param.integrator[0] ? "_" : "") + info.param.integrator;
+                         });
+
+TEST_P(FrictionLaw, SlidingSurfaceDragsWithKineticFriction) {
   // 0.05 m/s is far above contact.stick_speed: the tip slides all along and
-  // the wire carries mu_d N (eq. 18).
-  cws::Simulation sim(pressedTip(0.05, 0.03));
+  // the wire carries mu_d N (eq. 18). (Elastic slip: the stick spring's
+  // trial force leaves the cone at every step.)
+  cws::Simulation sim(tip(0.05, 0.03));
   sim.run();
   const int tip = sim.model().constants().n - 1;
   const double n = normalForce(sim);
@@ -69,13 +96,13 @@ TEST(Friction, SlidingSurfaceDragsWithKineticFriction) {
   EXPECT_FALSE(sim.model().point(tip).stick);
 }
 
-TEST(Friction, StickHoldsBelowStaticLimitThenSlips) {
+TEST_P(FrictionLaw, StickHoldsBelowStaticLimitThenSlips) {
   // The surface creeps at 1e-4 m/s, below contact.stick_speed: the tip sticks
   // and is dragged along, loading the wire through the stick spring and the
   // wire's axial stiffness in series (k = 1 / (1/k_t + L/EA)), until the
   // friction force reaches mu_s N (eqs. 19-20); then it slips.
   const double v_s = 1e-4;
-  cws::Scene s = pressedTip(v_s, 0.006);
+  cws::Scene s = tip(v_s, 0.006);
   cws::Simulation sim(s);
   // Let the press settle before the creep is measured: the surface is
   // already moving, so record time and force when the tip first sticks under
@@ -120,13 +147,14 @@ TEST(Friction, StickHoldsBelowStaticLimitThenSlips) {
   EXPECT_LT(max_rate_error, 0.01);
 }
 
-TEST(Friction, StickSlipRepeatsAtTheStaticLimit) {
+TEST_P(FrictionLaw, StickSlipRepeatsAtTheStaticLimit) {
   // Creeping surface: after a slip the tip's sliding speed falls below
-  // contact.stick_speed, it sticks again where it is, is loaded again and
-  // slips again at mu_s N: a stick-slip sawtooth whose peaks of the friction
-  // force are mu_s N, N measured from the penetration. (The clamp's axial
-  // force rings after each slip, so the friction force is read at the tip.)
-  cws::Scene s = pressedTip(1e-4, 0.02);
+  // contact.stick_speed (elastic slip: its sliding stops), it sticks again
+  // where it is, is loaded again and slips again at mu_s N: a stick-slip
+  // sawtooth whose peaks of the friction force are mu_s N, N measured from
+  // the penetration. (The clamp's axial force rings after each slip, so the
+  // friction force is read at the tip.)
+  cws::Scene s = tip(1e-4, 0.02);
   cws::Simulation sim(s);
   const int tip = sim.model().constants().n - 1;
   const double mu_s = s.contact.static_friction;

@@ -105,4 +105,15 @@ TEST(PlanarJacobian, EveryEffectMatchesFiniteDifferencesAtStart) { checkAllAt(1e
 TEST(PlanarJacobian, ContactDashpotsMatchFiniteDifferences) {
   checkAllAt(0.02, 1e-6, 3, {"contact.damping_ratio=1.0"});
 }
+
+// Elastic slip (contact.friction_law) with the dashpots: slip where the
+// jitter carries the stick spring's trial force out of the cone (2e6 N/m),
+// stick where it stays inside (2e4 N/m).
+TEST(PlanarJacobian, ElasticSlipMatchesFiniteDifferences) {
+  for (const char* k_t : {"2.0e6", "2.0e4"}) {
+    checkAllAt(0.02, 1e-6, 3,
+               {"contact.damping_ratio=1.0", "contact.friction_law=elastic_slip",
+                std::string("contact.stick_stiffness=") + k_t});
+  }
+}
 #endif

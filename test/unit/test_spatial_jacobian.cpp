@@ -237,6 +237,20 @@ TEST(SpatialJacobian, ContactDashpotsMatchFiniteDifferences) {
   EXPECT_GT(c.touching - c.stuck, 0) << "no slipping point";
 }
 
+// Elastic slip (contact.friction_law): the return map's consistent tangent,
+// with the dashpots. The states' 1 um jitter puts the stick spring's trial
+// force (2e6 N/m) far outside the cone of most points (slip); with a stick
+// spring of 2e4 N/m it stays inside (stick).
+TEST(SpatialJacobian, ElasticSlipMatchesFiniteDifferences) {
+  for (const char* k_t : {"2.0e6", "2.0e4"}) {
+    const Coverage c = checkAllAt(
+        0.03, 4,
+        {"process.core_speed_rpm=1200", "contact.damping_ratio=1.0",
+         "contact.friction_law=elastic_slip", std::string("contact.stick_stiffness=") + k_t});
+    EXPECT_GT(c.touching, 0);
+  }
+}
+
 // Flanges and wound wire (physics.flanges, physics.wire_contact): a coil
 // whose second turn lies beside the first and whose first layer ends at a
 // flange.

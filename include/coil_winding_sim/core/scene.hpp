@@ -57,6 +57,10 @@ struct ContactParams {
   double stiffness = 2.0e6;        // virtual spring k_j per mass point [N/m], eq. (18)
   double stick_stiffness = 2.0e6;  // tangential spring holding a stuck point [N/m]
   double stick_speed = 1.0e-3;     // slip returns to stick below this speed [m/s]
+  // stick_speed: the paper's kinetic friction against the sliding velocity,
+  // stick below stick_speed; elastic_slip: the stick spring returned onto
+  // the friction cone (external_forces/elastic_slip.hpp).
+  std::string friction_law = "stick_speed";
   // Dashpots beside the normal and the stick spring, as a fraction of the
   // critical damping 2 sqrt(k M) of one mass point on each [-]. 1 (the
   // reference model): a landing dissipates; 0: the paper's undamped

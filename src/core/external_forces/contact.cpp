@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "coil_winding_sim/core/core_geometry.hpp"
+#include "coil_winding_sim/core/external_forces/elastic_slip.hpp"
 
 namespace cws {
 
@@ -12,6 +13,7 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
       p_(s.contact),
       core_(core),
       friction_(s.physics.friction),
+      elastic_slip_(s.contact.friction_law == "elastic_slip"),
       c_normal_(2.0 * s.contact.damping_ratio * std::sqrt(s.contact.stiffness * c.point_mass)),
       c_stick_(2.0 * s.contact.damping_ratio * std::sqrt(s.contact.stick_stiffness * c.point_mass)),
       h_ramp_(kDashpotRamp * c.radius) {
@@ -80,6 +82,7 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
   if (friction_) {
     stuck_.assign(slots, 0);
     anchor_core_.assign(slots, Eigen::Vector3d::Zero());
+    slow_.assign(slots, 0);
   }
   trial_surface_.assign(slots, -1);
   trial_stuck_.assign(slots, 0);
@@ -248,8 +251,12 @@ void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const 
       }
       if (friction_) {
         const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
+        const int x = i * slots_ + s;
         bool slipping;
-        const Eigen::Vector3d f_t = friction(i * slots_ + s, p, vh, n, normal, slipping);
+        const Eigen::Vector3d f_t =
+            elastic_slip_
+                ? returnToCone<3>(slipTrial(x, p, vh, n), slipLimit(x, c.surface, normal)).force
+                : friction(x, p, vh, n, normal, slipping);
         f_c += f_t;
         // Friction power -f_t . (v - u), counted as dissipated (also what a
         // stick spring holds; f_t is tangential, so f_t . vh = f_t . (v - u)).
@@ -308,10 +315,33 @@ void Contact::commit(double t, const WireKinematics& k) {
       friction_force_[x].setZero();
       if (!friction_) continue;
       if (c.surface < 0 || changed_surface) stuck_[x] = 0;
-      if (c.surface < 0) continue;
+      if (c.surface < 0) {
+        // Elastic slip: a point that touches later starts from where it
+        // was, carried with the surface.
+        if (elastic_slip_)
+          anchor_core_[x] = rot_world_core_.transpose() * (p - core_.originWorld());
+        continue;
+      }
       const Eigen::Vector3d& n = c.n_world;
       const Eigen::Vector3d v_rel = k.v_world.col(i) - core_.velocityWorld(t, p);
       const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
+      if (elastic_slip_) {
+        // The return map from the committed anchor and limit (stuck_ was
+        // reset above on a new surface); a slip moves the anchor to where
+        // the spring alone gives the returned force.
+        const double limit =
+            (stuck_[x] ? std::max(p_.static_friction, p_.kinetic_friction) : p_.kinetic_friction) *
+            normalForce(c.h, v_rel.dot(n));
+        const SlipReturn<3> r = returnToCone<3>(slipTrial(x, p, vh, n), limit);
+        friction_force_[x] = r.force;
+        stuck_[x] = !r.slipping;
+        slow_[x] = vh.norm() < p_.stick_speed;
+        if (r.slipping) {
+          anchor_core_[x] = rot_world_core_.transpose() *
+                            (p + r.force / p_.stick_stiffness - core_.originWorld());
+        }
+        continue;
+      }
       bool slipping;
       friction_force_[x] = friction(x, p, vh, n, normalForce(c.h, v_rel.dot(n)), slipping);
       if (stuck_[x] && slipping) {
@@ -329,7 +359,7 @@ void Contact::appendHistory(std::vector<double>& out) const {
     out.push_back(surface_[x]);
     out.push_back(depth_[x]);
     if (friction_) {
-      out.push_back(stuck_[x]);
+      out.push_back(stuck_[x] + 2 * slow_[x]);  // (bit 1: slow, elastic slip)
       out.insert(out.end(), anchor_core_[x].data(), anchor_core_[x].data() + 3);
       out.insert(out.end(), friction_force_[x].data(), friction_force_[x].data() + 3);
     }
@@ -344,7 +374,7 @@ void Contact::shrink(const WireKinematics&) {
     surface_[x] = -1;
     depth_[x] = 0.0;
     if (friction_) {
-      stuck_[x] = 0;
+      stuck_[x] = slow_[x] = 0;
       anchor_core_[x].setZero();
       friction_force_[x].setZero();
     }
@@ -363,7 +393,9 @@ void Contact::restoreHistory(HistoryReader& in) {
     surface_[x] = static_cast<int>(in.next());
     depth_[x] = in.next();
     if (friction_) {
-      stuck_[x] = in.next() != 0.0;
+      const int flags = static_cast<int>(in.next());
+      stuck_[x] = (flags & 1) != 0;
+      slow_[x] = (flags & 2) != 0;
       for (int d = 0; d < 3; ++d) anchor_core_[x][d] = in.next();
       for (int d = 0; d < 3; ++d) friction_force_[x][d] = in.next();
     }

@@ -52,9 +52,9 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
   const Eigen::Matrix2d du_dx =
       c_normal_ > 0.0 || c_stick_ > 0.0 ? planarCarriedGradient(s) : Eigen::Matrix2d::Zero();
   for (int i = s.first; i < s.n; ++i) {
+    const Eigen::Vector2d x = s.x.col(i);
     const int surface = trial_surface_[i];
     if (surface < 0) continue;
-    const Eigen::Vector2d x = s.x.col(i);
     Eigen::Vector2d nrm;
     double h;
     Eigen::Matrix2d dn;
@@ -84,12 +84,24 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
       const Eigen::Vector2d tan = planar::perp(nrm);
       const Eigen::Matrix2d dtan = rot90 * dn;
       Eigen::Vector2d ft;
-      if (trial_stuck_[i]) {
+      // The frozen flags' stick and slip, or elastic slip's return map from
+      // the committed anchor (the law decided at every evaluation).
+      const Eigen::Vector3d& anchor_core = elastic_slip_ ? anchor_core_[i] : trial_anchor_core_[i];
+      const Eigen::Vector2d delta =
+          x - s.plane.toPlane(core_.originWorld() + rot_world_core_ * anchor_core);
+      const double along = delta.dot(tan);
+      bool stick = trial_stuck_[i];
+      double sign = trial_sign_[i], mu = p_.kinetic_friction;
+      if (elastic_slip_) {
+        const double trial = -p_.stick_stiffness * along - c_stick_ * r.dot(tan);
+        const double limit = slipLimit(i, surface, 1.0);
+        stick = std::abs(trial) <= limit * normal;
+        sign = trial > 0.0 ? -1.0 : 1.0;
+        mu = limit;
+      }
+      if (stick) {
         // Stick: the tangential spring to the anchor (and its dashpot
         // against the sliding speed r . tan).
-        const Eigen::Vector2d delta =
-            x - s.plane.toPlane(core_.originWorld() + rot_world_core_ * trial_anchor_core_[i]);
-        const double along = delta.dot(tan);
         ft = -p_.stick_stiffness * along * tan;
         kx += -p_.stick_stiffness *
               (tan * (tan + dtan.transpose() * delta).transpose() + along * dtan);
@@ -100,11 +112,11 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
           cv -= c_stick_ * tan * tan.transpose();
         }
       } else {
-        // Slip: mu_d N against the frozen sliding direction.
-        const double sign = trial_sign_[i];
-        ft = -p_.kinetic_friction * normal * sign * tan;
-        kx += -p_.kinetic_friction * sign * (tan * dnormal_dx + normal * dtan);
-        cv += -p_.kinetic_friction * sign * tan * dnormal_dv;
+        // Slip: mu N against the frozen sliding direction (elastic slip:
+        // against the trial force; mu_s N in the step stick breaks).
+        ft = -mu * normal * sign * tan;
+        kx += -mu * sign * (tan * dnormal_dx + normal * dtan);
+        cv += -mu * sign * tan * dnormal_dv;
       }
       f += ft;
       a.f_dissipative.col(i) += ft;
@@ -157,7 +169,8 @@ bool Contact::recheckFlags(const PlanarState& s) {
       trial_stuck_[i] = 0;
       changed = true;
     }
-    if (!on || !friction_) continue;
+    // (Elastic slip decides stick and slip within the solve.)
+    if (!on || !friction_ || elastic_slip_) continue;
     const Eigen::Vector2d tan = planar::perp(nrm);
     const Eigen::Vector2d r = s.v.col(i) - planarSurfaceVelocity(s, x);
     const double vt = r.dot(tan);
@@ -194,6 +207,9 @@ bool Contact::recheckFlags(const PlanarState& s) {
 }
 
 void Contact::adoptFlags() {
+  // Elastic slip: the commit decides from the committed state, as the solve
+  // did (a surface adopted here would hide that it is new).
+  if (elastic_slip_) return;
   for (int x = c_.first * slots_; x < c_.n * slots_; ++x) {
     surface_[x] = trial_surface_[x];
     if (!friction_) continue;

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "coil_winding_sim/core/external_forces/contact.hpp"
+#include "coil_winding_sim/core/external_forces/elastic_slip.hpp"
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/quaternion.hpp"
 
@@ -133,7 +134,36 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
     if (jacobian) kp = nrm * dnormal_dp + normal * dn;
     if (friction_) {
       Eigen::Vector3d ft = Eigen::Vector3d::Zero();
-      if (trial_stuck_[x]) {
+      if (elastic_slip_) {
+        // Elastic slip: the stick spring's trial force from the committed
+        // anchor, returned onto the cone mu N (elastic_slip.hpp), with the
+        // consistent tangent d f = S d f_trial + dir mu d N.
+        const Eigen::Vector3d vh = r - rn * nrm;
+        const double mu = slipLimit(x, surface, 1.0);
+        const SlipReturn<3> ret = returnToCone<3>(slipTrial(x, p, vh, nrm), mu * normal);
+        ft = ret.force;
+        if (jacobian) {
+          const Eigen::Vector3d delta =
+              p - (core_.originWorld() + rot_world_core_ * anchor_core_[x]);
+          const double dnn = delta.dot(nrm);
+          Eigen::Matrix3d dtrial_dp =
+              -p_.stick_stiffness *
+              (id - nrm * (nrm.transpose() + delta.transpose() * dn) - dnn * dn);
+          Eigen::Matrix3d dtrial_dv = Eigen::Matrix3d::Zero();
+          if (c_stick_ > 0.0) {
+            dtrial_dp -= c_stick_ * dvhDp();
+            dtrial_dv = -c_stick_ * pn;
+          }
+          const Eigen::Matrix3d scale = ret.scale();
+          kp += scale * dtrial_dp;
+          Eigen::Matrix3d cv = scale * dtrial_dv;
+          if (ret.slipping) {
+            kp += mu * ret.dir * dnormal_dp;
+            cv += mu * ret.dir * dnormal_dv;
+          }
+          a.addDampingPP(i, i, cv);
+        }
+      } else if (trial_stuck_[x]) {
         // Stick: the spring to the anchor, its tangential part (and its
         // dashpot against the sliding velocity vh = P_n r).
         const Eigen::Vector3d delta =
@@ -233,7 +263,8 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
         changed = true;
         s.flagChangedAt(i);
       }
-      if (!on || !friction_) continue;
+      // (Elastic slip decides stick and slip within the solve.)
+      if (!on || !friction_ || elastic_slip_) continue;
       const Eigen::Vector3d v_rel = s.v.col(i) - s.carried.velocity(p);
       const Eigen::Vector3d vh = v_rel - v_rel.dot(nrm) * nrm;
       const double speed = vh.norm();

@@ -72,6 +72,18 @@ class Contact : public ForceEffect {
       if (stuck_[i * slots_ + s]) return true;
     return false;
   }
+  // Is point i at rest on a surface at the last commit: stuck, or (elastic
+  // slip) sliding slower than contact.stick_speed, as a point creeping in
+  // the capstan zone does. Carried wire is judged by it (wound_wire.cpp):
+  // the same points as stuck() under the stick_speed law.
+  bool resting(int i) const {
+    if (!friction_) return false;
+    for (int s = 0; s < slots_; ++s) {
+      const int x = i * slots_ + s;
+      if (stuck_[x] || (elastic_slip_ && surface_[x] >= 0 && slow_[x])) return true;
+    }
+    return false;
+  }
   // The surface of point i's slot s at the last commit (-1: none), and the
   // first id of the carried wire's segments (segment j: wireSurface() + j).
   int surface(int i, int s = 0) const { return surface_[i * slots_ + s]; }
@@ -177,6 +189,23 @@ class Contact : public ForceEffect {
                            const Eigen::Vector3d& n_world, double normal_force,
                            bool& slipping) const;
 
+  // Elastic slip (contact.friction_law, elastic_slip.hpp): the limit of
+  // slot x touching `surface` [N] at normal force N [N], mu_s N where it
+  // stuck on that surface at the last commit, else mu_d N; and the trial
+  // force of the stick spring to its committed anchor with its dashpot
+  // against the sliding velocity vh_world [N].
+  double slipLimit(int x, int surface, double normal_force) const {
+    const bool held = stuck_[x] && sameSurface(surface, surface_[x]);
+    return (held ? std::max(p_.static_friction, p_.kinetic_friction) : p_.kinetic_friction) *
+           normal_force;
+  }
+  Eigen::Vector3d slipTrial(int x, const Eigen::Vector3d& p_world, const Eigen::Vector3d& vh_world,
+                            const Eigen::Vector3d& n_world) const {
+    const Eigen::Vector3d delta =
+        p_world - (core_.originWorld() + rot_world_core_ * anchor_core_[x]);
+    return -p_.stick_stiffness * (delta - delta.dot(n_world) * n_world) - c_stick_ * vh_world;
+  }
+
   // Frozen surface of point i in the plane at the placed time: outward
   // normal, penetration [m] and d normal / dx [1/m]; false if the point is
   // at the surface's axis (no normal).
@@ -248,6 +277,7 @@ class Contact : public ForceEffect {
   // flanges, then the carried segments from wire_base_.
   int slots_ = 1, flange_slot_ = -1, wire_slot_ = 1, wire_base_ = 0;
   bool friction_;
+  bool elastic_slip_ = false;  // contact.friction_law: elastic_slip
   // Dashpots of the normal and the stick spring [N s/m] (0: undamped), and
   // the penetration over which the normal one grows [m].
   double c_normal_ = 0.0, c_stick_ = 0.0, h_ramp_ = 0.0;
@@ -257,6 +287,7 @@ class Contact : public ForceEffect {
   std::vector<int> surface_;
   std::vector<char> stuck_;
   std::vector<Eigen::Vector3d> anchor_core_;
+  std::vector<char> slow_;  // elastic slip: sliding below stick_speed at the last commit
   std::vector<Eigen::Vector3d> friction_force_;  // output only
   std::vector<double> depth_;                    // committed penetration [m]
   double max_penetration_ = 0.0;
