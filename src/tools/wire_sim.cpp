@@ -36,6 +36,7 @@
 #include "study.hpp"
 #include "sweep.hpp"
 #include "sweep_slurm.hpp"
+#include "wire_sim_usage.hpp"
 #include "work_precision.hpp"
 
 #ifndef CWS_DEFAULT_SCENE
@@ -43,63 +44,6 @@
 #endif
 
 namespace {
-
-const char* kUsage =
-    "usage: wire_sim run [--scene FILE] [--set key.path=value ...] [--out DIR] [--error-estimate]\n"
-    "       wire_sim print-scene [--scene FILE] [--set key.path=value ...]\n"
-    "       wire_sim study [--scene FILE] [--set key.path=value ...] [--out DIR]\n"
-    "                      [--jobs N | --slurm [Slurm options as for sweep]]\n"
-    "       wire_sim work-precision [--scene FILE] [--set ...] [--out DIR] [--jobs N]\n"
-    "       wire_sim stability [--scene FILE] [--set ...] [--out DIR] [--jobs N] [--only NAME]\n"
-    "                          [--method INTEGRATOR] [--budget SECONDS] [--checkpoint SECONDS]\n"
-    "                          [--fresh | --report] [--slurm [Slurm options as for sweep]]\n"
-    "       wire_sim sweep [--scene FILE] [--set ...] (--grid KEY=VALUES ... | --cases FILE)\n"
-    "                      [--out DIR] [--budget SECONDS]\n"
-    "                      [--jobs N | --slurm [--partition P] [--time T] [--mem M]\n"
-    "                      [--account A] [--max-running N] [--max-array-size N] [--dry-run]]\n"
-    "       wire_sim sweep-run DIR INDEX\n"
-    "       wire_sim sweep-gather DIR\n"
-    "       wire_sim urdf [--scene FILE] [--set ...] [--overrides \"[key=value, ...]\"]\n"
-    "Without --scene the package's default scene is used; --out defaults to out/run\n"
-    "(out/study for study). run --error-estimate runs the scene a second time refined\n"
-    "(bdf2, implicit_euler: a quarter of the step, the difference x 4/3; explicit fixed\n"
-    "steps: half the step; rkf45, rosenbrock2: a tenth of the tolerances) and reports the\n"
-    "estimated error in shape and bulging beside both wall times (summary.json).\n"
-    "study runs the paper's 2 x 2 case study (600/1200 rpm x 30/70 N, 1 3/4 turns) as a\n"
-    "sweep (N processes at once, default 2, or on Slurm) and writes tables of the results.\n"
-    "work-precision runs the scene with every integrator over a range of tolerances or\n"
-    "steps against a tight reference and writes the errors and wall times (CSV).\n"
-    "stability runs the extreme cases of docs/STABILITY.md (those whose name contains\n"
-    "NAME) with every integrator (or INTEGRATOR only), checks each run against the\n"
-    "stability criteria and\n"
-    "writes DIR/STABILITY.md and DIR/stability.csv (default out/stability); a run\n"
-    "longer than SECONDS of wall time (default 18000) is stopped and reported. It keeps\n"
-    "each finished run's result and a checkpoint of each unfinished one (every\n"
-    "--checkpoint seconds, default 300) in DIR/runs, tied to the core build and the\n"
-    "run's inputs: the same command after Ctrl-C, or with a larger --budget, continues\n"
-    "where it was; --fresh starts over; --report writes the tables from what is kept\n"
-    "(unfinished runs as PENDING) and runs nothing. Each run is a case of a sweep\n"
-    "(DIR/runs/CASE.METHOD), so --slurm runs the matrix as Slurm job arrays.\n"
-    "sweep runs the scene once per case, N processes at once (default 2), each case in\n"
-    "DIR/case_NNNN (default out/sweep), and writes DIR/results.csv and results.md. The\n"
-    "cases are the product of the --grid axes, each KEY=FROM:TO:COUNT or KEY=V1,V2,...,\n"
-    "or the rows of a --cases CSV file (a header of keys). Every case's scene is checked\n"
-    "before anything runs. A case whose result is kept in DIR from an earlier sweep of\n"
-    "the same build and scene is not run again; a failed case is a row with its error.\n"
-    "With --budget a case stops after SECONDS of wall time and is a row marked budget,\n"
-    "with the figures of the part it ran (kept while the budget is not raised).\n"
-    "--slurm submits the cases to run as Slurm job arrays (one task per case, at most N\n"
-    "at once with --max-running; --time and --mem per task) and a gather job that\n"
-    "writes the table once they have ended; DIR must be on storage the nodes share.\n"
-    "--dry-run writes the scripts (DIR/slurm) without submitting them.\n"
-    "sweep-run runs case INDEX of the sweep in DIR (what each process, or each task of\n"
-    "a job array, runs); sweep-gather writes the table from what DIR holds, naming the\n"
-    "cases not finished. urdf prints the cell's URDF (robot_description).\n"
-    "Exit status: 0 done; 1 the run failed; 2 bad command line, scene or --out (nothing\n"
-    "is run); 130 / 143 a run stopped by SIGINT (Ctrl-C) / SIGTERM, which ends it after\n"
-    "the current step and writes no results (a second signal ends it at once). Before\n"
-    "running, the results of an earlier run in the output directory are removed, so a\n"
-    "failed or stopped run leaves no summary.json.\n";
 
 struct Args {
   std::string command;
@@ -120,7 +64,7 @@ struct Args {
 // Exit codes: 0 success, 1 the run failed, 2 bad command line or scene,
 // 128 + N stopped by signal N.
 int usageError(const std::string& msg) {
-  std::cerr << "wire_sim: " << msg << "\n" << kUsage;
+  std::cerr << "wire_sim: " << msg << "\n" << cws_tools::kWireSimUsage;
   return 2;
 }
 
@@ -300,12 +244,12 @@ int run(const Args& a) {
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty()) {
-    std::cerr << kUsage;
+    std::cerr << cws_tools::kWireSimUsage;
     return 2;
   }
   for (const std::string& arg : args) {
     if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
+      std::cout << cws_tools::kWireSimUsage;
       return 0;
     }
   }
