@@ -329,10 +329,8 @@ void Contact::commit(double t, const WireKinematics& k) {
         // The return map from the committed anchor and limit (stuck_ was
         // reset above on a new surface); a slip moves the anchor to where
         // the spring alone gives the returned force.
-        const double limit =
-            (stuck_[x] ? std::max(p_.static_friction, p_.kinetic_friction) : p_.kinetic_friction) *
-            normalForce(c.h, v_rel.dot(n));
-        const SlipReturn<3> r = returnToCone<3>(slipTrial(x, p, vh, n), limit);
+        const SlipReturn<3> r = returnToCone<3>(
+            slipTrial(x, p, vh, n), slipLimit(x, c.surface, normalForce(c.h, v_rel.dot(n))));
         friction_force_[x] = r.force;
         stuck_[x] = !r.slipping;
         slow_[x] = vh.norm() < p_.stick_speed;

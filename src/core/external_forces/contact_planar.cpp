@@ -52,9 +52,9 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
   const Eigen::Matrix2d du_dx =
       c_normal_ > 0.0 || c_stick_ > 0.0 ? planarCarriedGradient(s) : Eigen::Matrix2d::Zero();
   for (int i = s.first; i < s.n; ++i) {
-    const Eigen::Vector2d x = s.x.col(i);
     const int surface = trial_surface_[i];
     if (surface < 0) continue;
+    const Eigen::Vector2d x = s.x.col(i);
     Eigen::Vector2d nrm;
     double h;
     Eigen::Matrix2d dn;
@@ -94,10 +94,9 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
       double sign = trial_sign_[i], mu = p_.kinetic_friction;
       if (elastic_slip_) {
         const double trial = -p_.stick_stiffness * along - c_stick_ * r.dot(tan);
-        const double limit = slipLimit(i, surface, 1.0);
-        stick = std::abs(trial) <= limit * normal;
+        mu = slipLimit(i, surface, 1.0);
+        stick = std::abs(trial) <= mu * normal;
         sign = trial > 0.0 ? -1.0 : 1.0;
-        mu = limit;
       }
       if (stick) {
         // Stick: the tangential spring to the anchor (and its dashpot

@@ -33,7 +33,8 @@ class Contact : public ForceEffect {
   void addForces(double t, const WireKinematics& k, WireForces& f) const override;
   // Implicit steps: the surface each point touches, stick (with its
   // anchor) or slip (with its direction) stay frozen within one Newton
-  // solve; contact_planar.cpp.
+  // solve (elastic slip: the return map decides stick and slip at every
+  // evaluation); contact_planar.cpp.
   void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
   void beginImplicitStep(const PlanarState& s0) override;
   bool recheckFlags(const PlanarState& s) override;
@@ -189,8 +190,8 @@ class Contact : public ForceEffect {
                            const Eigen::Vector3d& n_world, double normal_force,
                            bool& slipping) const;
 
-  // Elastic slip (contact.friction_law, elastic_slip.hpp): the limit of
-  // slot x touching `surface` [N] at normal force N [N], mu_s N where it
+  // Elastic slip (contact.friction_law, elastic_slip.hpp): the limit [N]
+  // of slot x touching `surface` at normal force N [N], mu_s N where it
   // stuck on that surface at the last commit, else mu_d N; and the trial
   // force of the stick spring to its committed anchor with its dashpot
   // against the sliding velocity vh_world [N].
