@@ -46,7 +46,6 @@ Eigen::Matrix2d Contact::planarCarriedGradient(const PlanarState& s) const {
 void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
   placeSurfaces(s.t);
   const Eigen::Matrix2d rot90 = planar::perpMatrix();
-  const double k = p_.stiffness;
   // d u / d x of the core's material, the same at every point (for the
   // dashpots' velocity terms).
   const Eigen::Matrix2d du_dx =
@@ -72,9 +71,7 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
       // v_n = r . n with r = v - u(x).
       dnormal_dx += law.d_vn * (r.transpose() * dn - nrm.transpose() * du_dx);
       dnormal_dv = law.d_vn * nrm.transpose();
-      const Eigen::Vector2d f_d = (normal - k * h) * nrm;
-      a.f_dissipative.col(i) += f_d;
-      a.power_dissipated += f_d.dot(u);
+      a.power_dissipated += dashpotPower(law, h, i, surface, s.dt);
     }
     Eigen::Vector2d f = normal * nrm;
     Eigen::Matrix2d kx = nrm * dnormal_dx + normal * dn;

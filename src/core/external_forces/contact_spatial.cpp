@@ -87,7 +87,6 @@ bool Contact::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
 }
 void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
   placeSurfaces(s.t);
-  const double k = p_.stiffness;
   const Eigen::Matrix3d id = Eigen::Matrix3d::Identity();
   for (int x = s.first * slots_; x < s.n * slots_; ++x) {
     const int surface = trial_surface_[x];
@@ -119,9 +118,7 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
                        dnormal_dv = Eigen::RowVector3d::Zero();
     if (jacobian) dnormal_dp = -law.d_h * nrm.transpose();
     if (c_normal_ > 0.0) {
-      const Eigen::Vector3d f_d = (normal - k * h) * nrm;
-      a.f_dissipative.col(i) += f_d;
-      a.power_dissipated += f_d.dot(u);
+      a.power_dissipated += dashpotPower(law, h, x, surface, s.dt);
       if (jacobian) {
         // v_n = r . n with r = v - u(p).
         dnormal_dp += law.d_vn * (r.transpose() * dn - nrm.transpose() * du);

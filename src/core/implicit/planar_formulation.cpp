@@ -163,6 +163,7 @@ NewtonStats PlanarFormulation::solve(const OneLegStep& step, const Eigen::Matrix
   kappa_ = kappa;
   state_.alpha = alpha;
   state_.t = t1;
+  state_.dt = t1 - step.t_past[0];
   // The steppers' rates: the plane velocities, then the frames' angular ones.
   x_hat_.middleCols(f, m) = x_hat.middleCols(f, m);
   v_hat_.middleCols(f, m) = v_hat.block(0, f, 2, m);

@@ -164,6 +164,7 @@ NewtonStats SpatialFormulation::solve(const OneLegStep& step, const Eigen::Matri
   kappa_ = kappa;
   state_.alpha = alpha;
   state_.t = t1;
+  state_.dt = t1 - step.t_past[0];
   x_hat_.middleCols(f, m) = x_hat.middleCols(f, m);
   v_hat_.middleCols(f, m) = v_hat.middleCols(f, m);
   placeBoundary(t1);

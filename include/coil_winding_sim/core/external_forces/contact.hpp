@@ -130,6 +130,20 @@ class Contact : public ForceEffect {
     if (f <= 0.0) return {0.0, 0.0, 0.0};
     return {f, ramping ? k - c_normal_ * v_n / h_ramp_ : k, -c};
   }
+  // The normal dashpot's dissipation [W] over an implicit step of dt [s]
+  // that ends at penetration h [m] under `law`, at the step's mean normal
+  // speed (the change from the committed penetration of slot x) rather than
+  // the end speed: a step across an impact it does not resolve ends at a
+  // speed far from the step's mean (and rings under a method that damps
+  // little), where c v_n^2 would book more than the impact's energy.
+  double dashpotPower(const NormalForce& law, double h, int x, int surface, double dt) const {
+    if (c_normal_ == 0.0 || h <= 0.0) return 0.0;
+    const double h0 = sameSurface(surface, surface_[x]) ? depth_[x] : 0.0;
+    const double v_n = -(h - h0) / dt;
+    // Clipped (never pulling): the dashpot takes the spring's force.
+    if (law.force <= 0.0) return p_.stiffness * h * v_n;
+    return -law.d_vn * v_n * v_n;
+  }
   // The laws' parameters, for contact between free segments
   // (free_wire_contact.hpp): the penalty stiffness [N/m], mu_d, and the
   // points next to a point along the wire that never count as touching it.

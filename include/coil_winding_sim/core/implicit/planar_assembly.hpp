@@ -76,6 +76,7 @@ inline double turn(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 // Trial state at the end of an implicit step.
 struct PlanarState {
   double t = 0.0;      // time at the step's end [s]
+  double dt = 0.0;     // the step's length [s]
   double alpha = 0.0;  // d v / d x of the scheme [1/s]: v = alpha (x - x_hat)
   int first = 1;       // integrated points first..n-1; point first-1 is prescribed
   int n = 0;

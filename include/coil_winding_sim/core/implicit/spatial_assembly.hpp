@@ -26,6 +26,7 @@ namespace cws {
 // first-1 is prescribed: the clamp, or the boundary of the carried wire).
 struct SpatialState {
   double t = 0.0;      // time at the step's end [s]
+  double dt = 0.0;     // the step's length [s]
   double alpha = 0.0;  // d v / d x of the scheme [1/s]: v = alpha (x - x_hat)
   int first = 1;       // integrated points first..n-1
   int n = 0;
