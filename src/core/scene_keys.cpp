@@ -177,7 +177,10 @@ std::vector<SceneKey> declareKeys() {
       key<&S::solver, &Solver::baumgarte_nu>("solver.baumgarte_nu", "1/s", kNonNegative,
                                              "constraint stabilization nu, eq. (6)"),
       key<&S::solver, &Solver::implicit_step>("solver.implicit_step", "s", kPositive,
-                                              "step of implicit_euler and bdf2"),
+                                              "step of implicit_euler, bdf2, generalized_alpha"),
+      key<&S::solver, &Solver::rho_infinity>("solver.rho_infinity", "-", kNonNegative,
+                                             "generalized_alpha: spectral radius at infinite "
+                                             "frequency, 0 to 1"),
       key<&S::solver, &Solver::newton_tol>("solver.newton_tol", "m", kPositive,
                                            "Newton's bound on the largest position update"),
       key<&S::solver, &Solver::newton_max_iterations>("solver.newton_max_iterations", "-",

@@ -134,6 +134,9 @@ struct SolverParams {
   // limit, and how often a step is solved again after a contact, stick or
   // slip flag changed.
   double implicit_step = 1.0e-4;
+  // generalized_alpha: the spectral radius at infinite frequency [-], in
+  // [0, 1] (1: no numerical damping; 0: the most).
+  double rho_infinity = 0.8;
   double newton_tol = 1.0e-8;
   int newton_max_iterations = 30;
   int flag_rounds = 8;

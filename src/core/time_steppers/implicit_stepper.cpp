@@ -29,6 +29,54 @@ ImplicitStepper::ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme s
   x_hat_.setZero(xr, points);
   v_hat_.setZero(vr, points);
   guess_.setZero(xr, points);
+  if (scheme_ == Scheme::kGeneralizedAlpha) {
+    v_hat_prev_.setZero(vr, points);
+    a_pseudo_prev_.setZero(vr, points);
+    acc0_.setZero(vr, points);
+    a_pseudo0_.setZero(vr, points);
+  }
+}
+
+void ImplicitStepper::generalizedAlpha(double h, int first, int n, const Eigen::MatrixXd& x0,
+                                       const Eigen::MatrixXd& v0, OneLegStep& step) {
+  const int m = n - first, xr = static_cast<int>(x0.rows());
+  const double rho = p_.rho_infinity;
+  const double am = (2.0 * rho - 1.0) / (rho + 1.0), af = rho / (rho + 1.0);
+  const double gamma = 0.5 + af - am, beta = 0.25 * (gamma + 0.5) * (gamma + 0.5);
+  // The acceleration at the step's start (the last step's end) and the
+  // pseudo-acceleration, from that step's velocity update; points drawn in
+  // since start from rest, a step after backward Euler from a = acc.
+  acc0_.middleCols(first, m).setZero();
+  a_pseudo0_.middleCols(first, m).setZero();
+  const int k = std::min(n, n_prev_) - first;
+  if (k > 0) {
+    acc0_.middleCols(first, k) =
+        kappa_prev_ * (v0.middleCols(first, k) - v_hat_prev_.middleCols(first, k));
+    if (prev_alpha_step_) {
+      a_pseudo0_.middleCols(first, k) =
+          (v0.middleCols(first, k) - v_prev_.middleCols(first, k) -
+           h_prev_ * (1.0 - gamma_prev_) * a_pseudo_prev_.middleCols(first, k)) /
+          (gamma_prev_ * h_prev_);
+    } else {
+      a_pseudo0_.middleCols(first, k) = acc0_.middleCols(first, k);
+    }
+  }
+  // x1 = x0 + h v0 + h^2 ((1/2 - beta) a0 + beta a1), v1 = v0 + h ((1 -
+  // gamma) a0 + gamma a1), (1 - am) a1 + am a0 = (1 - af) acc1 + af acc0:
+  // the one-leg form's alpha, kappa, x_hat and v_hat.
+  step.past = 1;
+  step.w_past[0] = 1.0;
+  step.w_rate = h - beta * h / gamma;
+  step.w_acc = h * h * (0.5 - beta) - (beta * h * h / gamma) * (1.0 - gamma);
+  step.alpha = gamma / (beta * h);
+  step.kappa = (1.0 - am) / (h * gamma * (1.0 - af));
+  x_hat_.middleCols(first, m) = x0.middleCols(first, m) + step.w_rate * v0.block(0, first, xr, m) +
+                                step.w_acc * a_pseudo0_.block(0, first, xr, m);
+  v_hat_.middleCols(first, m) =
+      v0.middleCols(first, m) + h * (1.0 - gamma) * a_pseudo0_.middleCols(first, m) +
+      (h * gamma / (1.0 - am)) *
+          (af * acc0_.middleCols(first, m) - am * a_pseudo0_.middleCols(first, m));
+  gamma_prev_ = gamma;
 }
 
 void ImplicitStepper::restore(double next_step, double last_step, const StepCounts& counts) {
@@ -143,6 +191,10 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
           (0.5 * h * h / h_prev_) * (v0.block(0, first, xr, m) - v_prev_.block(0, first, xr, m));
     }
     step.alpha = step.kappa = alpha;
+    // Generalized-alpha from the second step on (the first, and the one
+    // after a retry, are backward Euler, as for BDF2).
+    const bool alpha_step = scheme_ == Scheme::kGeneralizedAlpha && have_prev_;
+    if (alpha_step) generalizedAlpha(h, first, n, x0, v0, step);
     const NewtonStats st = f.solve(step, x_hat_, v_hat_, guess_);
     newton_.iterations += st.iterations;
     newton_.flag_rounds += st.flag_rounds;
@@ -191,6 +243,12 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     }
     // Keep this step's start as the past of the next one (the integrated
     // points; a point the core releases restarts the method above).
+    if (scheme_ == Scheme::kGeneralizedAlpha) {
+      v_hat_prev_.middleCols(first, m) = v_hat_.middleCols(first, m);
+      a_pseudo_prev_.middleCols(first, m) = a_pseudo0_.middleCols(first, m);
+      kappa_prev_ = step.kappa;
+      prev_alpha_step_ = alpha_step;
+    }
     x_prev_.middleCols(first, m) = x0.middleCols(first, m);
     v_prev_.middleCols(first, m) = v0.middleCols(first, m);
     n_prev_ = n;

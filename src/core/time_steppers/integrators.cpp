@@ -24,6 +24,9 @@ std::unique_ptr<TimeStepper> makeBdf2(const SolverParams& p, OdeSystem& sys) {
   return std::make_unique<ImplicitStepper>(p, sys, ImplicitStepper::Scheme::kBdf2);
 }
 
+std::unique_ptr<TimeStepper> makeGeneralizedAlpha(const SolverParams& p, OdeSystem& sys) {
+  return std::make_unique<ImplicitStepper>(p, sys, ImplicitStepper::Scheme::kGeneralizedAlpha);
+}
 std::vector<IntegratorInfo> registry() {
   std::vector<IntegratorInfo> r;
   r.push_back({"rkf45",
@@ -68,6 +71,17 @@ std::vector<IntegratorInfo> registry() {
                true,
                true,
                makeBdf2});
+  r.push_back(
+      {"generalized_alpha",
+       "generalized-alpha with Newton steps (second order, high frequencies damped to "
+       "rho_infinity)",
+       {"implicit_step", "rho_infinity", "newton_tol", "newton_max_iterations", "flag_rounds",
+        "flag_check_tol", "return_mapping_round", "predictor_tol", "min_step"},
+       false,
+       false,
+       true,
+       true,
+       makeGeneralizedAlpha});
   return r;
 }
 }  // namespace

@@ -30,10 +30,13 @@ struct OneLegStep {
   double alpha = 0.0;  // d v / d x [1/s]
   double kappa = 0.0;  // d a / d v [1/s]
   // x_hat = sum_j w[j] x(t_past[j]) over the committed past (weights sum
-  // to 1).
+  // to 1), plus w_rate v(t_past[0]) + w_acc a(t_past[0]) (generalized-alpha:
+  // the start's velocity and pseudo-acceleration).
   int past = 1;
   double t_past[kMaxPast] = {0.0, 0.0};  // [s]
   double w_past[kMaxPast] = {1.0, 0.0};
+  double w_rate = 0.0;  // [s]
+  double w_acc = 0.0;   // [s^2]
 };
 
 // The scheme velocity of the core's material (see above).
@@ -71,10 +74,12 @@ struct CarriedRate {
 
   // The scheme's: the core turned by theta_past[j] - theta1 [rad] about
   // axis_world at the past times of `step`, turning at omega1 [rad/s] at
-  // its end.
+  // its end and omega0 [rad/s] at its start (for the start's velocity and
+  // acceleration terms: omega0 a x r and -omega0^2 r_perp, the core's
+  // angular acceleration left out).
   static CarriedRate scheme(const OneLegStep& step, const Eigen::Vector3d& origin_world,
                             const Eigen::Vector3d& axis_world, double theta1, double omega1,
-                            const double* theta_past) {
+                            const double* theta_past, double omega0 = 0.0) {
     CarriedRate c;
     c.omega_exact = omega1;
     c.origin_world = origin_world;
@@ -88,6 +93,23 @@ struct CarriedRate {
       const double s = std::sin(0.5 * turn);
       q += step.w_past[j] * Eigen::Vector4d(std::cos(0.5 * turn), s * axis_world.x(),
                                             s * axis_world.y(), s * axis_world.z());
+    }
+    if (step.w_rate != 0.0 || step.w_acc != 0.0) {
+      Eigen::Matrix3d cross;
+      cross << 0.0, -axis_world.z(), axis_world.y(), axis_world.z(), 0.0, -axis_world.x(),
+          -axis_world.y(), axis_world.x(), 0.0;
+      const double turn = theta_past[0] - theta1;
+      m += (step.w_rate * omega0 * cross + step.w_acc * omega0 * omega0 * cross * cross) *
+           Eigen::AngleAxisd(turn, axis_world).toRotationMatrix();
+      // A carried frame: q(t0) = Q0 q, dq/dt = (omega0 / 2) (0, a) Q0 q,
+      // d2q/dt2 = -(omega0^2 / 4) Q0 q.
+      const double s0 = std::sin(0.5 * turn);
+      const Eigen::Quaterniond q0(std::cos(0.5 * turn), s0 * axis_world.x(), s0 * axis_world.y(),
+                                  s0 * axis_world.z());
+      const Eigen::Quaterniond aq0 =
+          Eigen::Quaterniond(0.0, axis_world.x(), axis_world.y(), axis_world.z()) * q0;
+      q += -step.w_acc * 0.25 * omega0 * omega0 * Eigen::Vector4d(q0.w(), q0.x(), q0.y(), q0.z()) +
+           step.w_rate * 0.5 * omega0 * Eigen::Vector4d(aq0.w(), aq0.x(), aq0.y(), aq0.z());
     }
     c.g_world = step.alpha * (Eigen::Matrix3d::Identity() - m);
     c.q_past = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);  // not unit: a combination
