@@ -168,14 +168,15 @@ void Simulation::step(double t_limit) {
     }
     const double radius = model_->constants().radius;
     if (deep.depth_m > kWireThroughWire * radius) {
+      const IntegratorInfo* info = findIntegrator(scene_.solver.integrator);
+      const bool newton = info && info->newton_steps;
       std::ostringstream msg;
       msg << "at t = " << t_ << " s wire passed into " << what << ": point " << deep.point
           << " lies " << deep.depth_m / radius << " wire radii deep in segment " << deep.segment
           << " (a sound coil: below 0.1): the step carried it past the contact's penalty "
              "spring with "
           << stepper_->name() << "; "
-          << (scene_.solver.integrator == "bdf2" ? "lower solver.implicit_step"
-                                                 : "use bdf2, or a smaller step");
+          << (newton ? "lower solver.implicit_step" : "use bdf2, or a smaller step");
       throw IntegrationError(msg.str());
     }
   }

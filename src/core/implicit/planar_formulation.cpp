@@ -159,6 +159,7 @@ NewtonStats PlanarFormulation::solve(const OneLegStep& step, const Eigen::Matrix
   const int f = state_.first, n = state_.n, m = n - f;
   const double t1 = step.t1, alpha = step.alpha, kappa = step.kappa;
   state_.carried = carried_.trial(step);
+  solved_ = step;
   alpha_ = alpha;
   kappa_ = kappa;
   state_.alpha = alpha;
@@ -226,8 +227,7 @@ void PlanarFormulation::store(double h, Eigen::VectorXd& y) {
   // The clamp (or the carried wire) works on the integrated wire.
   work -= assembly_.boundary_force.dot(state_.plane.vectorToPlane(v_boundary_world_)) +
           assembly_.boundary_torque * state_.boundary_omega;
-  y[0] += h * work;
-  y[1] += h * dissipated;
+  booking_.book(solved_, h, work, dissipated, y[0], y[1]);
   for (int i = f; i < n; ++i) {
     const int o = model_.stateOffsetOf(i);
     y.segment<3>(o) = pl.toWorld(state_.x.col(i));

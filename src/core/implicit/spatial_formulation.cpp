@@ -160,6 +160,7 @@ NewtonStats SpatialFormulation::solve(const OneLegStep& step, const Eigen::Matri
   const int f = state_.first, n = state_.n, m = n - f;
   const double t1 = step.t1, alpha = step.alpha, kappa = step.kappa;
   state_.carried = carried_.trial(step);
+  solved_ = step;
   alpha_ = alpha;
   kappa_ = kappa;
   state_.alpha = alpha;
@@ -271,8 +272,7 @@ void SpatialFormulation::store(double h, Eigen::VectorXd& y) {
   // The clamp (or the carried wire) works on the integrated wire.
   work -= assembly_.boundary_force.dot(v_boundary_exact_) +
           assembly_.boundary_fq.dot(qd_boundary_exact_);
-  y[0] += h * work;
-  y[1] += h * dissipated;
+  booking_.book(solved_, h, work, dissipated, y[0], y[1]);
   for (int i = f; i < n; ++i) {
     const int o = model_.stateOffsetOf(i);
     y.segment<3>(o) = state_.p.col(i);

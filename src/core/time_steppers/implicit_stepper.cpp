@@ -69,6 +69,7 @@ void ImplicitStepper::generalizedAlpha(double h, int first, int n, const Eigen::
   step.w_rate = h - beta * h / gamma;
   step.w_acc = h * h * (0.5 - beta) - (beta * h * h / gamma) * (1.0 - gamma);
   step.alpha = gamma / (beta * h);
+  step.w_power_prev = af;
   step.kappa = (1.0 - am) / (h * gamma * (1.0 - af));
   x_hat_.middleCols(first, m) = x0.middleCols(first, m) + step.w_rate * v0.block(0, first, xr, m) +
                                 step.w_acc * a_pseudo0_.block(0, first, xr, m);
@@ -153,7 +154,13 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     // where the step grows more than twofold (variable-step BDF2 is
     // zero-stable only for r < 1 + sqrt(2): after a step clipped at a ramp's
     // end, r can reach 1e5).
-    const bool bdf2 = scheme_ == Scheme::kBdf2 && have_prev_ && h <= 2.0 * h_prev_;
+    // Generalized-alpha only at a step as long as the last one: its
+    // pseudo-acceleration and its booked power (PowerBooking) are that
+    // step's. The steps that grow back after a start or a retry are BDF2's.
+    const bool alpha_step =
+        scheme_ == Scheme::kGeneralizedAlpha && have_prev_ && std::abs(h - h_prev_) <= 1e-9 * h;
+    const bool bdf2 =
+        scheme_ != Scheme::kBackwardEuler && !alpha_step && have_prev_ && h <= 2.0 * h_prev_;
     // Points drawn in since the last step have no past: extrapolate back.
     if (have_prev_) {
       for (int i = n_prev_; i < n; ++i) {
@@ -191,9 +198,6 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
           (0.5 * h * h / h_prev_) * (v0.block(0, first, xr, m) - v_prev_.block(0, first, xr, m));
     }
     step.alpha = step.kappa = alpha;
-    // Generalized-alpha from the second step on (the first, and the one
-    // after a retry, are backward Euler, as for BDF2).
-    const bool alpha_step = scheme_ == Scheme::kGeneralizedAlpha && have_prev_;
     if (alpha_step) generalizedAlpha(h, first, n, x0, v0, step);
     const NewtonStats st = f.solve(step, x_hat_, v_hat_, guess_);
     newton_.iterations += st.iterations;

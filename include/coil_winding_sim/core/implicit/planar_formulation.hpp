@@ -104,6 +104,8 @@ class PlanarFormulation : public NewtonFormulation {
   Eigen::VectorXd r_, dx_;
   double lambda_try_ = 0.0;
   double alpha_ = 0.0, kappa_ = 0.0;
+  OneLegStep solved_;  // the last solve's step, for its booking
+  PowerBooking booking_;
   // The scheme velocity of the core's material (the surface friction sees).
   CarriedMotion carried_;
   double lambda_accepted_ = 0.0;  // port multiplier of the last accepted step [N]

@@ -97,6 +97,8 @@ class SpatialFormulation : public NewtonFormulation {
   SecantSteps secant_;
   Eigen::VectorXd weight_;
   double alpha_ = 0.0, kappa_ = 0.0;
+  OneLegStep solved_;  // the last solve's step, for its booking
+  PowerBooking booking_;
   // The scheme velocity of the core's material (the surface friction sees),
   // and the prescribed point's exact rates.
   CarriedMotion carried_;
