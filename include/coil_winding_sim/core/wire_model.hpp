@@ -112,6 +112,7 @@ class WireModel : public OdeSystem, public NewtonModelView {
   NewtonModelView* newtonModel() override { return this; }
   const NewtonModelSetup& newtonSetup() const override { return newton_setup_; }
   int stateOffsetOf(int i) const override { return stateOffset(i); }
+  void judgeRestByDisplacement() override { rest_by_displacement_ = true; }
   // Offset of point i's block (p, q, v, qdot) in the state vector (i >= 1).
   static int stateOffset(int i) { return kAuxStates + kStatesPerPoint * (i - 1); }
   // Pose and motion at time t [s] of the prescribed point first-1 (the
@@ -226,6 +227,14 @@ class WireModel : public OdeSystem, public NewtonModelView {
   // placeCarriedWire(y) (a programming error, not an input one).
   void requirePlacedState() const;
   void updateCarried(double t, Eigen::VectorXd& y);
+  // Keeps the integrated points' core-frame positions at the committed
+  // time, for the next take-on's mean relative velocity.
+  void rememberCorePositions();
+  // Point i's speed relative to the core material [m/s]: with
+  // judgeRestByDisplacement(), the mean over the last accepted step (its
+  // core-frame displacement) where point i was integrated at its start;
+  // otherwise (and for a point that was not) the instantaneous one.
+  double relativeSpeed(double t, int i) const;
 
   WireConstants c_;
   bool clamp_in_core_;
@@ -255,6 +264,13 @@ class WireModel : public OdeSystem, public NewtonModelView {
   // standOff(): fixed while the core carries the point).
   mutable std::vector<double> carried_stand_off_;
   mutable std::vector<unsigned char> stand_off_known_;
+  // The integrated points' core-frame positions [m] at the last commit
+  // (rememberCorePositions): points remembered_first_..remembered_n_-1 at
+  // remembered_time_ [s].
+  std::vector<Eigen::Vector3d> remembered_p_core_;
+  bool rest_by_displacement_ = false;
+  int remembered_first_ = 0, remembered_n_ = 0;
+  double remembered_time_ = 0.0;
   // The core's pose at the time of the last placeCarried() (NaN: none yet).
   double carry_frame_time_ = std::numeric_limits<double>::quiet_NaN();
   Eigen::Matrix3d carry_rot_;

@@ -20,6 +20,7 @@ ImplicitStepper::ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme s
   if (!model)
     throw std::invalid_argument(std::string(name()) + ": the system has no Newton formulation");
   formulation_ = makeNewtonFormulation(*model, p);
+  model->judgeRestByDisplacement();
   const NewtonFormulation* f = formulation_.get();
   const int cap = sys.capacity();  // more than enough columns
   const int points = (cap - 2) / 14 + 1;

@@ -40,6 +40,10 @@ class NewtonModelView {
   virtual bool prescribedOnCore() const = 0;
   // Offset of point i's block (p, q, v, qdot) in the state vector (i >= 1).
   virtual int stateOffsetOf(int i) const = 0;
+  // The steps are Newton steps: their velocity of wire at rest on a turning
+  // core carries the scheme's error, so the carried-wire rule tells rest by
+  // a point's core-frame displacement over the step instead.
+  virtual void judgeRestByDisplacement() = 0;
 };
 
 }  // namespace cws
