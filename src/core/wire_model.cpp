@@ -65,8 +65,7 @@ WireModel::WireModel(const Scene& s)
       carried_p_core_(carry_ ? c_.capacity : 0),
       carried_q_core_(carry_ ? c_.capacity : 0),
       carried_stand_off_(carry_ ? c_.capacity : 0),
-      stand_off_known_(carry_ ? c_.capacity : 0, 0),
-      remembered_p_core_(carry_ ? c_.capacity : 0) {
+      stand_off_known_(carry_ ? c_.capacity : 0, 0) {
   // The core exists only for scenes that touch it, draw wire onto it or hold
   // the wire on it.
   if (needsCore(s)) {
@@ -175,7 +174,6 @@ WireModel::WireModel(const Scene& s)
     stretching_->preload(committed_);
     port_distance0_ = portDistance(0.0, committed_);
   }
-  if (carry_) rememberCorePositions();
 }
 
 void WireModel::clamp(double t, Eigen::Vector3d& p0_world, Eigen::Vector3d& v0_world,
@@ -403,10 +401,8 @@ void WireModel::acceptStep(double t, Eigen::VectorXd& y) {
     // point at a time as it passes the port. Two integrated points stay.
     while (portDistance(t, committed_) < 0.0 && c_.n - 2 > c_.first) removeLastPoint(t, y);
   }
-  if (carry_) {
-    updateCarried(t, y);
-    rememberCorePositions();
-  }
+  if (carry_) updateCarried(t, y);
+  scheme_core_velocity_ = false;  // (the next step sets its own)
 }
 
 void WireModel::setCoreSpeed(double omega) {

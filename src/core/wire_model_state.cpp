@@ -90,9 +90,6 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
   }
   carried_kinematics_placed_ = carried_state_placed_ = true;  // a snapshot: the whole wire
   std::fill(stand_off_known_.begin(), stand_off_known_.end(), 0);
-  // (What the original run remembered at this commit: a continued run takes
-  // on the same points.)
-  if (carry_) rememberCorePositions();
 }
 
 }  // namespace cws

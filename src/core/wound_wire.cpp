@@ -115,30 +115,24 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
   c_.first = target;
 }
 
-void WireModel::rememberCorePositions() {
-  if (!rest_by_displacement_) return;
-  const Eigen::Matrix3d rot_world_core = core_->rotationWorldCore(committed_time_);
-  const Eigen::Vector3d& o = core_->originWorld();
-  for (int i = c_.first; i < c_.n; ++i) {
-    remembered_p_core_[i] = rot_world_core.transpose() * (committed_.p_world.col(i) - o);
-  }
-  remembered_first_ = c_.first;
-  remembered_n_ = c_.n;
-  remembered_time_ = committed_time_;
-}
-
 double WireModel::relativeSpeed(double t, int i) const {
   const Eigen::Vector3d p = committed_.p_world.col(i);
-  // A Newton step's velocity of a point at rest on a turning core differs
-  // from the core material's exact velocity by the scheme's error
+  // A Newton step's velocity of a point at rest on a turning core is the
+  // scheme's, off the core material's exact velocity by the scheme's error
   // (BDF2: h^2 omega^3 r / 3, 1.1 mm/s at 2890 rpm, r = 12 mm and 1e-4 s,
-  // above contact.stick_speed), while its core-frame position stays put:
-  // the displacement over the step is what tells wire at rest.
-  const double dt = t - remembered_time_;
-  if (rest_by_displacement_ && i >= remembered_first_ && i < remembered_n_ && dt > 0.0) {
-    return (core_->pointCore(t, p) - remembered_p_core_[i]).norm() / dt;
+  // above contact.stick_speed): where that error exceeds a tenth of the
+  // stick speed, the point is compared with the core material's velocity by
+  // the same scheme. (Below, the two differ by less than the threshold's
+  // own margin, and the exact velocity is kept: late-reversal coils are
+  // sensitive to the least change in what is taken on when,
+  // docs/history/2026-11-27-carried-wire-at-speed.md.)
+  const Eigen::Vector3d u_exact = core_->velocityWorld(t, p);
+  Eigen::Vector3d u = u_exact;
+  if (scheme_core_velocity_) {
+    const Eigen::Vector3d u_scheme = scheme_core_g_world_ * (p - scheme_core_origin_world_);
+    if ((u_scheme - u_exact).norm() > 0.1 * contact_->stickSpeed()) u = u_scheme;
   }
-  return (committed_.v_world.col(i) - core_->velocityWorld(t, p)).norm();
+  return (committed_.v_world.col(i) - u).norm();
 }
 
 int WireModel::halfTurnBehind(double t, int from, int down_to) const {

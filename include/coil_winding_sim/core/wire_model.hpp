@@ -112,7 +112,12 @@ class WireModel : public OdeSystem, public NewtonModelView {
   NewtonModelView* newtonModel() override { return this; }
   const NewtonModelSetup& newtonSetup() const override { return newton_setup_; }
   int stateOffsetOf(int i) const override { return stateOffset(i); }
-  void judgeRestByDisplacement() override { rest_by_displacement_ = true; }
+  void acceptCoreVelocity(const Eigen::Matrix3d& g_world,
+                          const Eigen::Vector3d& origin_world) override {
+    scheme_core_g_world_ = g_world;
+    scheme_core_origin_world_ = origin_world;
+    scheme_core_velocity_ = true;
+  }
   // Offset of point i's block (p, q, v, qdot) in the state vector (i >= 1).
   static int stateOffset(int i) { return kAuxStates + kStatesPerPoint * (i - 1); }
   // Pose and motion at time t [s] of the prescribed point first-1 (the
@@ -227,13 +232,9 @@ class WireModel : public OdeSystem, public NewtonModelView {
   // placeCarriedWire(y) (a programming error, not an input one).
   void requirePlacedState() const;
   void updateCarried(double t, Eigen::VectorXd& y);
-  // Keeps the integrated points' core-frame positions at the committed
-  // time, for the next take-on's mean relative velocity.
-  void rememberCorePositions();
-  // Point i's speed relative to the core material [m/s]: with
-  // judgeRestByDisplacement(), the mean over the last accepted step (its
-  // core-frame displacement) where point i was integrated at its start;
-  // otherwise (and for a point that was not) the instantaneous one.
+  // Committed point i's speed relative to the core material at time t
+  // [m/s]: the material's velocity as the accepted step's scheme gives it
+  // (acceptCoreVelocity), or else its exact one.
   double relativeSpeed(double t, int i) const;
 
   WireConstants c_;
@@ -264,13 +265,11 @@ class WireModel : public OdeSystem, public NewtonModelView {
   // standOff(): fixed while the core carries the point).
   mutable std::vector<double> carried_stand_off_;
   mutable std::vector<unsigned char> stand_off_known_;
-  // The integrated points' core-frame positions [m] at the last commit
-  // (rememberCorePositions): points remembered_first_..remembered_n_-1 at
-  // remembered_time_ [s].
-  std::vector<Eigen::Vector3d> remembered_p_core_;
-  bool rest_by_displacement_ = false;
-  int remembered_first_ = 0, remembered_n_ = 0;
-  double remembered_time_ = 0.0;
+  // The core material's velocity u = g (p - o) [m/s] by the scheme of the
+  // step being accepted (acceptCoreVelocity; false: none, the exact one).
+  bool scheme_core_velocity_ = false;
+  Eigen::Matrix3d scheme_core_g_world_ = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d scheme_core_origin_world_ = Eigen::Vector3d::Zero();
   // The core's pose at the time of the last placeCarried() (NaN: none yet).
   double carry_frame_time_ = std::numeric_limits<double>::quiet_NaN();
   Eigen::Matrix3d carry_rot_;

@@ -16,11 +16,10 @@ ImplicitStepper::ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme s
   // resolves solver.fixed_step: auto).
   if (p.fixed_step && *p.fixed_step > 0.0)
     explicit_ = std::make_unique<SymplecticEuler>(p, sys.capacity());
-  NewtonModelView* model = sys.newtonModel();
+  NewtonModelView* model = model_ = sys.newtonModel();
   if (!model)
     throw std::invalid_argument(std::string(name()) + ": the system has no Newton formulation");
   formulation_ = makeNewtonFormulation(*model, p);
-  model->judgeRestByDisplacement();
   const NewtonFormulation* f = formulation_.get();
   const int cap = sys.capacity();  // more than enough columns
   const int points = (cap - 2) / 14 + 1;
@@ -158,6 +157,7 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     // Generalized-alpha only at a step as long as the last one: its
     // pseudo-acceleration and its booked power (PowerBooking) are that
     // step's. The steps that grow back after a start or a retry are BDF2's.
+    const bool restart = !have_prev_;
     const bool alpha_step =
         scheme_ == Scheme::kGeneralizedAlpha && have_prev_ && std::abs(h - h_prev_) <= 1e-9 * h;
     const bool bdf2 =
@@ -262,6 +262,10 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     t_prev_ = t;
     have_prev_ = true;
     f.store(h, y);
+    // The commit compares the wire's velocities with the core material's
+    // by this step's scheme (WireModel::relativeSpeed), except on a step
+    // that restarts the method, whose start velocities are not the scheme's.
+    if (!restart) model_->acceptCoreVelocity(f.coreRate().g_world, f.coreRate().origin_world);
     ++counts_.accepted;
     t = clipped ? t_limit : t + h;
     h_last_ = h;

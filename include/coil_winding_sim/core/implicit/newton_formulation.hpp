@@ -48,6 +48,8 @@ class NewtonFormulation {
   // Writes the solution into the model's state vector y and books the work
   // and dissipation of the step of h [s] (right after solve()).
   virtual void store(double h, Eigen::VectorXd& y) = 0;
+  // The velocity of the core's material by the scheme of the last solve.
+  virtual const CarriedRate& coreRate() const = 0;
 };
 
 }  // namespace cws

@@ -40,10 +40,13 @@ class NewtonModelView {
   virtual bool prescribedOnCore() const = 0;
   // Offset of point i's block (p, q, v, qdot) in the state vector (i >= 1).
   virtual int stateOffsetOf(int i) const = 0;
-  // The steps are Newton steps: their velocity of wire at rest on a turning
-  // core carries the scheme's error, so the carried-wire rule tells rest by
-  // a point's core-frame displacement over the step instead.
-  virtual void judgeRestByDisplacement() = 0;
+  // The velocity the step being accepted gives the core material, u =
+  // g_world (p_world - origin_world) [m/s], as its scheme moves the core:
+  // the model's commit that follows measures the wire's motion relative to
+  // the core with it (wire at rest moves with the core by the scheme, not
+  // by the exact rotation).
+  virtual void acceptCoreVelocity(const Eigen::Matrix3d& g_world,
+                                  const Eigen::Vector3d& origin_world) = 0;
 };
 
 }  // namespace cws

@@ -51,6 +51,7 @@ class PlanarFormulation : public NewtonFormulation {
   // of the step of h [s] from the converged solve's last evaluation (call
   // it right after solve()); the caller then accepts the step (acceptStep).
   void store(double h, Eigen::VectorXd& y) override;
+  const CarriedRate& coreRate() const override { return state_.carried; }
   double largestMoveFrom(const Eigen::MatrixXd& x) const override {
     double most = 0.0;
     for (int i = state_.first; i < state_.n; ++i) {

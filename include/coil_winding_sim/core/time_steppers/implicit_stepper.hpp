@@ -68,6 +68,7 @@ class ImplicitStepper : public TimeStepper {
   Scheme scheme_;
   // The formulation it solves, built from the system's view of its model.
   std::unique_ptr<NewtonFormulation> formulation_;
+  NewtonModelView* model_ = nullptr;  // the system's view for the formulation
   double h_, h_last_ = 0.0;
   StepCounts counts_;
   NewtonCounts newton_;
