@@ -230,9 +230,10 @@ TEST(Carry, DeferredPlacementEqualsPlacingEveryStep) {
 // the core material's exact velocity by the scheme's error, for BDF2
 // h^2 omega^3 r / 3: at 3000 rpm (314 rad/s), 2e-4 s and r = 8-11 mm,
 // 3.3-4.5 mm/s, several times contact.stick_speed (1 mm/s). The wire at
-// rest must still be taken on (by its core-frame displacement over the
-// step); judged by its velocity it was not, and the integrated wire grew
-// by a turn's worth of points every turn (100 integrated points at 0.15 s).
+// rest must still be taken on (compared with the core material's velocity
+// by the same scheme); judged against the exact velocity it was not, and
+// the integrated wire grew by a turn's worth of points every turn (99
+// integrated points at 0.15 s).
 TEST(Carry, TakesOnWireAtRestUnderNewtonStepsAtHighSpeed) {
   const std::string two_layers = std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml";
   cws::Simulation sim(cws::loadScene(
