@@ -402,7 +402,7 @@ void WireModel::acceptStep(double t, Eigen::VectorXd& y) {
     while (portDistance(t, committed_) < 0.0 && c_.n - 2 > c_.first) removeLastPoint(t, y);
   }
   if (carry_) updateCarried(t, y);
-  scheme_core_velocity_ = false;  // (the next step sets its own)
+  committed_.scheme_core = false;  // (the next step sets its own)
 }
 
 void WireModel::setCoreSpeed(double omega) {

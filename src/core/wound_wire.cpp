@@ -117,21 +117,12 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
 
 double WireModel::relativeSpeed(double t, int i) const {
   const Eigen::Vector3d p = committed_.p_world.col(i);
-  // A Newton step's velocity of a point at rest on a turning core is the
-  // scheme's, off the core material's exact velocity by the scheme's error
-  // (BDF2: h^2 omega^3 r / 3, 1.1 mm/s at 2890 rpm, r = 12 mm and 1e-4 s,
-  // above contact.stick_speed): where that error exceeds a tenth of the
-  // stick speed, the point is compared with the core material's velocity by
-  // the same scheme. (Below, the two differ by less than the threshold's
-  // own margin, and the exact velocity is kept: late-reversal coils are
+  // (Where the scheme's error of the core's velocity is below a tenth of
+  // the stick speed, the exact velocity serves: late-reversal coils are
   // sensitive to the least change in what is taken on when,
   // docs/history/2026-11-27-carried-wire-at-speed.md.)
-  const Eigen::Vector3d u_exact = core_->velocityWorld(t, p);
-  Eigen::Vector3d u = u_exact;
-  if (scheme_core_velocity_) {
-    const Eigen::Vector3d u_scheme = scheme_core_g_world_ * (p - scheme_core_origin_world_);
-    if ((u_scheme - u_exact).norm() > 0.1 * contact_->stickSpeed()) u = u_scheme;
-  }
+  const Eigen::Vector3d u =
+      committed_.coreVelocity(p, core_->velocityWorld(t, p), 0.1 * contact_->stickSpeed());
   return (committed_.v_world.col(i) - u).norm();
 }
 

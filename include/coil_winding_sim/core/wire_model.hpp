@@ -114,9 +114,9 @@ class WireModel : public OdeSystem, public NewtonModelView {
   int stateOffsetOf(int i) const override { return stateOffset(i); }
   void acceptCoreVelocity(const Eigen::Matrix3d& g_world,
                           const Eigen::Vector3d& origin_world) override {
-    scheme_core_g_world_ = g_world;
-    scheme_core_origin_world_ = origin_world;
-    scheme_core_velocity_ = true;
+    committed_.core_g_world = g_world;
+    committed_.core_origin_world = origin_world;
+    committed_.scheme_core = true;
   }
   // Offset of point i's block (p, q, v, qdot) in the state vector (i >= 1).
   static int stateOffset(int i) { return kAuxStates + kStatesPerPoint * (i - 1); }
@@ -265,11 +265,6 @@ class WireModel : public OdeSystem, public NewtonModelView {
   // standOff(): fixed while the core carries the point).
   mutable std::vector<double> carried_stand_off_;
   mutable std::vector<unsigned char> stand_off_known_;
-  // The core material's velocity u = g (p - o) [m/s] by the scheme of the
-  // step being accepted (acceptCoreVelocity; false: none, the exact one).
-  bool scheme_core_velocity_ = false;
-  Eigen::Matrix3d scheme_core_g_world_ = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d scheme_core_origin_world_ = Eigen::Vector3d::Zero();
   // The core's pose at the time of the last placeCarried() (NaN: none yet).
   double carry_frame_time_ = std::numeric_limits<double>::quiet_NaN();
   Eigen::Matrix3d carry_rot_;

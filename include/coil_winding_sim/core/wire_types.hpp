@@ -44,6 +44,25 @@ struct WireKinematics {
   Eigen::Matrix3Xd v_world;  // [m/s]
   Eigen::Matrix4Xd q;        // (q0, q1, q2, q3), scalar first
   Eigen::Matrix4Xd qd;       // [1/s]
+  // The core material's velocity u = core_g_world (p - core_origin_world)
+  // [m/s] as the step that led to this state moved the core, where that
+  // step's scheme gives it one (Newton steps, WireModel::acceptCoreVelocity).
+  bool scheme_core = false;
+  Eigen::Matrix3d core_g_world = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d core_origin_world = Eigen::Vector3d::Zero();
+
+  // The core material's velocity at p_world [m/s] to measure this state's
+  // velocities against: its exact velocity u_exact, or the scheme's where
+  // that differs from it by more than margin [m/s]. A Newton step's
+  // velocity of wire at rest on a turning core is the scheme's, off the
+  // exact one by the scheme's error (BDF2: h^2 omega^3 r / 3, 1.1 mm/s at
+  // 2890 rpm, r = 12 mm and 1e-4 s).
+  Eigen::Vector3d coreVelocity(const Eigen::Vector3d& p_world, const Eigen::Vector3d& u_exact,
+                               double margin) const {
+    if (!scheme_core) return u_exact;
+    const Eigen::Vector3d u = core_g_world * (p_world - core_origin_world);
+    return (u - u_exact).norm() > margin ? u : u_exact;
+  }
 
   void resize(int n) {
     p_world.resize(3, n);
