@@ -117,12 +117,8 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
 
 double WireModel::relativeSpeed(double t, int i) const {
   const Eigen::Vector3d p = committed_.p_world.col(i);
-  // (Where the scheme's error of the core's velocity is below a tenth of
-  // the stick speed, the exact velocity serves: late-reversal coils are
-  // sensitive to the least change in what is taken on when,
-  // docs/history/2026-11-27-carried-wire-at-speed.md.)
   const Eigen::Vector3d u =
-      committed_.coreVelocity(p, core_->velocityWorld(t, p), 0.1 * contact_->stickSpeed());
+      committed_.coreVelocity(p, core_->velocityWorld(t, p), contact_->stickSpeed());
   return (committed_.v_world.col(i) - u).norm();
 }
 

@@ -52,16 +52,20 @@ struct WireKinematics {
   Eigen::Vector3d core_origin_world = Eigen::Vector3d::Zero();
 
   // The core material's velocity at p_world [m/s] to measure this state's
-  // velocities against: its exact velocity u_exact, or the scheme's where
-  // that differs from it by more than margin [m/s]. A Newton step's
-  // velocity of wire at rest on a turning core is the scheme's, off the
-  // exact one by the scheme's error (BDF2: h^2 omega^3 r / 3, 1.1 mm/s at
-  // 2890 rpm, r = 12 mm and 1e-4 s).
+  // velocities against, for decisions at the speed stick_speed [m/s]
+  // (contact.stick_speed): its exact velocity u_exact, or the scheme's
+  // where that differs from it by more than a tenth of stick_speed. A
+  // Newton step's velocity of wire at rest on a turning core is the
+  // scheme's, off the exact one by the scheme's error (BDF2:
+  // h^2 omega^3 r / 3, 1.1 mm/s at 2890 rpm, r = 12 mm and 1e-4 s). (Below
+  // a tenth the exact velocity serves: late-reversal coils are sensitive
+  // to the least change in what is taken on or stuck when,
+  // docs/history/2026-11-27-carried-wire-at-speed.md.)
   Eigen::Vector3d coreVelocity(const Eigen::Vector3d& p_world, const Eigen::Vector3d& u_exact,
-                               double margin) const {
+                               double stick_speed) const {
     if (!scheme_core) return u_exact;
     const Eigen::Vector3d u = core_g_world * (p_world - core_origin_world);
-    return (u - u_exact).norm() > margin ? u : u_exact;
+    return (u - u_exact).norm() > 0.1 * stick_speed ? u : u_exact;
   }
 
   void resize(int n) {

@@ -327,7 +327,7 @@ void Contact::commit(double t, const WireKinematics& k) {
       // scheme where that differs from the exact one: a point at rest
       // sticks, wire_types.hpp.)
       const Eigen::Vector3d v_rel =
-          k.v_world.col(i) - k.coreVelocity(p, core_.velocityWorld(t, p), 0.1 * p_.stick_speed);
+          k.v_world.col(i) - k.coreVelocity(p, core_.velocityWorld(t, p), p_.stick_speed);
       const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
       if (elastic_slip_) {
         // The return map from the committed anchor and limit (stuck_ was
