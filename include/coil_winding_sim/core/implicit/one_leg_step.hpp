@@ -22,6 +22,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "coil_winding_sim/core/quaternion.hpp"
+
 namespace cws {
 
 struct OneLegStep {
@@ -91,9 +93,7 @@ struct CarriedRate {
     CarriedRate c;
     c.origin_world = origin_world;
     c.axis_world = axis_world;
-    c.g_world << 0.0, -axis_world.z(), axis_world.y(), axis_world.z(), 0.0, -axis_world.x(),
-        -axis_world.y(), axis_world.x(), 0.0;
-    c.g_world *= omega;
+    c.g_world = omega * quat::skew(axis_world);
     c.omega_exact = omega;
     return c;
   }
@@ -121,9 +121,7 @@ struct CarriedRate {
                                             s * axis_world.y(), s * axis_world.z());
     }
     if (step.w_rate != 0.0 || step.w_acc != 0.0) {
-      Eigen::Matrix3d cross;
-      cross << 0.0, -axis_world.z(), axis_world.y(), axis_world.z(), 0.0, -axis_world.x(),
-          -axis_world.y(), axis_world.x(), 0.0;
+      const Eigen::Matrix3d cross = quat::skew(axis_world);
       const double turn = theta_past[0] - theta1;
       m += (step.w_rate * omega0 * cross + step.w_acc * omega0 * omega0 * cross * cross) *
            Eigen::AngleAxisd(turn, axis_world).toRotationMatrix();
