@@ -39,10 +39,14 @@ running() {
 }
 
 # A TCP port on which nothing answers on 127.0.0.1 (the defaults 6817/6818 are avoided).
+# It is drawn below the kernel's ephemeral range, so that no outgoing
+# connection can take it between this check and the daemon's bind.
 free_port() {
-  local p
+  local p lo
+  lo=$(cut -f1 /proc/sys/net/ipv4/ip_local_port_range 2>/dev/null || echo 32768)
+  ((lo > 21000)) || lo=32768
   for _ in $(seq 100); do
-    p=$((20000 + RANDOM % 40000))
+    p=$((20000 + RANDOM % (lo - 20000)))
     [[ $p == "${1:-}" ]] && continue
     timeout 1 bash -c "exec 3<>/dev/tcp/127.0.0.1/$p" 2>/dev/null || { echo "$p"; return; }
   done
