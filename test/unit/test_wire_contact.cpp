@@ -206,6 +206,41 @@ TEST(WireContact, APointInTheGrooveFeelsBothTurns) {
   EXPECT_EQ(runs, 2);
 }
 
+// A point nested among four carried wires (a disordered coil) feels all
+// four: k h_i from each wire's axis, h_i = d - the distance from it.
+TEST(WireContact, APointAmongFourWiresFeelsAllFour) {
+  const cws::Scene s = cws::loadScene(k3d, {"physics.wire_contact=true"});
+  const cws::RotatingCore core(s.core, 0.0);
+  const double d = s.wire.diameter, y0 = 30e-3, k = s.contact.stiffness;
+  // Four runs of 11 points along x around the line (y0, 0), each h_i
+  // deeper than touching; the segments joining them lie at x = 10 mm.
+  const double h[4] = {1e-5, 2e-5, 3e-5, 4e-5};  // [m]
+  const Eigen::Vector3d dir[4] = {Eigen::Vector3d::UnitY(), -Eigen::Vector3d::UnitY(),
+                                  Eigen::Vector3d::UnitZ(), -Eigen::Vector3d::UnitZ()};
+  std::vector<Eigen::Vector3d> carried(60, Eigen::Vector3d::Zero());
+  for (int run = 0; run < 4; ++run) {
+    for (int j = 0; j < 11; ++j) {
+      const double along = (run % 2 == 0 ? j : 10 - j) * 1e-3;
+      carried[1 + 11 * run + j] = Eigen::Vector3d(along, y0, 0.0) + (d - h[run]) * dir[run];
+    }
+  }
+  Bench b(s, 60, 45);
+  cws::Contact contact(b.c, s, core);
+  contact.attachCarriedWire(carried);
+  for (int i = 45; i < 60; ++i) b.k.p_world.col(i) = Eigen::Vector3d(0.0, -50e-3, i * 1e-3);
+  b.k.p_world.col(52) = Eigen::Vector3d(4.5e-3, y0, 0.0);
+  b.evaluate(contact);
+  Eigen::Vector3d expected = Eigen::Vector3d::Zero();
+  for (int run = 0; run < 4; ++run) expected -= k * h[run] * dir[run];
+  EXPECT_LT((b.f.f_world.col(52) - expected).norm(), 1e-9 * expected.norm());
+  contact.commit(0.0, b.k);
+  int runs = 0;
+  for (int slot = 0; slot < contact.slots(); ++slot) {
+    runs += contact.surface(52, slot) >= contact.wireSurface();
+  }
+  EXPECT_EQ(runs, 4);
+}
+
 TEST(WireContact, RefusedWhereThereIsNoCarriedWire) {
   auto refusal = [&](const std::vector<std::string>& overrides) {
     try {

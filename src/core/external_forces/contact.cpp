@@ -178,12 +178,15 @@ bool Contact::touchAll(int i, const Eigen::Vector3d& p_world, const int* ref, To
     }
   }
   if (wire_slot_ == slots_) return any;
-  Touch runs[kWireSlots];
+  Touch runs[kMaxRuns];
   const int m = touchWire(i, rot_world_core_.transpose() * r, runs);
   if (m == 0) return any;
   // Each run keeps the slot whose surface it continues; new runs take the
-  // free slots.
-  bool used[kWireSlots] = {};
+  // free slots, deepest first. Where more runs touch than there are slots,
+  // those held keep theirs: the deepest would otherwise take turns with
+  // each other from one evaluation to the next (a point nested among wires
+  // touches several at almost the same depth).
+  bool used[kMaxRuns] = {};
   for (int s = wire_slot_; s < slots_; ++s) {
     if (ref[s] < wire_base_) continue;
     for (int g = 0; g < m; ++g) {

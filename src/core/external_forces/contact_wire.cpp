@@ -127,7 +127,7 @@ int Contact::touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const 
   }
   // The deepest runs, in the world frame.
   std::sort(all, all + m, [](const Run& x, const Run& y) { return x.h > y.h; });
-  m = std::min(m, kWireSlots);
+  m = std::min(m, kMaxRuns);
   for (int g = 0; g < m; ++g) runs[g] = Touch{all[g].surface, all[g].h, rot_world_core_ * all[g].n};
   return m;
 }

@@ -57,8 +57,9 @@ class Contact : public ForceEffect {
   // (the model's, valid below c.first; kept by reference).
   void attachCarriedWire(const std::vector<Eigen::Vector3d>& p_core) { carried_p_core_ = &p_core; }
 
-  // Slots per point: the core body, a flange, and the wire runs.
-  static constexpr int kWireSlots = 3;
+  // Slots per point: the core body, a flange, and the wire runs (a point
+  // in a disordered coil can rest on four wires at once).
+  static constexpr int kWireSlots = 4;
   static constexpr int kMaxSlots = 2 + kWireSlots;
   int slots() const { return slots_; }
   // At the last commit: is point i touching any surface, is it stuck on one.
@@ -169,7 +170,8 @@ class Contact : public ForceEffect {
   };
   bool touchAll(int i, const Eigen::Vector3d& p_world, const int* ref, Touch* out) const;
   // The carried wire's runs touching point i (core-frame position), deepest
-  // first, at most kWireSlots; returns how many.
+  // first, at most kMaxRuns; returns how many.
+  static constexpr int kMaxRuns = 8;
   int touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const;
   // Squared distance [m^2] of p_core from carried segment j (core frame),
   // the offset from the segment's nearest point (not normalized), and
