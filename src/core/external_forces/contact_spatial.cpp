@@ -74,11 +74,17 @@ bool Contact::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
   if (dnormal) dnormal->setZero();
   const int f = surface - cylinders;
   if (f >= static_cast<int>(face_length_.size())) {
-    // A flange, normal to the core axis.
+    // A flange, normal to the core axis, as far from the axis as it
+    // reaches (as touchAll finds it): a point the face's force pushed
+    // beyond its reach would otherwise be pushed on by a face that touchAll
+    // no longer finds there, and the flag would change at every recheck.
     const int j = f - static_cast<int>(face_length_.size());
     const Eigen::Vector3d& a = core_.axisWorld();
+    const Eigen::Vector3d r = p_world - core_.originWorld();
+    const double along = r.dot(a);
+    if ((r - along * a).norm() > flange_radius_) return false;
     normal_world = flange_side_[j] * a;
-    depth = c_.radius - flange_side_[j] * ((p_world - core_.originWorld()).dot(a) - flange_at_[j]);
+    depth = c_.radius - flange_side_[j] * (along - flange_at_[j]);
     return true;
   }
   normal_world = face_normal_world_[f];
