@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "coil_winding_sim/core/external_forces/contact.hpp"
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 
 #ifdef CWS_SOURCE_DIR
@@ -88,6 +89,59 @@ TEST(Flanges, PushIntoTheWindingByThePenaltyLaw) {
   b.k.p_world.col(1) += s.core.flange_height * Eigen::Vector3d::UnitX();
   b.evaluate(contact);
   EXPECT_EQ(b.f.f_world.col(1).norm(), 0.0);
+}
+
+// In a Newton solve the flange a recheck found stays frozen: it pushes k h
+// along the axis while the point lies within the flange's reach, and not
+// at all once the point is beyond it, where the explicit steps find no
+// flange either (a frozen flange pushing as its whole plane moved a point
+// beyond the rim, where the recheck then found none, and the flag turned
+// at every recheck).
+TEST(Flanges, AFrozenFlangeEndsWhereTheFlangeEnds) {
+  const double width = 4e-3;  // [m]
+  const cws::Scene s = cws::loadScene(k3d, {"process.winding_width=" + std::to_string(width),
+                                            "physics.flanges=true", "physics.friction=false"});
+  const cws::RotatingCore core(s.core, 0.0);
+  Bench b(s, 6, 1);
+  cws::Contact contact(b.c, s, core);
+  const Eigen::Vector3d axis = s.core.axis_world.normalized();
+  const double r = b.c.radius, h1 = 1e-5, k = s.contact.stiffness;
+  const double at0 = (s.supply.port_position_world - s.core.position_world).dot(axis) - r;
+  double swept = 0.0;
+  for (const cws::CylinderParams& cyl : s.core.cylinders) {
+    swept = std::max(swept, cyl.center_core.norm() + cyl.radius);
+  }
+  // Point 1 h1 into the first flange, 1 mm inside its reach; the others
+  // far from everything.
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  auto place = [&](double radial) {
+    Eigen::Vector3d p = s.core.position_world + radial * x;
+    return Eigen::Vector3d(p + (at0 + r - h1 - p.dot(axis)) * axis);
+  };
+  cws::SpatialState st;
+  st.first = 1;
+  st.n = 6;
+  st.alpha = 1e4;
+  st.p.setZero(3, 6);
+  for (int i = 2; i < 6; ++i) st.p.col(i) = Eigen::Vector3d(0.0, -50e-3, i * 1e-3);
+  st.p.col(1) = place(swept + s.core.flange_height - 1e-3);
+  st.v.setZero(3, 6);
+  st.q.setZero(4, 6);
+  st.qd.setZero(4, 6);
+  st.mu.setZero(3, 6);
+  contact.beginSpatialStep(st);
+  ASSERT_TRUE(contact.recheckSpatialFlags(st));  // the flange is found
+  cws::SpatialAssembly a;
+  a.resize(6);
+  auto force = [&] {
+    a.begin(st.first, st.n, false, false, st.alpha);
+    contact.addSpatialForces(st, a);
+    return Eigen::Vector3d(a.forces().segment<3>(a.pRow(1)));
+  };
+  EXPECT_LT((force() - k * h1 * axis).norm(), 1e-9 * k * h1);
+  // The same depth 1 mm beyond the flange's reach, the flag still frozen.
+  st.p.col(1) = place(swept + s.core.flange_height + 1e-3);
+  EXPECT_EQ(force().norm(), 0.0);
 }
 
 // A point in the corner of a cylinder and a flange feels both: the sum of
