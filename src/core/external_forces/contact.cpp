@@ -164,7 +164,7 @@ bool Contact::touchAll(int i, const Eigen::Vector3d& p_world, const int* ref, To
   // their reach from the axis.
   if (flange_slot_ >= 0) {
     const double along = r.dot(a);
-    if ((r - along * a).norm() <= flange_radius_) {
+    if (withinFlangeReach(r, along)) {
       Touch& t = out[flange_slot_];
       t.h = 0.0;
       for (std::size_t j = 0; j < flange_at_.size(); ++j) {

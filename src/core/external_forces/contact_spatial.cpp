@@ -82,7 +82,7 @@ bool Contact::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
     const Eigen::Vector3d& a = core_.axisWorld();
     const Eigen::Vector3d r = p_world - core_.originWorld();
     const double along = r.dot(a);
-    if ((r - along * a).norm() > flange_radius_) return false;
+    if (!withinFlangeReach(r, along)) return false;
     normal_world = flange_side_[j] * a;
     depth = c_.radius - flange_side_[j] * (along - flange_at_[j]);
     return true;

@@ -169,6 +169,11 @@ class Contact : public ForceEffect {
     Eigen::Vector3d n_world = Eigen::Vector3d::Zero();
   };
   bool touchAll(int i, const Eigen::Vector3d& p_world, const int* ref, Touch* out) const;
+  // Is a point at r_world from the core's origin, `along` [m] along the
+  // core axis, within the flanges' reach from the axis?
+  bool withinFlangeReach(const Eigen::Vector3d& r_world, double along) const {
+    return (r_world - along * core_.axisWorld()).norm() <= flange_radius_;
+  }
   // The carried wire's runs touching point i (core-frame position), deepest
   // first, at most kMaxRuns; returns how many.
   static constexpr int kMaxRuns = 8;
