@@ -44,6 +44,29 @@ struct Bench {
   }
 };
 
+// The 3-D scene with flanges `width` [m] apart, without friction.
+cws::Scene flangeScene(double width) {
+  return cws::loadScene(k3d, {"process.winding_width=" + std::to_string(width),
+                              "physics.flanges=true", "physics.friction=false"});
+}
+
+// The first flange's position along the core axis [m]: half a wire
+// diameter behind the port's start (the second lies the winding width
+// further on, the pitch being positive).
+double firstFlangeAt(const cws::Scene& s) {
+  const Eigen::Vector3d axis = s.core.axis_world.normalized();
+  return (s.supply.port_position_world - s.core.position_world).dot(axis) - 0.5 * s.wire.diameter;
+}
+
+// The core's swept radius [m]: the flanges reach core.flange_height beyond.
+double sweptRadius(const cws::Scene& s) {
+  double swept = 0.0;
+  for (const cws::CylinderParams& cyl : s.core.cylinders) {
+    swept = std::max(swept, cyl.center_core.norm() + cyl.radius);
+  }
+  return swept;
+}
+
 }  // namespace
 
 // The flanges: k h along the normal into the winding, where h = r - the
@@ -51,23 +74,16 @@ struct Bench {
 // side, between the flanges or beyond their reach from the axis.
 TEST(Flanges, PushIntoTheWindingByThePenaltyLaw) {
   const double width = 4e-3;  // [m]
-  const cws::Scene s = cws::loadScene(k3d, {"process.winding_width=" + std::to_string(width),
-                                            "physics.flanges=true", "physics.friction=false"});
+  const cws::Scene s = flangeScene(width);
   const cws::RotatingCore core(s.core, 0.0);
   Bench b(s, 6, 1);
   cws::Contact contact(b.c, s, core);
   const Eigen::Vector3d axis = s.core.axis_world.normalized();
   const double r = b.c.radius;
-  // The first flange half a wire diameter behind the port's start, the
-  // second the winding width further on (the pitch is positive).
-  const double at0 = (s.supply.port_position_world - s.core.position_world).dot(axis) - r;
-  const double at1 = at0 + width;
+  const double at0 = firstFlangeAt(s), at1 = at0 + width;
   // Outside the core's cylinders, within the flanges' reach (1 mm beyond
   // the core's swept radius): only the flanges can touch.
-  double swept = 0.0;
-  for (const cws::CylinderParams& cyl : s.core.cylinders) {
-    swept = std::max(swept, cyl.center_core.norm() + cyl.radius);
-  }
+  const double swept = sweptRadius(s);
   ASSERT_GT(s.core.flange_height, 1e-3);
   const Eigen::Vector3d far = s.core.position_world + Eigen::Vector3d(swept + 1e-3, 0.0, 0.0);
   auto at = [&](double axial) { return Eigen::Vector3d(far + (axial - far.dot(axis)) * axis); };
@@ -98,19 +114,13 @@ TEST(Flanges, PushIntoTheWindingByThePenaltyLaw) {
 // beyond the rim, where the recheck then found none, and the flag turned
 // at every recheck).
 TEST(Flanges, AFrozenFlangeEndsWhereTheFlangeEnds) {
-  const double width = 4e-3;  // [m]
-  const cws::Scene s = cws::loadScene(k3d, {"process.winding_width=" + std::to_string(width),
-                                            "physics.flanges=true", "physics.friction=false"});
+  const cws::Scene s = flangeScene(4e-3);
   const cws::RotatingCore core(s.core, 0.0);
   Bench b(s, 6, 1);
   cws::Contact contact(b.c, s, core);
   const Eigen::Vector3d axis = s.core.axis_world.normalized();
   const double r = b.c.radius, h1 = 1e-5, k = s.contact.stiffness;
-  const double at0 = (s.supply.port_position_world - s.core.position_world).dot(axis) - r;
-  double swept = 0.0;
-  for (const cws::CylinderParams& cyl : s.core.cylinders) {
-    swept = std::max(swept, cyl.center_core.norm() + cyl.radius);
-  }
+  const double at0 = firstFlangeAt(s), swept = sweptRadius(s);
   // Point 1 h1 into the first flange, 1 mm inside its reach; the others
   // far from everything.
   const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
@@ -147,14 +157,13 @@ TEST(Flanges, AFrozenFlangeEndsWhereTheFlangeEnds) {
 // A point in the corner of a cylinder and a flange feels both: the sum of
 // the two penalty forces, each along its own normal.
 TEST(Flanges, ACornerPointFeelsTheCoreAndTheFlange) {
-  const cws::Scene s = cws::loadScene(
-      k3d, {"process.winding_width=4e-3", "physics.flanges=true", "physics.friction=false"});
+  const cws::Scene s = flangeScene(4e-3);
   const cws::RotatingCore core(s.core, 0.0);
   Bench b(s, 2, 1);
   cws::Contact contact(b.c, s, core);
   const double r = b.c.radius;
   const Eigen::Vector3d axis = s.core.axis_world.normalized();
-  const double at0 = (s.supply.port_position_world - s.core.position_world).dot(axis) - r;
+  const double at0 = firstFlangeAt(s);
   // Over the first cylinder's outermost line (+x), h_c into the cylinder
   // and h_f into the flange.
   const cws::CylinderParams& cyl = s.core.cylinders[0];
