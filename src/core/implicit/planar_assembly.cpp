@@ -20,9 +20,7 @@ void PlanarAssembly::resize(int capacity_points) {
   force_.setZero(unknowns);
   f_work.setZero(2, capacity_points);
   f_dissipative.setZero(2, capacity_points);
-  // Bending couples points two apart (4 dofs + 1 within a point); the port
-  // multiplier couples the last two points (at most 4 rows away).
-  matrix_.resize(unknowns, 5, 5);
+  matrix_.resize(unknowns);
 }
 
 void PlanarAssembly::begin(int first, int n, bool multiplier, bool jacobian, double alpha) {
@@ -39,7 +37,9 @@ void PlanarAssembly::begin(int first, int n, bool multiplier, bool jacobian, dou
   power_dissipated = 0.0;
   boundary_force.setZero();
   boundary_torque = 0.0;
-  if (jacobian_) matrix_.setZero(unknowns_);
+  // The multiplier's row has a zero diagonal: its block is inverted
+  // together with the one before it.
+  if (jacobian_) matrix_.setZero(unknowns_, multiplier);
 }
 
 void PlanarAssembly::addConstraintGradient(int i, const Eigen::Vector2d& grad) {

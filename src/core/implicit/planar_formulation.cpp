@@ -132,7 +132,7 @@ double PlanarFormulation::residual(bool jacobian, int /*top_point*/) {
     if (i - 1 >= f) r_.segment<2>(assembly_.dof(i - 1)) -= fi;
   }
   if (jacobian) {
-    BandedLu& m = assembly_.matrix();
+    PlanarAssembly::Matrix& m = assembly_.matrix();
     const double mass = a * alpha_ * point_mass_;
     for (int r = 0; r < 2 * (n - f); ++r) m.at(r, r) += mass;
     for (int i = f; i < n; ++i) {
@@ -176,7 +176,7 @@ NewtonStats PlanarFormulation::solve(const OneLegStep& step, const Eigen::Matrix
   return newtonSolve(*this, newton_, have_factor_);
 }
 
-// (The planar system is factored whole: a banded LU.)
+// (The planar system is factored whole after a flag change.)
 int PlanarFormulation::changedTop() const { return -1; }
 
 bool PlanarFormulation::factor() {

@@ -15,7 +15,7 @@
 #include <cmath>
 
 #include "coil_winding_sim/core/implicit/one_leg_step.hpp"
-#include "coil_winding_sim/core/linear_algebra/banded_lu.hpp"
+#include "coil_winding_sim/core/linear_algebra/block_tridiagonal_lu.hpp"
 
 namespace cws {
 
@@ -150,7 +150,11 @@ class PlanarAssembly {
   // Forces on the integrated dofs [N] (and the scaled constraint residual).
   Eigen::VectorXd& forces() { return force_; }
   const Eigen::VectorXd& forces() const { return force_; }
-  BandedLu& matrix() { return matrix_; }
+  // Block-tridiagonal in blocks of two points' coordinates: bending
+  // couples points two apart, which lie in the same or adjacent pairs; the
+  // port's multiplier row, last, couples the last two points.
+  using Matrix = BlockTridiagonalLu<4>;
+  Matrix& matrix() { return matrix_; }
 
   // Bookkeeping at the trial state, as WireForces does for the explicit
   // model: rates not paired with the wire's velocities, and the forces that
@@ -180,7 +184,7 @@ class PlanarAssembly {
   double alpha_ = 0.0;
   double constraint_scale_ = 1.0;
   Eigen::VectorXd force_;
-  BandedLu matrix_;
+  Matrix matrix_;
 };
 
 }  // namespace cws
