@@ -124,6 +124,7 @@ TEST(Carry, CarriedPointsMoveRigidlyWithTheCore) {
 std::pair<int, int> carriedAroundATensionJump(const std::string& damping_ratio) {
   std::vector<std::string> keys = paperCaseKeys(1.0, true);
   keys.push_back("contact.damping_ratio=" + damping_ratio);
+  keys.push_back("contact.friction_law=stick_speed");
   cws::Simulation sim(cws::loadScene(kDefault, keys));
   runTo(sim, 0.035);
   const int carried = sim.model().carriedPoints();
@@ -141,7 +142,7 @@ std::pair<int, int> carriedAroundATensionJump(const std::string& damping_ratio) 
   return {carried, least};
 }
 
-// With the paper's undamped springs.
+// With the paper's undamped springs and the stick_speed law.
 TEST(Carry, ReleasedWhenTheWireSlips) {
   const auto [carried, least] = carriedAroundATensionJump("0");
   ASSERT_GT(carried, 5);
@@ -151,7 +152,11 @@ TEST(Carry, ReleasedWhenTheWireSlips) {
 // A known defect, left for the engine's issue (39): with damped contact the
 // jump leaves fewer than two stuck groups in the integrated wire, the
 // release rule has no limit to scan up to, and the carried wire stays on
-// the core while the full model's wound wire slides by millimetres. A rule
+// the core while the full model's wound wire slides by millimetres. Under
+// elastic slip (contact.friction_law) the same holds with the undamped
+// springs too: the full model's wound points slide 0.5-5.9 mm in the 5 ms
+// after the jump under either law and either damping ratio, and with
+// elastic slip none is released. A rule
 // that released there made the late-reversal coil crawl
 // (docs/history/2026-11-27-damped-reference-model.md).
 TEST(Carry, DISABLED_ReleasedWhenTheWireSlipsWithDampedContact) {
