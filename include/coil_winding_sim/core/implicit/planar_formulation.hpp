@@ -5,7 +5,8 @@
 //   v = alpha (x - x_hat),   alpha M (v - v_hat) = F(x, v)
 // (backward Euler: alpha = 1/h, x_hat = x_0, v_hat = v_0; BDF2 likewise with
 // its own coefficients) is solved by Newton's method with a line search over
-// a banded system that every effect assembles (ForceEffect::addPlanarForces).
+// a band system that every effect assembles (ForceEffect::addPlanarForces),
+// factored in blocks of two points (PlanarAssembly::Matrix).
 // The frames' rotational inertia enters with each frame's angle gradient
 // taken at the step's start. Contact, stick and slip flags stay frozen
 // within one Newton solve and are rechecked after it; the step is solved
@@ -69,8 +70,8 @@ class PlanarFormulation : public NewtonFormulation {
   // Prescribed point first-1 and its frame at time t into state_.
   void placeBoundary(double t);
   // Residual r = inertia - F (force rows), the scaled constraint; its max
-  // norm. With jacobian, the Newton matrix too (all of it: the banded LU
-  // factors it whole, whatever point a flag round changed).
+  // norm. With jacobian, the Newton matrix too (all of it: the plane's
+  // system is factored whole, whatever point a flag round changed).
   double residual(bool jacobian, int top_point = -1);
   // Velocities of the integrated points from x: alpha (x - x_hat).
   void updateVelocities();
