@@ -181,3 +181,45 @@ TEST(BlockTridiagonalLu, ReportsASingularBlock) {
 }
 
 }  // namespace
+
+// The planar Newton system's layout (PlanarAssembly::Matrix): two
+// coordinates per point in blocks of two points, every point coupled to the
+// points up to two away (bending), and a port multiplier last whose row and
+// column touch the last two points only, with a zero diagonal. With an
+// even number of points the multiplier sits alone in a padded block, with
+// an odd one beside the last point; either way its block is inverted
+// together with the one before it (merge_last).
+TEST(BlockTridiagonalLu, MatchesADenseLuOnThePlanarSystem) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int points : {40, 41, 2, 3}) {
+    const int n = 2 * points + 1, m = n - 1;  // m: the multiplier's row
+    cws::BlockTridiagonalLu<4> lu;
+    lu.resize(n + 9);
+    lu.setZero(n, true);
+    Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(n, n);
+    auto set = [&](int i, int j, double a) {
+      dense(i, j) = a;
+      ASSERT_TRUE(lu.inBand(i, j)) << i << ", " << j;
+      lu.at(i, j) = a;
+    };
+    for (int i = 0; i < m; ++i) {
+      for (int j = 0; j < m; ++j) {
+        if (std::abs(i / 2 - j / 2) > 2) continue;
+        set(i, j, u(rng) + (i == j ? 20.0 : 0.0));
+      }
+    }
+    for (int j = std::max(0, m - 4); j < m; ++j) {
+      set(m, j, u(rng));
+      set(j, m, u(rng));
+    }
+    Eigen::VectorXd b(n);
+    for (int i = 0; i < n; ++i) b[i] = u(rng);
+    const Eigen::VectorXd x_dense = dense.partialPivLu().solve(b);
+    ASSERT_TRUE(lu.factor()) << points << " points";
+    Eigen::VectorXd x = b;
+    lu.solve(x);
+    EXPECT_LT((dense * x - b).norm() / b.norm(), 1e-10) << points << " points";
+    EXPECT_LT((x - x_dense).norm() / x_dense.norm(), 1e-10) << points << " points";
+  }
+}
