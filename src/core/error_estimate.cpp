@@ -84,7 +84,10 @@ Scene refinedScene(const Scene& scene, std::string& refinement) {
     refinement = "solver.fixed_step / 2";
   } else if (info && info->newton_steps) {
     s.solver.implicit_step *= kNewtonRefinement;
-    refinement = "solver.implicit_step / 4, the difference x 4/3";
+    s.solver.steps_per_revolution /= kNewtonRefinement;
+    refinement =
+        "a quarter of the step (solver.implicit_step / 4, solver.steps_per_revolution x 4), "
+        "the difference x 4/3";
   } else {
     s.solver.rtol *= 0.1;
     s.solver.atol *= 0.1;

@@ -177,7 +177,11 @@ std::vector<SceneKey> declareKeys() {
       key<&S::solver, &Solver::baumgarte_nu>("solver.baumgarte_nu", "1/s", kNonNegative,
                                              "constraint stabilization nu, eq. (6)"),
       key<&S::solver, &Solver::implicit_step>("solver.implicit_step", "s", kPositive,
-                                              "step of implicit_euler, bdf2, generalized_alpha"),
+                                              "longest step of implicit_euler, bdf2, "
+                                              "generalized_alpha"),
+      key<&S::solver, &Solver::steps_per_revolution>(
+          "solver.steps_per_revolution", "-", kNonNegative,
+          "implicit steps per core revolution at the core's speed (0: implicit_step)"),
       key<&S::solver, &Solver::rho_infinity>("solver.rho_infinity", "-", kNonNegative,
                                              "generalized_alpha: spectral radius at infinite "
                                              "frequency, 0 to 1"),

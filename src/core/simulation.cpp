@@ -1,7 +1,9 @@
 #include "coil_winding_sim/core/simulation.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "coil_winding_sim/core/external_forces/free_wire_contact.hpp"
@@ -112,6 +114,24 @@ void Simulation::step(double t_limit) {
   // Nor across a commanded port sample (a velocity kink of the port).
   if (const Supply* supply = model_->supply()) {
     t_limit = std::min(t_limit, supply->portCommand().nextKink(t_));
+  }
+  // Implicit steps follow the process: at most one core revolution over
+  // solver.steps_per_revolution, at the faster of the core's present and
+  // commanded speeds (a ramp runs between them).
+  const double per_revolution = scene_.solver.steps_per_revolution;
+  if (const RotatingCore* core = model_->core(); core && per_revolution > 0.0) {
+    constexpr double kTwoPi = 6.283185307179586;
+    const double omega = std::max(std::abs(core->omega(t_)), std::abs(core->command()));
+    double longest = std::numeric_limits<double>::infinity();
+    if (omega > 0.0) {
+      // To 10 significant digits: a speed given in rpm gives the step a
+      // user expects (1e-4 s at 1200 rpm and 500 steps, not 1e-4 less an
+      // ulp; a wound coil's path can depend on the step's last bit).
+      const double exact = kTwoPi / (omega * per_revolution);
+      const double digits = std::pow(10.0, 9.0 - std::floor(std::log10(exact)));
+      longest = std::round(exact * digits) / digits;
+    }
+    stepper_->limitStep(longest);
   }
   try {
     stepper_->step(*model_, t_, y_, t_limit);

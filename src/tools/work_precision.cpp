@@ -136,7 +136,8 @@ int runWorkPrecision(const std::string& scene_path, const std::vector<std::strin
     if (!info.newton_steps) continue;
     for (const char* h : {"1e-3", "3e-4", "1e-4", "3e-5", "1e-5", "3e-6", "1e-6"}) {
       Run r = make(info.name, std::string("h") + h,
-                   {std::string("solver.implicit_step=") + h, "solver.carry_stuck_wire=true"});
+                   {std::string("solver.implicit_step=") + h, "solver.steps_per_revolution=0",
+                    "solver.carry_stuck_wire=true"});
       r.method = std::string(info.name) + "+carry";
       r.name = std::string(info.name) + "_carry_h" + h;
       runs.push_back(r);

@@ -17,6 +17,10 @@
 #include "ros_test_support.hpp"
 
 namespace {
+// The refinement a Newton-step method's estimate reports.
+const char* const kQuarterStep =
+    "a quarter of the step (solver.implicit_step / 4, solver.steps_per_revolution x 4), the "
+    "difference x 4/3";
 using cws_ros_test::waitFor;
 
 struct Listener {
@@ -56,7 +60,7 @@ bool pause(bool on) {
 // The checks every estimate of the 0.1 s job must pass.
 void expectSound(const coil_winding_sim::ErrorEstimate& e) {
   EXPECT_TRUE(e.failure.empty()) << e.failure;
-  EXPECT_EQ(e.refinement, "solver.implicit_step / 4, the difference x 4/3");
+  EXPECT_EQ(e.refinement, kQuarterStep);
   EXPECT_NEAR(e.sim_time, 0.1, 1e-9);
   // A refined run differs, but by hundredths of d (0.063 d with the
   // estimate's 4/3; the unit test InputLog.EstimateFromInputs... finds a

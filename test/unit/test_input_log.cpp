@@ -13,6 +13,10 @@
 
 #ifdef CWS_SOURCE_DIR
 namespace {
+// The refinement a Newton-step method's estimate reports.
+const char* const kQuarterStep =
+    "a quarter of the step (solver.implicit_step / 4, solver.steps_per_revolution x 4), the "
+    "difference x 4/3";
 const std::string kDefault = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
 
 // The paper's case with Newton steps, 20 ms long.
@@ -96,7 +100,7 @@ TEST(InputLog, RefinedStateContinuesAtAQuarterOfTheStep) {
   std::string what;
   const cws::SimulationState start = sim.saveState();
   auto refined = cws::Simulation::fromState(cws::refinedState(start, what));
-  EXPECT_EQ(what, "solver.implicit_step / 4, the difference x 4/3");
+  EXPECT_EQ(what, kQuarterStep);
   EXPECT_DOUBLE_EQ(refined->scene().solver.implicit_step, 0.25 * scene.solver.implicit_step);
   EXPECT_DOUBLE_EQ(refined->time(), 0.004);
   EXPECT_EQ((refined->state() - sim.state()).cwiseAbs().maxCoeff(), 0.0);
@@ -122,7 +126,7 @@ TEST(InputLog, EstimateFromInputsIsTheRefinedRunWithTheSameInputs) {
   stepTo(job, scene.endTime());
   const std::optional<cws::ErrorEstimate> e = cws::estimateFromInputs(start, log, job);
   ASSERT_TRUE(e.has_value());
-  EXPECT_EQ(e->refinement, "solver.implicit_step / 4, the difference x 4/3");
+  EXPECT_EQ(e->refinement, kQuarterStep);
   EXPECT_GT(e->refined_wall_s, 0.0);
   std::printf(
       "bdf2 against a quarter of its step, tension step at 6 ms: shape %.4f d, bulging %.4f\n",

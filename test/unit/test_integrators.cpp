@@ -8,8 +8,12 @@
 
 #ifdef CWS_SOURCE_DIR
 namespace {
+// The refinement a Newton-step method's estimate reports.
+const char* const kQuarterStep =
+    "a quarter of the step (solver.implicit_step / 4, solver.steps_per_revolution x 4), the "
+    "difference x 4/3";
 const std::string kDefault = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
-}
+}  // namespace
 
 TEST(Integrators, EveryRegisteredNameBuildsItsStepper) {
   for (const cws::IntegratorInfo& info : cws::integrators()) {
@@ -51,15 +55,16 @@ TEST(ErrorEstimate, RefinesTheSettingTheMethodReads) {
   std::string what;
   cws::Scene s = cws::loadScene(kDefault, {"solver.integrator=bdf2"});
   EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.implicit_step, 0.25 * s.solver.implicit_step);
-  EXPECT_EQ(what, "solver.implicit_step / 4, the difference x 4/3");
+  EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.steps_per_revolution,
+                   4.0 * s.solver.steps_per_revolution);
+  EXPECT_EQ(what, kQuarterStep);
   // A first-order error e(h) = c h: the difference to h / 4 is 3/4 of it.
   EXPECT_DOUBLE_EQ(cws::refinementScale(s), 4.0 / 3.0);
   // generalized_alpha: the same refinement, said not to be calibrated (its
   // estimate was 0.2 to 5 times its true error).
   s = cws::loadScene(kDefault, {"solver.integrator=generalized_alpha"});
   EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.implicit_step, 0.25 * s.solver.implicit_step);
-  EXPECT_EQ(what.rfind("solver.implicit_step / 4, the difference x 4/3; not calibrated", 0), 0u)
-      << what;
+  EXPECT_EQ(what.rfind(std::string(kQuarterStep) + "; not calibrated", 0), 0u) << what;
   s = cws::loadScene(kDefault, {"solver.integrator=symplectic_euler"});
   EXPECT_DOUBLE_EQ(*cws::refinedScene(s, what).solver.fixed_step, 0.5 * cws::fixedStep(s));
   EXPECT_EQ(cws::refinementScale(s), 1.0);
@@ -115,3 +120,32 @@ TEST(ErrorEstimate, ARunAgainstItselfHasNoErrorAndAgainstItsRefinementSome) {
   EXPECT_LT(e.bulging_error_rel, 0.1);
 }
 #endif
+
+TEST(ImplicitSteps, FollowTheCoreRevolution) {
+  // 500 steps per revolution at the core's speed, at most
+  // solver.implicit_step: 4e-4 s at 300 rpm (a revolution over 500 is
+  // 4e-4 s too) and at 100 rpm (the bound), 2e-4 s at 600 rpm, 1e-4 s at
+  // 1200 rpm, 4e-5 s at 3,000 rpm; with steps_per_revolution 0 the bound
+  // alone. The core is at speed from t = 0 (reached within 1 ns: the first
+  // step ends there), and the steps grow from 1/64 of the longest.
+  struct Case {
+    double rpm, per_revolution, bound, expected;
+  };
+  for (const Case& c :
+       {Case{300, 500, 4e-4, 4e-4}, Case{100, 500, 4e-4, 4e-4}, Case{600, 500, 4e-4, 2e-4},
+        Case{1200, 500, 4e-4, 1e-4}, Case{3000, 500, 4e-4, 4e-5}, Case{1200, 0, 2e-4, 2e-4}}) {
+    cws::Simulation sim(cws::loadScene(
+        kDefault, {"solver.integrator=bdf2", "core.start_at_speed=true",
+                   "process.core_speed_rpm=" + std::to_string(c.rpm),
+                   "solver.steps_per_revolution=" + std::to_string(c.per_revolution),
+                   "solver.implicit_step=" + std::to_string(c.bound), "process.duration=0.01"}));
+    const std::string what = std::to_string(c.rpm) + " rpm, " + std::to_string(c.per_revolution) +
+                             " steps per revolution";
+    sim.step(sim.endTime());
+    EXPECT_LE(sim.time(), 1e-8) << what;
+    sim.step(sim.endTime());
+    EXPECT_NEAR(sim.stepper().lastStep(), c.expected / 64.0, 1e-12 * c.expected) << what;
+    while (sim.time() < 0.005) sim.step(sim.endTime());
+    EXPECT_DOUBLE_EQ(sim.stepper().lastStep(), c.expected) << what;
+  }
+}

@@ -129,11 +129,14 @@ struct SolverParams {
   // fraction of the scene's explicit stability limit (fixedStep()).
   std::optional<double> fixed_step;
   double baumgarte_nu = 5000.0;  // constraint stabilization nu [1/s], eq. (6)
-  // Implicit integrators (implicit_euler, bdf2): step [s], Newton's
-  // convergence bound on the largest position update [m], its iteration
-  // limit, and how often a step is solved again after a contact, stick or
-  // slip flag changed.
-  double implicit_step = 1.0e-4;
+  // Implicit integrators (implicit_euler, bdf2, generalized_alpha): the
+  // longest step [s], and the steps per core revolution at the core's speed
+  // [-] (the step is at most one revolution over this; 0: steps of
+  // implicit_step at any speed); Newton's convergence bound on the largest
+  // position update [m], its iteration limit, and how often a step is solved
+  // again after a contact, stick or slip flag changed.
+  double implicit_step = 4.0e-4;
+  double steps_per_revolution = 500.0;
   // generalized_alpha: the spectral radius at infinite frequency [-], in
   // [0, 1] (1: no numerical damping; 0: the most).
   double rho_infinity = 0.8;

@@ -11,7 +11,7 @@
 namespace cws {
 
 ImplicitStepper::ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme)
-    : p_(p), scheme_(scheme), h_(kStartFraction * p.implicit_step) {
+    : p_(p), scheme_(scheme), h_(kStartFraction * p.implicit_step), longest_(p.implicit_step) {
   // The explicit fallback steps at the resolved safe step (Simulation
   // resolves solver.fixed_step: auto).
   if (p.fixed_step && *p.fixed_step > 0.0)
@@ -111,13 +111,21 @@ void ImplicitStepper::explicitStep(OdeSystem& sys, double& t, Eigen::VectorXd& y
   if (t >= fallback_until_) {
     fallback_until_ = -1.0;
     have_prev_ = false;
-    h_ = kStartFraction * p_.implicit_step;
+    h_ = kStartFraction * longest_;
   }
 }
 
 void ImplicitStepper::kink() {
-  h_ = std::min(h_, kStartFraction * p_.implicit_step);
+  h_ = std::min(h_, kStartFraction * longest_);
   have_prev_ = false;
+}
+
+void ImplicitStepper::limitStep(double longest) {
+  longest_ = std::min(p_.implicit_step, longest);
+  // A run starts with a fraction of the step the process asks for.
+  if (!limited_ && counts_.accepted == 0) h_ = kStartFraction * longest_;
+  limited_ = true;
+  h_ = std::min(h_, longest_);
 }
 
 void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) {
@@ -271,7 +279,7 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     h_last_ = h;
     sys.acceptStep(t, y);
     // Grow back towards the scene's step after a retry.
-    if (!clipped) h_ = std::min(p_.implicit_step, 2.0 * h_);
+    if (!clipped) h_ = std::min(longest_, 2.0 * h_);
     return;
   }
 }

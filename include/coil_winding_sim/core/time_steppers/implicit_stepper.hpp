@@ -7,7 +7,9 @@
 // highest frequencies to solver.rho_infinity and the slow ones hardly at
 // all. All solve
 //   v = alpha (x - x_hat),   kappa M (v - v_hat) = F(x, v)
-// with Newton's method at every step of solver.implicit_step; a step whose
+// with Newton's method at every step of solver.implicit_step, or of one
+// revolution of the core over solver.steps_per_revolution where that is
+// shorter (limitStep: the step follows the process); a step whose
 // Newton iterations do not converge is retried at a quarter of its size and
 // the step grows back by doubling. BDF2 starts, and restarts after a
 // retried step or a step more than twice the last, with one backward Euler
@@ -57,6 +59,7 @@ class ImplicitStepper : public TimeStepper {
   void restore(double next_step, double last_step, const StepCounts& counts) override;
   const NewtonCounts* newtonCounts() const override { return &newton_; }
   void kink() override;
+  void limitStep(double longest) override;
 
  private:
   // The explicit fallback: a stretch begins at t after Newton failed at a
@@ -70,6 +73,11 @@ class ImplicitStepper : public TimeStepper {
   std::unique_ptr<NewtonFormulation> formulation_;
   NewtonModelView* model_ = nullptr;  // the system's view for the formulation
   double h_, h_last_ = 0.0;
+  // The longest step at present [s]: solver.implicit_step, or less where
+  // the core turns fast (limitStep); before the first step, whether a limit
+  // has come (the first step is then a fraction of it).
+  double longest_;
+  bool limited_ = false;
   StepCounts counts_;
   NewtonCounts newton_;
   // The step before the present one (BDF2): configuration and rates of

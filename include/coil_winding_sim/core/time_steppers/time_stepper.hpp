@@ -53,6 +53,10 @@ class TimeStepper {
   // The prescribed motion's acceleration jumps at the present time (a core
   // speed ramp begins or ends): a stepper may take small steps from here.
   virtual void kink() {}
+  // The longest step the process allows from the present time [s]
+  // (Simulation::step: solver.steps_per_revolution at the core's speed):
+  // a stepper of fixed steps may take shorter ones; the others ignore it.
+  virtual void limitStep(double /*longest*/) {}
 };
 
 // Max norm of an error estimate `err` over the first n components, each
