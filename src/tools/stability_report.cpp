@@ -126,9 +126,8 @@ std::string writeStabilityReport(const std::string& dir, const std::vector<Stabi
         "says. symplectic_euler steps at a quarter of the case's l / c; rkf45 and rosenbrock2 "
         "use the scene's tolerances (rtol 1e-6, atol 1e-11); implicit_euler, bdf2 and "
         "generalized_alpha take "
-        "Newton steps of 500 per core revolution (solver.steps_per_revolution; 1e-4 s at "
-        "1200 rpm), at most solver.implicit_step (4e-4 s), the first ones smaller (a run "
-        "starts at 1/64 of it). Wall-time budget per run: "
+        "Newton steps of solver.implicit_step (1e-4 s), the first ones smaller (a run starts "
+        "at 1/64 of it). Wall-time budget per run: "
      << info.budget_s << " s. Machine: " << machine() << "; "
      << (info.jobs > 0 ? std::to_string(info.jobs) + " runs in parallel"
                        : std::string("runs as tasks of Slurm job arrays"))

@@ -135,8 +135,8 @@ struct SolverParams {
   // implicit_step at any speed); Newton's convergence bound on the largest
   // position update [m], its iteration limit, and how often a step is solved
   // again after a contact, stick or slip flag changed.
-  double implicit_step = 4.0e-4;
-  double steps_per_revolution = 500.0;
+  double implicit_step = 1.0e-4;
+  double steps_per_revolution = 0.0;
   // generalized_alpha: the spectral radius at infinite frequency [-], in
   // [0, 1] (1: no numerical damping; 0: the most).
   double rho_infinity = 0.8;
