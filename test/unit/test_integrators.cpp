@@ -13,6 +13,7 @@ const char* const kQuarterStep =
     "a quarter of the step (solver.implicit_step / 4, solver.steps_per_revolution x 4), the "
     "difference x 4/3";
 const std::string kDefault = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
+constexpr double kPi = 3.14159265358979323846;
 }  // namespace
 
 TEST(Integrators, EveryRegisteredNameBuildsItsStepper) {
@@ -53,10 +54,10 @@ TEST(Integrators, NewtonStepMethodsTakeA3DScene) {
 
 TEST(ErrorEstimate, RefinesTheSettingTheMethodReads) {
   std::string what;
-  cws::Scene s = cws::loadScene(kDefault, {"solver.integrator=bdf2"});
+  cws::Scene s =
+      cws::loadScene(kDefault, {"solver.integrator=bdf2", "solver.steps_per_revolution=500"});
   EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.implicit_step, 0.25 * s.solver.implicit_step);
-  EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.steps_per_revolution,
-                   4.0 * s.solver.steps_per_revolution);
+  EXPECT_DOUBLE_EQ(cws::refinedScene(s, what).solver.steps_per_revolution, 2000.0);
   EXPECT_EQ(what, kQuarterStep);
   // A first-order error e(h) = c h: the difference to h / 4 is 3/4 of it.
   EXPECT_DOUBLE_EQ(cws::refinementScale(s), 4.0 / 3.0);
@@ -148,4 +149,17 @@ TEST(ImplicitSteps, FollowTheCoreRevolution) {
     while (sim.time() < 0.005) sim.step(sim.endTime());
     EXPECT_DOUBLE_EQ(sim.stepper().lastStep(), c.expected) << what;
   }
+  // A new speed setpoint: the step after it is 1/64 of the new speed's
+  // (the core ramps towards it), and the steps grow to it.
+  cws::Simulation sim(cws::loadScene(
+      kDefault,
+      {"solver.integrator=bdf2", "core.start_at_speed=true", "process.core_speed_rpm=300",
+       "solver.steps_per_revolution=500", "solver.implicit_step=4e-4", "process.duration=0.05"}));
+  while (sim.time() < 0.005) sim.step(sim.endTime());
+  EXPECT_DOUBLE_EQ(sim.stepper().lastStep(), 4e-4);
+  sim.setCoreSpeed(3000.0 * 2.0 * kPi / 60.0);
+  sim.step(sim.endTime());
+  EXPECT_NEAR(sim.stepper().lastStep(), 4e-5 / 64.0, 1e-15);
+  while (sim.time() < 0.03) sim.step(sim.endTime());
+  EXPECT_DOUBLE_EQ(sim.stepper().lastStep(), 4e-5);
 }

@@ -75,9 +75,11 @@ class ImplicitStepper : public TimeStepper {
   double h_, h_last_ = 0.0;
   // The longest step at present [s]: solver.implicit_step, or less where
   // the core turns fast (limitStep); before the first step, whether a limit
-  // has come (the first step is then a fraction of it).
+  // has come (the first step is then a fraction of it); whether a kink
+  // awaits the next limit.
   double longest_;
   bool limited_ = false;
+  bool kinked_ = false;
   StepCounts counts_;
   NewtonCounts newton_;
   // The step before the present one (BDF2): configuration and rates of
