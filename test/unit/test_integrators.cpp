@@ -5,13 +5,11 @@
 #include "coil_winding_sim/core/error_estimate.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
+#include "wire_test_support.hpp"
 
 #ifdef CWS_SOURCE_DIR
 namespace {
-// The refinement a Newton-step method's estimate reports.
-const char* const kQuarterStep =
-    "a quarter of the step (solver.implicit_step / 4, solver.steps_per_revolution x 4), the "
-    "difference x 4/3";
+using cws_test::kQuarterStep;
 const std::string kDefault = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
 constexpr double kPi = 3.14159265358979323846;
 }  // namespace
