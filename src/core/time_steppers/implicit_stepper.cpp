@@ -125,9 +125,8 @@ void ImplicitStepper::limitStep(double longest) {
   longest_ = std::min(p_.implicit_step, longest);
   // A run, and the step after a kink, start with a fraction of the step the
   // process asks for now (after a new speed setpoint: the new speed's).
-  if (!limited_ && counts_.accepted == 0) h_ = kStartFraction * longest_;
+  if (counts_.accepted == 0) h_ = kStartFraction * longest_;
   if (kinked_) h_ = std::min(h_, kStartFraction * longest_);
-  limited_ = true;
   kinked_ = false;
   h_ = std::min(h_, longest_);
 }
@@ -281,7 +280,6 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     ++counts_.accepted;
     t = clipped ? t_limit : t + h;
     h_last_ = h;
-    kinked_ = false;
     sys.acceptStep(t, y);
     // Grow back towards the scene's step after a retry.
     if (!clipped) h_ = std::min(longest_, 2.0 * h_);

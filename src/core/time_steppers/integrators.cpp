@@ -53,37 +53,21 @@ std::vector<IntegratorInfo> registry() {
                false,
                false,
                makeRosenbrock2});
-  r.push_back(
-      {"implicit_euler",
-       "backward Euler with Newton steps (first order, L-stable)",
-       {"implicit_step", "steps_per_revolution", "newton_tol", "newton_max_iterations",
-        "flag_rounds", "flag_check_tol", "return_mapping_round", "predictor_tol", "min_step"},
-       false,
-       false,
-       true,
-       true,
-       makeImplicitEuler});
-  r.push_back(
-      {"bdf2",
-       "variable-step BDF2 with Newton steps (second order, L-stable)",
-       {"implicit_step", "steps_per_revolution", "newton_tol", "newton_max_iterations",
-        "flag_rounds", "flag_check_tol", "return_mapping_round", "predictor_tol", "min_step"},
-       false,
-       false,
-       true,
-       true,
-       makeBdf2});
+  // The Newton-step methods' keys (generalized_alpha adds rho_infinity).
+  const std::vector<const char*> newton = {
+      "implicit_step",         "steps_per_revolution", "newton_tol",
+      "newton_max_iterations", "flag_rounds",          "flag_check_tol",
+      "return_mapping_round",  "predictor_tol",        "min_step"};
+  std::vector<const char*> alpha = newton;
+  alpha.insert(alpha.begin() + 2, "rho_infinity");
+  r.push_back({"implicit_euler", "backward Euler with Newton steps (first order, L-stable)", newton,
+               false, false, true, true, makeImplicitEuler});
+  r.push_back({"bdf2", "variable-step BDF2 with Newton steps (second order, L-stable)", newton,
+               false, false, true, true, makeBdf2});
   r.push_back({"generalized_alpha",
                "generalized-alpha with Newton steps (second order, high frequencies damped to "
                "rho_infinity)",
-               {"implicit_step", "steps_per_revolution", "rho_infinity", "newton_tol",
-                "newton_max_iterations", "flag_rounds", "flag_check_tol", "return_mapping_round",
-                "predictor_tol", "min_step"},
-               false,
-               false,
-               true,
-               true,
-               makeGeneralizedAlpha,
+               alpha, false, false, true, true, makeGeneralizedAlpha,
                "not calibrated for generalized_alpha: 0.2 to 5 times its true error on the five "
                "accuracy cases (docs/PERFORMANCE.md)"});
   return r;

@@ -74,11 +74,8 @@ class ImplicitStepper : public TimeStepper {
   NewtonModelView* model_ = nullptr;  // the system's view for the formulation
   double h_, h_last_ = 0.0;
   // The longest step at present [s]: solver.implicit_step, or less where
-  // the core turns fast (limitStep); before the first step, whether a limit
-  // has come (the first step is then a fraction of it); whether a kink
-  // awaits the next limit.
+  // the core turns fast (limitStep); whether a kink awaits the next limit.
   double longest_;
-  bool limited_ = false;
   bool kinked_ = false;
   StepCounts counts_;
   NewtonCounts newton_;
