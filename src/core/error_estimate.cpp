@@ -85,9 +85,10 @@ Scene refinedScene(const Scene& scene, std::string& refinement) {
   } else if (info && info->newton_steps) {
     s.solver.implicit_step *= kNewtonRefinement;
     s.solver.steps_per_revolution /= kNewtonRefinement;
+    s.solver.strike_step *= kNewtonRefinement;
     refinement =
-        "a quarter of the step (solver.implicit_step / 4, solver.steps_per_revolution x 4), "
-        "the difference x 4/3";
+        "a quarter of the step (solver.implicit_step and solver.strike_step / 4, "
+        "solver.steps_per_revolution x 4), the difference x 4/3";
   } else {
     s.solver.rtol *= 0.1;
     s.solver.atol *= 0.1;

@@ -83,6 +83,7 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
         << "  \"newton_retried_steps\": " << nc->retried_steps << ",\n"
         << "  \"newton_predictor_retries\": " << nc->predictor_retries << ",\n"
         << "  \"newton_return_mapped_solves\": " << nc->return_mapped_solves << ",\n"
+        << "  \"newton_strike_windows\": " << nc->strike_windows << ",\n"
         << "  \"newton_fallback_stretches\": " << nc->fallback_stretches << ",\n"
         << "  \"newton_fallback_steps\": " << nc->fallback_steps << ",\n"
         << "  \"newton_fallback_cause\": \"" << nc->fallback_cause << "\",\n";

@@ -182,6 +182,14 @@ std::vector<SceneKey> declareKeys() {
       key<&S::solver, &Solver::steps_per_revolution>(
           "solver.steps_per_revolution", "-", kNonNegative,
           "implicit steps per core revolution at the core's speed (0: implicit_step)"),
+      key<&S::solver, &Solver::strike_step>(
+          "solver.strike_step", "s", kNonNegative,
+          "Newton steps where the core strikes the free span (0: no such steps)"),
+      key<&S::solver, &Solver::strike_window>("solver.strike_window", "s", kPositive,
+                                              "how long the steps stay at strike_step"),
+      key<&S::solver, &Solver::strike_speed>("solver.strike_speed", "m/s", kNonNegative,
+                                             "landing speed of a struck span's point "
+                                             "relative to the core, from which it counts"),
       key<&S::solver, &Solver::rho_infinity>("solver.rho_infinity", "-", kNonNegative,
                                              "generalized_alpha: spectral radius at infinite "
                                              "frequency, 0 to 1"),

@@ -19,8 +19,8 @@
 namespace {
 // The refinement a Newton-step method's estimate reports.
 const char* const kQuarterStep =
-    "a quarter of the step (solver.implicit_step / 4, solver.steps_per_revolution x 4), the "
-    "difference x 4/3";
+    "a quarter of the step (solver.implicit_step and solver.strike_step / 4, "
+    "solver.steps_per_revolution x 4), the difference x 4/3";
 using cws_ros_test::waitFor;
 
 struct Listener {

@@ -10,8 +10,8 @@ namespace cws_test {
 
 // The refinement a Newton-step method's error estimate reports.
 inline constexpr const char* kQuarterStep =
-    "a quarter of the step (solver.implicit_step / 4, solver.steps_per_revolution x 4), the "
-    "difference x 4/3";
+    "a quarter of the step (solver.implicit_step and solver.strike_step / 4, "
+    "solver.steps_per_revolution x 4), the difference x 4/3";
 
 // A Table-1 wire of length L [m] in `segments` equal segments, clamped at the
 // origin along +x, no gravity, no damping, no end load.

@@ -137,6 +137,14 @@ struct SolverParams {
   // again after a contact, stick or slip flag changed.
   double implicit_step = 1.0e-4;
   double steps_per_revolution = 0.0;
+  // Struck spans (docs/MODEL.md, "Steps through a struck span"): where the
+  // core strikes the free span, a point of it landing at least
+  // kStrikeGap points beyond the wound wire at a speed relative to the core
+  // of at least strike_speed [m/s], the Newton steps go down to strike_step
+  // [s] and stay there for strike_window [s] (strike_step 0: never).
+  double strike_step = 0.0;
+  double strike_window = 2.5e-4;
+  double strike_speed = 1.0;
   // generalized_alpha: the spectral radius at infinite frequency [-], in
   // [0, 1] (1: no numerical damping; 0: the most).
   double rho_infinity = 0.8;

@@ -118,6 +118,9 @@ class WireModel : public OdeSystem, public NewtonModelView {
     committed_.core_origin_world = origin_world;
     committed_.scheme_core = true;
   }
+  double spanLandingSpeed(int gap) const override {
+    return contact_ ? contact_->spanLandingSpeed(committed_, committed_time_, gap) : 0.0;
+  }
   // Offset of point i's block (p, q, v, qdot) in the state vector (i >= 1).
   static int stateOffset(int i) { return kAuxStates + kStatesPerPoint * (i - 1); }
   // Pose and motion at time t [s] of the prescribed point first-1 (the

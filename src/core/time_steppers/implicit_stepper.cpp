@@ -86,6 +86,7 @@ void ImplicitStepper::restore(double next_step, double last_step, const StepCoun
   counts_ = counts;
   have_prev_ = false;  // a continued run restarts BDF2 with one Euler step
   fallback_until_ = -1.0;
+  strike_until_ = -1.0;
 }
 
 void ImplicitStepper::beginFallback(double t, double h, bool converged) {
@@ -154,6 +155,8 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
   const Eigen::MatrixXd& x0 = f.committedX();
   const Eigen::MatrixXd& v0 = f.committedV();
   for (;;) {
+    // Within a struck span's window the steps stay short.
+    if (t < strike_until_) h_ = std::min(h_, p_.strike_step);
     // No sliver before the limit: a remainder of at most kLandStretch more
     // than the step is one step onto the limit, one of less than two steps
     // is split into two equal ones.
@@ -257,6 +260,23 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
       f.load(t);
       continue;
     }
+    // The core struck the free span within this step: it is redone in
+    // steps of an eighth, down to strike_step, so that one of those takes
+    // the landing; then the window of strike steps begins (a landing within
+    // the window changes nothing). A landing that moves the span's points
+    // at the core's speed is a wave along the wire faster than any longer
+    // step follows (docs/MODEL.md, "Steps through a struck span").
+    bool struck = false;
+    if (p_.strike_step > 0.0 && t + h > strike_until_) {
+      struck = model_->spanLandingSpeed(kStrikeGap) >= p_.strike_speed;
+      if (struck && h > (1.0 + kLandStretch) * p_.strike_step) {
+        ++counts_.rejected;
+        h_ = std::max(p_.strike_step, 0.125 * h);
+        have_prev_ = false;
+        f.load(t);
+        continue;
+      }
+    }
     // Keep this step's start as the past of the next one (the integrated
     // points; a point the core releases restarts the method above).
     if (scheme_ == Scheme::kGeneralizedAlpha) {
@@ -280,6 +300,10 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     ++counts_.accepted;
     t = clipped ? t_limit : t + h;
     h_last_ = h;
+    if (struck) {
+      strike_until_ = t + p_.strike_window;
+      ++newton_.strike_windows;
+    }
     sys.acceptStep(t, y);
     // Grow back towards the scene's step after a retry.
     if (!clipped) h_ = std::min(longest_, 2.0 * h_);

@@ -92,6 +92,12 @@ class Contact : public ForceEffect {
   int wireSurface() const { return wire_base_; }
   // Penetration [m] of point i's slot s at the last commit.
   double penetration(int i, int s = 0) const { return depth_[i * slots_ + s]; }
+  // The fastest landing in the present implicit step's trial flags of a
+  // point of the free span, at least `gap` points beyond the last point
+  // that touched at the last commit (time t [s], kinematics k): its speed
+  // relative to the core material then [m/s]; 0 when none landed (a span
+  // the core strikes, ImplicitStepper; span_landing.cpp).
+  double spanLandingSpeed(const WireKinematics& k, double t, int gap) const;
   // The present implicit step's trial flags of the core body's slot (tests).
   int trialSurface(int i, int s = 0) const { return trial_surface_[i * slots_ + s]; }
   bool trialStuck(int i, int s = 0) const { return friction_ && trial_stuck_[i * slots_ + s] != 0; }

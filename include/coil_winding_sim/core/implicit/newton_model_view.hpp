@@ -47,6 +47,11 @@ class NewtonModelView {
   // by the exact rotation).
   virtual void acceptCoreVelocity(const Eigen::Matrix3d& g_world,
                                   const Eigen::Vector3d& origin_world) = 0;
+  // After a solve: the fastest point of the free span that lands in it at
+  // least `gap` points beyond the wound wire, by its speed relative to the
+  // core at the last accepted step [m/s] (0: none; Contact::
+  // spanLandingSpeed).
+  virtual double spanLandingSpeed(int gap) const = 0;
 };
 
 }  // namespace cws

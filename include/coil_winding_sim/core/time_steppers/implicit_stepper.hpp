@@ -14,7 +14,11 @@
 // the step grows back by doubling. BDF2 starts, and restarts after a
 // retried step or a step more than twice the last, with one backward Euler
 // step. A run starts with small steps (kStartFraction), and so does the
-// step after a kink of the core's motion (kink()).
+// step after a kink of the core's motion (kink()). With solver.strike_step,
+// a step in which the core strikes the free span (a point of it lands well
+// beyond the wound wire, fast) is redone in steps of an eighth until one of
+// strike_step takes the landing, and the steps stay there for
+// solver.strike_window (docs/MODEL.md, "Steps through a struck span").
 // Progress is guaranteed: where the retried step would fall below
 // solver.min_step, a stretch of kFallbackStretch of symplectic Euler steps
 // at the explicit safe step (solver.fixed_step as resolved) carries the run
@@ -42,6 +46,9 @@ class ImplicitStepper : public TimeStepper {
   // through the jerk of the clamped wire booked energy it did not get
   // (docs/MODEL.md, "Implicit integration of planar scenes").
   static constexpr double kStartFraction = 1.0 / 64.0;
+  // A span counts as struck where a point at least this many points beyond
+  // the wound wire lands (solver.strike_step).
+  static constexpr int kStrikeGap = 3;
   // The explicit fallback's stretch of simulated time [s].
   static constexpr double kFallbackStretch = 1e-3;
   ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme);
@@ -99,6 +106,9 @@ class ImplicitStepper : public TimeStepper {
   // from the committed x0, v0 (columns first..n-1).
   void generalizedAlpha(double h, int first, int n, const Eigen::MatrixXd& x0,
                         const Eigen::MatrixXd& v0, OneLegStep& step);
+  // Steps through a struck span: they stay at solver.strike_step until this
+  // time [s].
+  double strike_until_ = -1.0;
   std::unique_ptr<TimeStepper> explicit_;  // the fallback's stepper (none: no safe step)
   double fallback_until_ = -1.0;           // the stretch's end [s]
 };
