@@ -66,7 +66,8 @@ TEST(StrikeSteps, FollowTheCoreStrikingTheFreeSpan) {
 // move at 0.8 m/s): the key changes nothing, to the bit.
 TEST(StrikeSteps, SlowCoresTakeTheSameSteps) {
   const cws::Simulation plain = run(600, 0.0, {"solver.integrator=bdf2"});
-  const cws::Simulation keyed = run(600, 0.0, {"solver.integrator=bdf2", "solver.strike_step=1e-6"});
+  const cws::Simulation keyed =
+      run(600, 0.0, {"solver.integrator=bdf2", "solver.strike_step=1e-6"});
   EXPECT_EQ(strikeWindows(keyed), 0);
   EXPECT_EQ(plain.stepper().counts().accepted, keyed.stepper().counts().accepted);
   const int n = plain.model().constants().n;

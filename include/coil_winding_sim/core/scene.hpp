@@ -143,7 +143,7 @@ struct SolverParams {
   // of at least strike_speed [m/s], the Newton steps go down to strike_step
   // [s] and stay there for strike_window [s] (strike_step 0: never).
   double strike_step = 0.0;
-  double strike_window = 2.5e-4;
+  double strike_window = 1.5e-4;
   double strike_speed = 1.0;
   // generalized_alpha: the spectral radius at infinite frequency [-], in
   // [0, 1] (1: no numerical damping; 0: the most).
