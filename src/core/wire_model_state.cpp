@@ -33,6 +33,7 @@ ModelState WireModel::saveState(const Eigen::VectorXd& y) const {
 }
 
 void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
+  carried_inertia_first_ = -1;
   if (m.points < 2 || m.points > c_.capacity) {
     throw std::runtime_error("snapshot has " + std::to_string(m.points) +
                              " points; this scene holds 2 to " + std::to_string(c_.capacity));

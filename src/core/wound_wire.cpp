@@ -115,6 +115,24 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
   c_.first = target;
 }
 
+double WireModel::carriedEnergyChange(double t0, double t1) const {
+  if (!carry_ || !core_ || c_.first <= 1) return 0.0;
+  // Points taken on since the last sum are added; after a release or a
+  // restored snapshot, all are summed again.
+  if (carried_inertia_first_ < 1 || carried_inertia_first_ > c_.first) {
+    carried_inertia_first_ = 1;
+    carried_inertia_ = 0.0;
+  }
+  for (int i = carried_inertia_first_; i < c_.first; ++i) {
+    carried_inertia_ +=
+        c_.point_mass * carried_p_core_[i].head<2>().squaredNorm() + c_.point_inertia;
+  }
+  carried_inertia_first_ = c_.first;
+  // Rigid turning about the core axis: 1/2 (M r^2 + I) omega^2 a point.
+  const double w0 = core_->omega(t0), w1 = core_->omega(t1);
+  return 0.5 * (w1 * w1 - w0 * w0) * carried_inertia_;
+}
+
 double WireModel::relativeSpeed(double t, int i) const {
   const Eigen::Vector3d p = committed_.p_world.col(i);
   const Eigen::Vector3d u =

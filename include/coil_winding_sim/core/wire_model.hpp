@@ -118,6 +118,7 @@ class WireModel : public OdeSystem, public NewtonModelView {
     committed_.core_origin_world = origin_world;
     committed_.scheme_core = true;
   }
+  double carriedEnergyChange(double t0, double t1) const override;
   double spanLandingSpeed(int gap) const override {
     return contact_ ? contact_->spanLandingSpeed(committed_, committed_time_, gap) : 0.0;
   }
@@ -263,6 +264,11 @@ class WireModel : public OdeSystem, public NewtonModelView {
   bool carry_ = false;
   // Pose of each carried point in the core frame: position [m] and frame.
   std::vector<Eigen::Vector3d> carried_p_core_;
+  // The carried points' moment of inertia about the core axis, M r^2 + I
+  // each [kg m^2], summed over points 1..carried_inertia_first_-1 (a cache
+  // for carriedEnergyChange; -1: to be summed anew).
+  mutable int carried_inertia_first_ = -1;
+  mutable double carried_inertia_ = 0.0;
   std::vector<Eigen::Vector4d> carried_q_core_;
   // Stand-off of carried points [m] where stand_off_known_ (a cache of
   // standOff(): fixed while the core carries the point).

@@ -293,6 +293,8 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     t_prev_ = t;
     have_prev_ = true;
     f.store(h, y);
+    // The core's work on the carried wire, which no Newton unknown sees.
+    y[0] += model_->carriedEnergyChange(t, clipped ? t_limit : t + h);
     // The commit compares the wire's velocities with the core material's
     // by this step's scheme (WireModel::relativeSpeed), except on a step
     // that restarts the method, whose start velocities are not the scheme's.

@@ -52,6 +52,11 @@ class NewtonModelView {
   // core at the last accepted step [m/s] (0: none; Contact::
   // spanLandingSpeed).
   virtual double spanLandingSpeed(int gap) const = 0;
+  // The kinetic energy the core gives the carried wire (points
+  // 1..first-1, turning rigidly with it) from t0 to t1 [J]: the core's
+  // work on it, which the explicit model books as the carried points'
+  // power (WireModel::derivative) and a Newton step books from this.
+  virtual double carriedEnergyChange(double t0, double t1) const = 0;
 };
 
 }  // namespace cws
