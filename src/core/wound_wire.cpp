@@ -83,6 +83,7 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
       // Released points are integrated again from their rigid poses now.
       if (r < c_.first) placeCarriedWire(y);
       c_.first = std::min(c_.first, r);
+      carried_inertia_first_ = -1;  // (summed anew: carriedEnergyChange)
       return;
     }
   }
@@ -119,7 +120,7 @@ double WireModel::carriedEnergyChange(double t0, double t1) const {
   if (!carry_ || !core_ || c_.first <= 1) return 0.0;
   // Points taken on since the last sum are added; after a release or a
   // restored snapshot, all are summed again.
-  if (carried_inertia_first_ < 1 || carried_inertia_first_ > c_.first) {
+  if (carried_inertia_first_ < 1) {
     carried_inertia_first_ = 1;
     carried_inertia_ = 0.0;
   }
