@@ -195,6 +195,9 @@ std::vector<SceneKey> declareKeys() {
                                              "frequency, 0 to 1"),
       key<&S::solver, &Solver::newton_tol>("solver.newton_tol", "m", kPositive,
                                            "Newton's bound on the largest position update"),
+      key<&S::solver, &Solver::newton_energy_tol>("solver.newton_energy_tol", "J", kNonNegative,
+                                                  "Newton also converges where the residual's "
+                                                  "work over a step is below this (0: off)"),
       key<&S::solver, &Solver::newton_max_iterations>("solver.newton_max_iterations", "-",
                                                       count(1000, 1),
                                                       "Newton iterations before a retry at 1/4"),

@@ -149,6 +149,11 @@ struct SolverParams {
   // [0, 1] (1: no numerical damping; 0: the most).
   double rho_infinity = 0.8;
   double newton_tol = 1.0e-8;
+  // A solve also converges where the residual's work over its last step,
+  // sum |r . dx| over the points' positions and rotations, is below this
+  // [J] (0: only newton_tol, the default). The step is taken and its forces
+  // evaluated again, so the energy booked is that of the end state.
+  double newton_energy_tol = 0.0;
   int newton_max_iterations = 30;
   int flag_rounds = 8;
   int line_search_halvings = 5;  // of a Newton step that does not lower the residual

@@ -189,7 +189,11 @@ double PlanarFormulation::direction() {
   const int unknowns = assembly_.unknowns();
   dx_.head(unknowns) = -r_.head(unknowns);
   assembly_.matrix().solve(dx_.head(unknowns));
-  return dx_.head(2 * (state_.n - state_.first)).lpNorm<Eigen::Infinity>();
+  // Its size [m], and the residual's work over it [J] (point by point).
+  const int rows = 2 * (state_.n - state_.first);
+  work_ = 0.0;
+  for (int o = 0; o < rows; o += 2) work_ += std::abs(dx_.segment<2>(o).dot(r_.segment<2>(o)));
+  return dx_.head(rows).lpNorm<Eigen::Infinity>();
 }
 
 void PlanarFormulation::keepStart() {
@@ -217,7 +221,8 @@ void PlanarFormulation::store(double h, Eigen::VectorXd& y) {
   const PlaneBasis& pl = state_.plane;
   const int f = state_.first, n = state_.n;
   // Bookkeeping with a converged solve's last evaluation: within newton_tol
-  // of the end state (its last step is not evaluated again), with the flags
+  // of the end state (a last step below it is not evaluated again; one
+  // that solver.newton_energy_tol ended is), with the flags
   // it kept, so its forces and powers are at hand.
   double work = assembly_.power_external, dissipated = assembly_.power_dissipated;
   for (int i = f; i < n; ++i) {

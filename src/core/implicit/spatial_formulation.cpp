@@ -207,13 +207,17 @@ double SpatialFormulation::direction() {
   // The steps taken since the factorization update it (secant_steps.hpp);
   // where they do not contract, no step: a new factorization.
   if (!secant_.correct(dx_.head(unknowns), weight_)) return std::numeric_limits<double>::infinity();
-  // The step's size in metres: positions, and quaternions times l.
+  // The step's size in metres: positions, and quaternions times l; and the
+  // residual's work over it [J] (forces on positions, moments on rotations).
   double step = 0.0;
+  work_ = 0.0;
   for (int i = state_.first; i < state_.n; ++i) {
+    const int p = assembly_.pRow(i), q = assembly_.qRow(i);
     // (A rotation dtheta moves the quaternion by |dtheta| / 2.)
-    step = std::max(
-        {step, dx_.segment<3>(assembly_.pRow(i)).lpNorm<Eigen::Infinity>(),
-         0.5 * segment_length_ * dx_.segment<3>(assembly_.qRow(i)).lpNorm<Eigen::Infinity>()});
+    step = std::max({step, dx_.segment<3>(p).lpNorm<Eigen::Infinity>(),
+                     0.5 * segment_length_ * dx_.segment<3>(q).lpNorm<Eigen::Infinity>()});
+    work_ += std::abs(dx_.segment<3>(p).dot(r_.segment<3>(p))) +
+             std::abs(dx_.segment<3>(q).dot(r_.segment<3>(q)));
   }
   return step;
 }
@@ -261,7 +265,8 @@ bool SpatialFormulation::recheckFlags() {
 void SpatialFormulation::store(double h, Eigen::VectorXd& y) {
   const int f = state_.first, n = state_.n;
   // Bookkeeping with the converged solve's last evaluation (within
-  // newton_tol of the end state: its last step is not evaluated again).
+  // newton_tol of the end state: a last step below it is not evaluated
+  // again; one that solver.newton_energy_tol ended is).
   double work = assembly_.power_external, dissipated = assembly_.power_dissipated;
   for (int i = f; i < n; ++i) {
     work += assembly_.f_work.col(i).dot(state_.v.col(i)) +

@@ -55,9 +55,10 @@ std::vector<IntegratorInfo> registry() {
                makeRosenbrock2});
   // The Newton-step methods' keys (generalized_alpha adds rho_infinity).
   const std::vector<const char*> newton = {
-      "implicit_step",         "steps_per_revolution", "newton_tol",
-      "newton_max_iterations", "flag_rounds",          "flag_check_tol",
-      "return_mapping_round",  "predictor_tol",        "min_step"};
+      "implicit_step",     "steps_per_revolution",  "newton_tol",
+      "newton_energy_tol", "newton_max_iterations", "flag_rounds",
+      "flag_check_tol",    "return_mapping_round",  "predictor_tol",
+      "min_step"};
   std::vector<const char*> alpha = newton;
   alpha.insert(alpha.begin() + 2, "rho_infinity");
   r.push_back({"implicit_euler", "backward Euler with Newton steps (first order, L-stable)", newton,

@@ -4,7 +4,8 @@
 // the full steps taken with it update it, where the problem keeps secant
 // steps: secant_steps.hpp), a
 // backtracking line search on the residual's norm (halving up to
-// solver.line_search_halvings times), convergence when the step is below the tolerance, and flag
+// solver.line_search_halvings times), convergence when the step is below the
+// tolerance or the residual's work over it below the energy tolerance, and flag
 // rounds: after a converged solve the effects recheck their frozen flags
 // (contact, stick, slip, hysteresis lines) and a change solves again with a
 // new Jacobian, up to flag_rounds times (docs/MODEL.md, "Implicit
@@ -38,17 +39,18 @@ struct FactorKey {
 };
 
 struct NewtonSettings {
-  double tol = 1e-9;  // [m]
+  double tol = 1e-9;        // [m]
+  double energy_tol = 0.0;  // [J]; 0: the step's size alone decides
   int max_iterations = 30;
   int flag_rounds = 4;
   int line_search_halvings = 5;
   double flag_check_tol = 0.0;      // [m]; 0: flags rechecked only at convergence
   int return_mapping_round = 1000;  // the first round that return-maps (beyond flag_rounds: none)
-  // The scene's (solver.newton_tol, newton_max_iterations, flag_rounds,
-  // line_search_halvings, flag_check_tol, return_mapping_round).
+  // The scene's (solver.newton_tol, newton_energy_tol, newton_max_iterations,
+  // flag_rounds, line_search_halvings, flag_check_tol, return_mapping_round).
   static NewtonSettings of(const SolverParams& s) {
-    return {s.newton_tol,           s.newton_max_iterations, s.flag_rounds,
-            s.line_search_halvings, s.flag_check_tol,        s.return_mapping_round};
+    return {s.newton_tol,           s.newton_energy_tol, s.newton_max_iterations, s.flag_rounds,
+            s.line_search_halvings, s.flag_check_tol,    s.return_mapping_round};
   }
 };
 
@@ -61,6 +63,8 @@ struct NewtonSettings {
 //                                   it was assembled up to a point, only there)
 //   int changedTop()                the highest point the last recheck changed
 //   double direction()              the Newton direction; its size [m]
+//   double directionWork()          the residual's work over that direction,
+//                                   sum |r . dx| over positions and rotations [J]
 //   void keepStart()                remembers the present iterate
 //   void moveAlong(double s)        iterate = kept + s direction (rates too)
 //   void forgetSteps()              the steps taken no longer update the
@@ -119,6 +123,19 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
       // (a changed flag starts a new round with an evaluation of its own).
       if (step < c.tol) {
         p.moveAlong(1.0);
+        converged = true;
+        break;
+      }
+      // A step over which the residual does less work than the energy
+      // tolerance ends it too. The work is about k dx^2 for a row of
+      // stiffness k: at 3e-8 J an axial row (EA / l, about 1e8 N/m) moves
+      // by about 2e-8 m, a transverse one (the tension over l plus the
+      // inertia, about 3e4 N/m at 1e-4 s) by up to about 1e-6 m (0.001 d),
+      // far below any shape the run reports. The step is taken and the forces
+      // evaluated again there: the bookkeeping uses the end state's.
+      if (c.energy_tol > 0.0 && p.directionWork() < c.energy_tol) {
+        p.moveAlong(1.0);
+        p.residual(false);
         converged = true;
         break;
       }
