@@ -189,11 +189,15 @@ double PlanarFormulation::direction() {
   const int unknowns = assembly_.unknowns();
   dx_.head(unknowns) = -r_.head(unknowns);
   assembly_.matrix().solve(dx_.head(unknowns));
-  // Its size [m], and the residual's work over it [J] (point by point).
-  const int rows = 2 * (state_.n - state_.first);
-  work_ = 0.0;
-  for (int o = 0; o < rows; o += 2) work_ += std::abs(dx_.segment<2>(o).dot(r_.segment<2>(o)));
-  return dx_.head(rows).lpNorm<Eigen::Infinity>();
+  return dx_.head(2 * (state_.n - state_.first)).lpNorm<Eigen::Infinity>();
+}
+
+double PlanarFormulation::directionWork() const {
+  // Point by point: the residual the direction was solved for.
+  double work = 0.0;
+  for (int o = 0; o < 2 * (state_.n - state_.first); o += 2)
+    work += std::abs(dx_.segment<2>(o).dot(r_.segment<2>(o)));
+  return work;
 }
 
 void PlanarFormulation::keepStart() {

@@ -207,19 +207,27 @@ double SpatialFormulation::direction() {
   // The steps taken since the factorization update it (secant_steps.hpp);
   // where they do not contract, no step: a new factorization.
   if (!secant_.correct(dx_.head(unknowns), weight_)) return std::numeric_limits<double>::infinity();
-  // The step's size in metres: positions, and quaternions times l; and the
-  // residual's work over it [J] (forces on positions, moments on rotations).
+  // The step's size in metres: positions, and quaternions times l.
   double step = 0.0;
-  work_ = 0.0;
   for (int i = state_.first; i < state_.n; ++i) {
-    const int p = assembly_.pRow(i), q = assembly_.qRow(i);
     // (A rotation dtheta moves the quaternion by |dtheta| / 2.)
-    step = std::max({step, dx_.segment<3>(p).lpNorm<Eigen::Infinity>(),
-                     0.5 * segment_length_ * dx_.segment<3>(q).lpNorm<Eigen::Infinity>()});
-    work_ += std::abs(dx_.segment<3>(p).dot(r_.segment<3>(p))) +
-             std::abs(dx_.segment<3>(q).dot(r_.segment<3>(q)));
+    step = std::max(
+        {step, dx_.segment<3>(assembly_.pRow(i)).lpNorm<Eigen::Infinity>(),
+         0.5 * segment_length_ * dx_.segment<3>(assembly_.qRow(i)).lpNorm<Eigen::Infinity>()});
   }
   return step;
+}
+
+double SpatialFormulation::directionWork() const {
+  // Forces on positions, moments on rotations (the residual the direction
+  // was solved for).
+  double work = 0.0;
+  for (int i = state_.first; i < state_.n; ++i) {
+    const int p = assembly_.pRow(i), q = assembly_.qRow(i);
+    work += std::abs(dx_.segment<3>(p).dot(r_.segment<3>(p))) +
+            std::abs(dx_.segment<3>(q).dot(r_.segment<3>(q)));
+  }
+  return work;
 }
 
 void SpatialFormulation::keepStart() {

@@ -80,7 +80,7 @@ class PlanarFormulation : public NewtonFormulation {
   friend NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor);
   bool factor();
   double direction();
-  double directionWork() const { return work_; }
+  double directionWork() const;
   void keepStart();
   void moveAlong(double s);
   // (No secant updates in the plane.)
@@ -107,7 +107,6 @@ class PlanarFormulation : public NewtonFormulation {
   Eigen::VectorXd r_, dx_;
   double lambda_try_ = 0.0;
   double alpha_ = 0.0, kappa_ = 0.0;
-  double work_ = 0.0;  // the residual's work over the last direction [J]
   OneLegStep solved_;  // the last solve's step, for its booking
   PowerBooking booking_;
   // The scheme velocity of the core's material (the surface friction sees).

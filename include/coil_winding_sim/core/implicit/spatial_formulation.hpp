@@ -68,7 +68,7 @@ class SpatialFormulation : public NewtonFormulation {
   friend NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor);
   bool factor();
   double direction();
-  double directionWork() const { return work_; }
+  double directionWork() const;
   void keepStart();
   void moveAlong(double s);
   void forgetSteps() { secant_.clear(); }
@@ -99,7 +99,6 @@ class SpatialFormulation : public NewtonFormulation {
   SecantSteps secant_;
   Eigen::VectorXd weight_;
   double alpha_ = 0.0, kappa_ = 0.0;
-  double work_ = 0.0;  // the residual's work over the last direction [J]
   OneLegStep solved_;  // the last solve's step, for its booking
   PowerBooking booking_;
   // The scheme velocity of the core's material (the surface friction sees),
