@@ -94,6 +94,11 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
 }
 
 void Contact::placeSurfaces(double t) const {
+  // Every evaluation of a Newton solve places the surfaces at the step's
+  // end: the same angle, the same placement.
+  const double angle = core_.angle(t);
+  if (angle == placed_angle_) return;
+  placed_angle_ = angle;
   rot_world_core_ = core_.rotationWorldCore(t);
   const Eigen::Matrix3d& rot = rot_world_core_;
   for (std::size_t j = 0; j < radii_.size(); ++j) {
@@ -111,6 +116,12 @@ int Contact::touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n
   int best = -1;
   h = 0.0;
   const Eigen::Vector3d& a = core_.axisWorld();
+  // A point beyond the body's reach from the axis (the free span) touches
+  // none of its surfaces.
+  {
+    const Eigen::Vector3d r = p_world - core_.originWorld();
+    if ((r - r.dot(a) * a).squaredNorm() > body_reach_ * body_reach_) return best;
+  }
   for (std::size_t j = 0; j < radii_.size(); ++j) {
     const Eigen::Vector3d d = p_world - centers_world_[j];
     const Eigen::Vector3d d_perp = d - d.dot(a) * a;

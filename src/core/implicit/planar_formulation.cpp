@@ -17,6 +17,20 @@ quat::Vec4 turnAbout(const Eigen::Vector3d& n, double angle, const quat::Vec4& q
   const Eigen::Quaterniond out = r * Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
   return {out.w(), out.x(), out.y(), out.z()};
 }
+// The same turn, by the angle from plane direction a to plane direction b,
+// from their dot and cross products: cos(angle / 2) = sqrt((1 + c) / 2).
+// (A step turns a frame by far less than a half turn; near one, the angle
+// is taken by atan2.)
+quat::Vec4 turnOnto(const Eigen::Vector3d& n, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                    const quat::Vec4& q) {
+  const double norms = std::sqrt(a.squaredNorm() * b.squaredNorm());
+  const double c = a.dot(b) / norms, sn = planar::cross(a, b) / norms;
+  if (c < -0.5) return turnAbout(n, planar::turn(a, b), q);
+  const double cos_half = std::sqrt(0.5 * (1.0 + c)), sin_half = 0.5 * sn / cos_half;
+  const Eigen::Quaterniond r(cos_half, sin_half * n.x(), sin_half * n.y(), sin_half * n.z());
+  const Eigen::Quaterniond out = r * Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+  return {out.w(), out.x(), out.y(), out.z()};
+}
 }  // namespace
 
 PlanarFormulation::PlanarFormulation(NewtonModelView& model, const SolverParams& solver)
@@ -245,7 +259,7 @@ void PlanarFormulation::store(double h, Eigen::VectorXd& y) {
     const Eigen::Vector2d d = state_.segment(i - 1);
     const quat::Vec4 q_old = k.q.col(i);
     const Eigen::Vector2d zeta_old = pl.vectorToPlane(quat::zeta(q_old));
-    const quat::Vec4 q = turnAbout(pl.n_world, planar::turn(zeta_old, d), q_old);
+    const quat::Vec4 q = turnOnto(pl.n_world, zeta_old, d, q_old);
     const double omega = planar::cross(d, state_.v.col(i) - state_.v.col(i - 1)) / d.squaredNorm();
     y.segment<4>(o + 3) = q;
     y.segment<4>(o + 10) = 0.5 * quat::E(q).transpose() * (omega * pl.n_world);

@@ -44,20 +44,6 @@ double RotationalSpring::stressTangent(double x, int idx, bool mapped, double& t
   return law_.stressOnBranch(x, upper_[idx], line_[idx], tangent);
 }
 
-double RotationalSpring::planarCurvature(const PlanarState& s, int j, double& sin_half,
-                                         double& cos_half) const {
-  // Frame j: the prescribed frame, or segment j-1; frame j+1: segment j.
-  // The half angle of the turn from the tangents' dot and cross products
-  // (no trigonometry): cos(dphi / 2) = sqrt((1 + c) / 2) for |dphi| < pi.
-  const Eigen::Vector2d ta =
-      (j == s.first - 1 ? s.boundary_tangent : s.segment(j - 1)).normalized();
-  const Eigen::Vector2d tb = s.segment(j).normalized();
-  const double c = ta.dot(tb), sn = planar::cross(ta, tb);
-  cos_half = std::sqrt(std::max(0.0, 0.5 * (1.0 + c)));
-  sin_half = cos_half > 0.0 ? 0.5 * sn / cos_half : 1.0;
-  return (2.0 / jointLength(j)) * sin_half;
-}
-
 void RotationalSpring::beginLines(int first, int n) {
   if (!plastic_) return;
   from_ = (first - 1) * count_;
@@ -99,16 +85,26 @@ Eigen::Vector3d RotationalSpring::darboux(const SpatialState& s, int j) const {
 void RotationalSpring::beginImplicitStep(const PlanarState& s0) { beginLines(s0.first, s0.n); }
 
 bool RotationalSpring::recheckFlags(const PlanarState& s) {
-  return recheckLines(s.first, s.n, s.return_mapping,
-                      [&](int j, int c, double& x) { return planarArgument(s, j, c, x); }) >= 0;
-}
-
-bool RotationalSpring::planarArgument(const PlanarState& s, int j, int c, double& x) const {
-  const double w = s.n_material[first_ + c];
-  if (w == 0.0) return false;
-  double sin_half, cos_half;
-  x = planarCurvature(s, j, sin_half, cos_half) * w;
-  return true;
+  // The joints in order: segment j serves joints j and j+1 (as in
+  // addPlanarForces).
+  int joint = s.first - 2;
+  double kappa = 0.0;
+  planar::SegmentGeometry ga, gb;
+  gb.setPrescribed(s.boundary_tangent);
+  return recheckLines(s.first, s.n, s.return_mapping, [&](int j, int c, double& x) {
+           const double w = s.n_material[first_ + c];
+           if (w == 0.0) return false;
+           if (j != joint) {
+             ga = gb;
+             if (j != joint + 1) ga.set(s.segment(j - 1), false);
+             gb.set(s.segment(j), false);
+             double sin_half, cos_half;
+             kappa = planar::jointCurvature(ga, gb, jointLength(j), sin_half, cos_half);
+             joint = j;
+           }
+           x = kappa * w;
+           return true;
+         }) >= 0;
 }
 
 void RotationalSpring::beginSpatialStep(const SpatialState& s0) { beginLines(s0.first, s0.n); }
@@ -166,14 +162,18 @@ void RotationalSpring::addPlanarForces(const PlanarState& s, PlanarAssembly& a) 
   double weight = 0.0;
   for (int c = 0; c < count_; ++c) weight += std::abs(s.n_material[first_ + c]);
   if (weight == 0.0) return;
+  const bool jacobian = a.wantsJacobian();
+  // Each segment's geometry is worked out once and serves both joints it
+  // belongs to: segment j is joint j's b and joint j+1's a. Frame first-1
+  // is the prescribed one (a unit tangent, no unknowns).
+  planar::SegmentGeometry ga, gb;
+  ga.setPrescribed(s.boundary_tangent);
   for (int j = s.first - 1; j + 1 < s.n; ++j) {
     const double lambda = jointLength(j);
-    // Frame j: the prescribed frame, or segment j-1; frame j+1: segment j.
     const bool prescribed = j == s.first - 1;
-    const Eigen::Vector2d db = s.segment(j);
-    const Eigen::Vector2d da = prescribed ? s.boundary_tangent : s.segment(j - 1);
+    gb.set(s.segment(j), jacobian);
     double sin_half, cos_half;
-    const double kappa = planarCurvature(s, j, sin_half, cos_half);
+    const double kappa = planar::jointCurvature(ga, gb, lambda, sin_half, cos_half);
     double m = 0.0, dm = 0.0;
     for (int c = 0; c < count_; ++c) {
       const double w = s.n_material[first_ + c];
@@ -182,40 +182,42 @@ void RotationalSpring::addPlanarForces(const PlanarState& s, PlanarAssembly& a) 
       m += w * stressTangent(kappa * w, j * count_ + c, s.return_mapping, k);
       dm += w * w * k;
     }
-    // Generalized force on dphi: Q = -d(lambda W)/d dphi = -m cos(dphi / 2).
-    const double cosh = cos_half;
-    const double q = -m * cosh;
-    const Eigen::Vector2d gb = planar::angleGradient(db);
-    const Eigen::Vector2d ga = prescribed ? Eigen::Vector2d::Zero() : planar::angleGradient(da);
-    // d dphi / dx for points j+1, j, j-1.
-    a.addForce(j + 1, q * gb);
-    a.addForce(j, q * (-gb - ga));
+    // Generalized force on dphi: Q = -d(lambda W)/d dphi = -m cos(dphi / 2);
+    // d dphi / dx is gb on point j+1, -gb - ga on j and ga on j-1.
+    const double q = -m * cos_half;
+    const Eigen::Vector2d g_mid = -gb.gradient - ga.gradient;
+    a.addForce(j + 1, q * gb.gradient);
+    a.addForce(j, q * g_mid);
     if (prescribed) {
       a.addBoundaryTorque(-q);
     } else {
-      a.addForce(j - 1, q * ga);
+      a.addForce(j - 1, q * ga.gradient);
     }
-    if (!a.wantsJacobian()) continue;
-    const double dq = -dm * cosh * cosh / lambda + 0.5 * m * sin_half;
-    const Eigen::Vector2d g[3] = {ga, -gb - ga, gb};  // points j-1, j, j+1
-    const Eigen::Matrix2d hb = planar::angleHessian(db);
-    const Eigen::Matrix2d ha = prescribed ? Eigen::Matrix2d::Zero() : planar::angleHessian(da);
-    // Second derivatives of dphi = phi_b - phi_a over the three points.
-    Eigen::Matrix2d h[3][3];
-    h[2][2] = hb;
-    h[2][1] = -hb;
-    h[1][2] = -hb;
-    h[1][1] = hb - ha;
-    h[1][0] = ha;
-    h[0][1] = ha;
-    h[0][0] = -ha;
-    h[2][0].setZero();
-    h[0][2].setZero();
-    for (int r = prescribed ? 1 : 0; r < 3; ++r) {
-      for (int c = prescribed ? 1 : 0; c < 3; ++c) {
-        a.addStiffness(j - 1 + r, j - 1 + c, dq * g[r] * g[c].transpose() + q * h[r][c]);
+    if (jacobian) {
+      // dq g_r g_c^T + q d^2 dphi / dx_r dx_c over points j-1, j, j+1;
+      // dphi = phi_b - phi_a, whose second derivatives are +-hb and +-ha.
+      const double dq = -dm * cos_half * cos_half / lambda + 0.5 * m * sin_half;
+      const Eigen::Matrix2d qhb = q * gb.hessian;
+      const Eigen::Matrix2d k_bb = dq * gb.gradient * gb.gradient.transpose() + qhb;
+      const Eigen::Matrix2d k_bm = dq * gb.gradient * g_mid.transpose() - qhb;
+      a.addStiffness(j + 1, j + 1, k_bb);
+      a.addStiffness(j + 1, j, k_bm);
+      a.addStiffness(j, j + 1, k_bm.transpose());
+      if (prescribed) {
+        a.addStiffness(j, j, dq * g_mid * g_mid.transpose() + qhb);
+      } else {
+        const Eigen::Matrix2d qha = q * ga.hessian;
+        const Eigen::Matrix2d k_ma = dq * g_mid * ga.gradient.transpose() + qha;
+        const Eigen::Matrix2d k_ba = dq * gb.gradient * ga.gradient.transpose();
+        a.addStiffness(j, j, dq * g_mid * g_mid.transpose() + qhb - qha);
+        a.addStiffness(j, j - 1, k_ma);
+        a.addStiffness(j - 1, j, k_ma.transpose());
+        a.addStiffness(j - 1, j - 1, dq * ga.gradient * ga.gradient.transpose() - qha);
+        a.addStiffness(j + 1, j - 1, k_ba);
+        a.addStiffness(j - 1, j + 1, k_ba.transpose());
       }
     }
+    ga = gb;
   }
 }
 

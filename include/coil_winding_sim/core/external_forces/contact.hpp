@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <limits>
 #include <vector>
 
 #include "coil_winding_sim/core/external_forces/carried_wire_index.hpp"
@@ -259,6 +260,9 @@ class Contact : public ForceEffect {
   std::vector<double> radii_;
   mutable std::vector<Eigen::Vector3d> centers_world_;  // scratch, sized once
   mutable Eigen::Matrix3d rot_world_core_;              // core pose as placed
+  // The core angle the surfaces were last placed at [rad] (placed again
+  // only when it moves; NaN: never placed).
+  mutable double placed_angle_ = std::numeric_limits<double>::quiet_NaN();
   // Faces: start, unit direction and outward normal in the core frame, length.
   std::vector<Eigen::Vector3d> face_from_core_, face_dir_core_, face_normal_core_;
   std::vector<double> face_length_;

@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include "coil_winding_sim/core/implicit/one_leg_step.hpp"
@@ -70,6 +71,37 @@ inline Eigen::Matrix2d angleHessian(const Eigen::Vector2d& d) {
 // The angle from direction a to direction b, in (-pi, pi] [rad].
 inline double turn(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return std::atan2(cross(a, b), a.dot(b));
+}
+// What a joint needs of one of its two frames' segments, worked out once per
+// segment: its unit tangent and the derivatives of its angle. A prescribed
+// frame has a tangent and no unknowns (zero derivatives).
+struct SegmentGeometry {
+  Eigen::Vector2d tangent = Eigen::Vector2d::UnitX();
+  Eigen::Vector2d gradient = Eigen::Vector2d::Zero();  // d phi / d d [1/m]
+  Eigen::Matrix2d hessian = Eigen::Matrix2d::Zero();   // [1/m^2]
+
+  void set(const Eigen::Vector2d& d, bool with_hessian) {
+    const double l2 = d.squaredNorm();
+    tangent = d / std::sqrt(l2);
+    gradient = perp(d) / l2;
+    if (with_hessian) hessian = angleHessian(d);
+  }
+  void setPrescribed(const Eigen::Vector2d& unit_tangent) {
+    tangent = unit_tangent;
+    gradient.setZero();
+    hessian.setZero();
+  }
+};
+// Curvature of the joint from frame a to frame b over the joint length
+// lambda [1/m], with the sine and cosine of half its turn angle, from the
+// tangents' dot and cross products (no trigonometry): cos(dphi / 2) =
+// sqrt((1 + c) / 2) for |dphi| < pi.
+inline double jointCurvature(const SegmentGeometry& a, const SegmentGeometry& b, double lambda,
+                             double& sin_half, double& cos_half) {
+  const double c = a.tangent.dot(b.tangent), sn = cross(a.tangent, b.tangent);
+  cos_half = std::sqrt(std::max(0.0, 0.5 * (1.0 + c)));
+  sin_half = cos_half > 0.0 ? 0.5 * sn / cos_half : 1.0;
+  return (2.0 / lambda) * sin_half;
 }
 }  // namespace planar
 
@@ -172,11 +204,10 @@ class PlanarAssembly {
  private:
   void addBlock(int i, int j, const Eigen::Matrix2d& b) {
     if (!jacobian_ || i < first_ || j < first_) return;
+    // A point's two coordinates start at an even row, so its 2 x 2 block
+    // lies within one of the matrix's 4 x 4 blocks.
     const int r = dof(i), c = dof(j);
-    matrix_.at(r, c) += b(0, 0);
-    matrix_.at(r + 1, c) += b(1, 0);
-    matrix_.at(r, c + 1) += b(0, 1);
-    matrix_.at(r + 1, c + 1) += b(1, 1);
+    matrix_.blockAt(r >> 2, c >> 2).block<2, 2>(r & 3, c & 3) += b;
   }
 
   int first_ = 1, n_ = 0, unknowns_ = 0;

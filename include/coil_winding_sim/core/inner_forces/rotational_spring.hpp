@@ -70,12 +70,6 @@ class RotationalSpring : public ForceEffect {
   double stressTangent(double x, int idx, bool mapped, double& tangent) const;
   // Length of wire that joint j stands for [m].
   double jointLength(int j) const;
-  // Planar curvature of joint j [1/m], with the sine and cosine of half its
-  // turn angle.
-  double planarCurvature(const PlanarState& s, int j, double& sin_half, double& cos_half) const;
-  // The argument x of law (j, c) in the plane; false for a component with
-  // no part about the plane normal.
-  bool planarArgument(const PlanarState& s, int j, int c, double& x) const;
   // Darboux vector of joint j at a 3-D trial state [1/m].
   Eigen::Vector3d darboux(const SpatialState& s, int j) const;
   // The implicit steps' lines at a step's start (the committed ones), and
