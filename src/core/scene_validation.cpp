@@ -103,6 +103,23 @@ void flangesFit(const Scene& s) {
                                                 " m leaves no room for a wire of " +
                                                 fmt(s.wire.diameter) + " m between the flanges");
   }
+  // An over-full bobbin: its layers, packed as closely as wire packs
+  // (orthocyclic, each layer in the grooves of the one below), rise above
+  // the flanges. Wire beyond a flange's rim would fall over it; the model
+  // has nothing there to hold it.
+  if (s.process.layers > 0) {
+    const double d = s.wire.diameter;
+    const double stack = d * (1.0 + (s.process.layers - 1) * 0.5 * std::sqrt(3.0));
+    if (stack > s.core.flange_height) {
+      throw SceneError("process.layers",
+                       std::to_string(s.process.layers) + " layers of wire " + fmt(d) +
+                           " m thick stand at least " + fmt(stack) +
+                           " m high, above core.flange_height = " + fmt(s.core.flange_height) +
+                           " m: the bobbin is over-full and the wire would climb over the "
+                           "flanges' rims; raise core.flange_height to at least " +
+                           fmt(stack) + " m or wind fewer layers");
+    }
+  }
 }
 
 // Contact between segments acts against wire the core carries (wound wire

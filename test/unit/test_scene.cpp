@@ -344,6 +344,31 @@ TEST_F(SceneFiles, RefusesATraverseThatCannotMove) {
       {"process.traverse_pitch=1e-3", "process.winding_width=5e-3", "process.layers=2"}));
 }
 
+// Four layers of 1 mm wire stand at least 1 + 3 sqrt(3) / 2 = 3.598 mm
+// high (orthocyclic, the closest packing): above flanges of 3 mm, below
+// flanges of 3.7 mm; three layers (2.732 mm) fit under 3 mm.
+TEST_F(SceneFiles, RefusesAnOverFullBobbin) {
+  const std::string bobbin = std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml";
+  auto load = [&](const std::string& layers, const std::string& height) {
+    return cws::loadScene(
+        bobbin, {"process.layers=" + layers, "core.flange_height=" + height, "wire.diameter=1e-3"});
+  };
+  try {
+    load("4", "3e-3");
+    ADD_FAILURE() << "an over-full bobbin was accepted";
+  } catch (const cws::SceneError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(e.key(), "process.layers") << what;
+    EXPECT_NE(what.find("over-full"), std::string::npos) << what;
+    EXPECT_NE(what.find("0.003598"), std::string::npos) << what;
+  }
+  EXPECT_NO_THROW(load("3", "3e-3"));
+  EXPECT_NO_THROW(load("4", "3.7e-3"));
+  // With no end to the layers, or without flanges, nothing to check.
+  EXPECT_NO_THROW(load("0", "3e-3"));
+  EXPECT_NO_THROW(cws::loadScene(bobbin, {"process.layers=4", "physics.flanges=false"}));
+}
+
 TEST_F(SceneFiles, RefusesKineticFrictionAboveStatic) {
   expectRefused("contact:\n  static_friction: 0.2\n  kinetic_friction: 0.25\n", {},
                 "contact.kinetic_friction", "above static");
