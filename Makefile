@@ -59,7 +59,8 @@ DEB_PACKAGES := \
   python3-numpy python3-genpy python3-sensor-msgs python3-geometry-msgs python3-std-msgs \
   python3-rospkg python3-rosunit rosbash slurm-wlm munge \
   ros-robot-state-publisher liburdf-dev \
-  libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure python3-roslib
+  libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure python3-roslib \
+  libactionlib-dev libactionlib-msgs-dev python3-actionlib python3-actionlib-msgs ros-actionlib-msgs
 
 CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \

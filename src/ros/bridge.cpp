@@ -7,14 +7,22 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "coil_winding_sim/core/coil_report.hpp"
 #include "coil_winding_sim/core/core_geometry.hpp"
+#include "coil_winding_sim/core/output.hpp"
 #include "marker_style.hpp"
 
 namespace cws_ros {
 
 const char* const kSpindleJoint = "spindle";
+
+bool coilOf(const cws::Simulation& sim, cws::CoilReport& out) {
+  if (!sim.scene().physics.wire_contact) return false;
+  out = cws::reportCoil(sim.model(), sim.scene());
+  return out.valid;
+}
 
 namespace {
 using namespace marker_style;
@@ -31,14 +39,6 @@ std_msgs::ColorRGBA layerColor(int layer) {
     default:
       return color(0.65, 0.21, 0.01);
   }
-}
-
-// The coil report when the scene winds wire onto wire (the only scenes
-// whose turns lie in layers).
-bool coilOf(const cws::Simulation& sim, cws::CoilReport& out) {
-  if (!sim.scene().physics.wire_contact) return false;
-  out = cws::reportCoil(sim.model(), sim.scene());
-  return out.valid;
 }
 
 // The wound wire as spheres coloured by layer ("coil_layers"), and its
@@ -138,6 +138,42 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
     msg.bulging_per_layer = coil.bulging_per_layer_m;
   }
   return msg;
+}
+
+coil_winding_sim::WindResult toWindResult(const cws::Simulation& sim, double start_s, double turns,
+                                          double wall_s) {
+  coil_winding_sim::WindResult r;
+  r.turns = turns;
+  r.sim_time = sim.time();
+  r.duration = sim.time() - start_s;
+  r.wall_time = wall_s;
+  r.real_time_factor = wall_s > 0.0 ? r.duration / wall_s : 0.0;
+  const cws::BulgeReport b = sim.model().bulging();
+  r.bulging_height = b.valid ? b.height_m : std::numeric_limits<double>::quiet_NaN();
+  cws::CoilReport coil;
+  if (coilOf(sim, coil)) {
+    r.bulging_per_layer = coil.bulging_per_layer_m;
+    r.layers = coil.layers;
+    r.gaps = coil.gaps;
+    r.overlaps = coil.overlaps;
+  }
+  std::ostringstream summary;
+  cws::writeSummaryJson(sim, summary);
+  r.summary = summary.str();
+  return r;
+}
+
+coil_winding_sim::WindFeedback toWindFeedback(const cws::Simulation& sim, double start_s,
+                                              double turns, const Pace& pace) {
+  coil_winding_sim::WindFeedback f;
+  f.turns = turns;
+  f.sim_time = sim.time();
+  f.duration = sim.time() - start_s;
+  f.real_time_factor = pace.real_time_factor;
+  f.keeping_pace = pace.keeping_pace;
+  cws::CoilReport coil;
+  if (coilOf(sim, coil)) f.bulging_per_layer = coil.bulging_per_layer_m;
+  return f;
 }
 
 visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros::Time& stamp,

@@ -1,5 +1,6 @@
 #include "coil_winding_sim/ros/cell_timing.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -64,26 +65,26 @@ double ReplayClock::target(const ros::Time& now, double wall_s) {
 }
 
 void PublishGrid::restart(double t) {
-  fast_index_ = static_cast<long>(std::ceil(t * fast_hz_));
-  profile_index_ = static_cast<long>(std::ceil(t * profile_hz_));
-  next_fast_s_ = static_cast<double>(fast_index_) / fast_hz_;
-  next_profile_s_ = static_cast<double>(profile_index_) / profile_hz_;
+  for (int c = 0; c < kChannels; ++c) {
+    index_[c] = static_cast<long>(std::ceil(t * hz_[c]));
+    next_s_[c] = static_cast<double>(index_[c]) / hz_[c];
+  }
+}
+
+double PublishGrid::next() const {
+  return std::min({next_s_[kFast], next_s_[kFrames], next_s_[kProfile]});
 }
 
 PublishGrid::Due PublishGrid::take(double t) {
   const double tol = cws::PortTrajectory::timeTolerance(t);
-  Due due;
-  if (t >= next_fast_s_ - tol) {
-    due.fast = true;
-    while (next_fast_s_ <= t + tol) next_fast_s_ = static_cast<double>(++fast_index_) / fast_hz_;
+  bool due[kChannels];
+  for (int c = 0; c < kChannels; ++c) {
+    due[c] = t >= next_s_[c] - tol;
+    if (!due[c]) continue;
+    // A long step passes several grid times: one sample, the grid moves past.
+    while (next_s_[c] <= t + tol) next_s_[c] = static_cast<double>(++index_[c]) / hz_[c];
   }
-  if (t >= next_profile_s_ - tol) {
-    due.profile = true;
-    while (next_profile_s_ <= t + tol) {
-      next_profile_s_ = static_cast<double>(++profile_index_) / profile_hz_;
-    }
-  }
-  return due;
+  return {due[kFast], due[kFrames], due[kProfile]};
 }
 
 bool WallThrottle::due(double wall_s, int& skipped, const std::string& text) {

@@ -2,8 +2,10 @@
 
 #include <ros/node_handle.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace cws_ros {
 
@@ -14,12 +16,14 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh, const std::string& defau
   pnh.param("real_time_factor", o.real_time_factor, o.real_time_factor);
   pnh.param("state_rate", o.state_rate_hz, o.state_rate_hz);
   pnh.param("marker_rate", o.marker_rate_hz, o.marker_rate_hz);
+  pnh.param("tf_rate", o.tf_rate_hz, o.tf_rate_hz);
   pnh.param("publish_clock", o.publish_clock, o.publish_clock);
   pnh.param("publish_tf", o.publish_tf, o.publish_tf);
   pnh.param("force_color_max", o.force_color_max_N, o.force_color_max_N);
   pnh.param("profile_magnification", o.profile_magnification, o.profile_magnification);
   pnh.param("stop_at_end", o.stop_at_end, o.stop_at_end);
   pnh.param("exit_at_end", o.exit_at_end, o.exit_at_end);
+  pnh.param("max_points", o.max_points, o.max_points);
   pnh.param<std::string>("start", o.start, o.start);
   pnh.param<std::string>("world_frame", o.frames.world, o.frames.world);
   pnh.param<std::string>("core_frame", o.frames.core, o.frames.core);
@@ -35,6 +39,12 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh, const std::string& defau
   pnh.param("wait_for_subscribers", o.wait_for_subscribers_s, o.wait_for_subscribers_s);
   pnh.param("error_estimate", o.error_estimate, o.error_estimate);
   return o;
+}
+
+double frameRateHz(const NodeOptions& o, const cws::Scene& scene) {
+  if (o.tf_rate_hz > 0.0) return o.tf_rate_hz;
+  const double revolutions_per_s = std::abs(scene.process.max_core_speed_rpm) / 60.0;
+  return std::max(o.state_rate_hz, 10.0 * revolutions_per_s);
 }
 
 void validateNodeOptions(NodeOptions& o, bool sim_time) {
@@ -78,8 +88,17 @@ void validateNodeOptions(NodeOptions& o, bool sim_time) {
     throw std::invalid_argument(
         "~exit_at_end needs a job that ends: set ~stop_at_end true (or leave ~exit_at_end false)");
   }
-  if (!(o.state_rate_hz > 0.0) || !(o.marker_rate_hz > 0.0)) {
+  if (!(o.state_rate_hz > 0.0) || !(o.marker_rate_hz > 0.0) || !std::isfinite(o.state_rate_hz) ||
+      !std::isfinite(o.marker_rate_hz)) {
     throw std::invalid_argument("~state_rate and ~marker_rate must be positive [Hz]");
+  }
+  if (!(o.tf_rate_hz >= 0.0) || !std::isfinite(o.tf_rate_hz)) {
+    throw std::invalid_argument(
+        "~tf_rate must be >= 0 [Hz] (0: ten a revolution at process.max_core_speed_rpm)");
+  }
+  if (o.max_points < 2 || o.max_points > cws::kMaxScenePoints) {
+    throw std::invalid_argument("~max_points must be 2 to " + std::to_string(cws::kMaxScenePoints) +
+                                " points, not " + std::to_string(o.max_points));
   }
 }
 

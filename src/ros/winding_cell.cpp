@@ -32,7 +32,7 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
       this_executable_(std::move(this_executable)),
       stamps_(options.setpoint_stamp_tolerance_s),
       replay_(options.replay_lag_s, std::nullopt),
-      grid_(options.spindle_rate_hz, options.profile_rate_hz),
+      grid_(options.spindle_rate_hz, options.state_rate_hz, options.profile_rate_hz),
       diagnostics_(nh, pnh) {
   node_start_s_ = wallNow();
   pace_.setTarget(o_.real_time_factor);
@@ -42,10 +42,19 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
     replay_ = ReplayClock(o_.replay_lag_s, (end - start).toSec());
     replay_.setOrigin(start);
   }
-  setScene(cws::loadScene(o_.scene, o_.overrides));
+  // A cell that runs until stopped keeps ~max_points of storage, whatever
+  // the job's length would need (the scene's supply.max_points gives way).
+  std::vector<std::string> overrides = o_.overrides;
+  if (!o_.stop_at_end && !o_.follow_clock) {
+    overrides.push_back("supply.max_points=" + std::to_string(o_.max_points));
+  }
+  setScene(cws::loadScene(o_.scene, overrides));
+  grid_.setRate(PublishGrid::kFrames, frameRateHz(o_, scene_));
   // ~start at_rest: the core starts at rest, whatever the scene says.
   if (o_.start == "at_rest") scene_.core.start_at_speed = false;
   sim_ = std::make_unique<cws::Simulation>(scene_);
+  grid_.restart(sim_->time());
+  stamp_origin_s_ = ros::Time::now().toSec() - sim_->time();
   job_start_wall_s_ = node_start_s_;
   if (o_.error_estimate) {
     if (o_.follow_clock || !o_.stop_at_end) {
@@ -104,11 +113,15 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
   state_rate_hz_ = o_.state_rate_hz;
   marker_rate_hz_ = o_.marker_rate_hz;
   startReconfigure();
+  startWindServer();
   diagnostics_.setHardwareID("coil_winding_sim");
   diagnostics_.add("simulation", this, &WindingCell::diagnose);
-  ROS_INFO("winding_cell: scene '%s', %d points, target real-time factor %g%s; %s",
+  ROS_INFO("winding_cell: scene '%s', %d points, target real-time factor %g%s, %s; %s",
            o_.scene.c_str(), sim_->model().constants().n, pace_.target(),
            o_.publish_clock ? ", publishing /clock" : "",
+           o_.follow_clock  ? "replaying"
+           : o_.stop_at_end ? "holding at the job's end (~stop_at_end)"
+                            : "running until stopped",
            o_.start == "at_rest"  ? "the core at rest until a speed setpoint"
            : o_.start == "paused" ? "paused (~pause false starts it)"
                                   : "winding");
@@ -130,15 +143,16 @@ void WindingCell::run() {
     bool done = false;
     {
       std::lock_guard<std::mutex> lock(sim_mutex_);
+      takeWindRequests();
       applySetpoints();
       drainInputs();
       if (o_.follow_clock) {
         if (!failed_ && !replay_done_) advanceReplay();
-      } else if (!paused_ && !failed_ && !finished()) {
+      } else if (!paused_ && !failed_ && !holding()) {
         advanceChunk();
         // Slower than the target: once, then every 10 s of wall time.
         int skipped = 0;
-        if (!keeping_pace_ && !finished() && pace_warning_.due(wallNow(), skipped)) {
+        if (!keeping_pace_ && !holding() && pace_warning_.due(wallNow(), skipped)) {
           ROS_WARN(
               "winding_cell: not keeping pace: real-time factor %.3g against the target %.3g "
               "(~real_time_factor)",
@@ -147,7 +161,12 @@ void WindingCell::run() {
       }
       noteFallback();
       if (!o_.follow_clock && o_.stop_at_end && !job_done_ && !failed_ && jobEnded()) endJob();
-      done = paused_ || failed_ || finished();
+      if (wind_.active && !failed_ && windEnded()) endWind("done");
+      done = paused_ || failed_ || holding();
+      // While the cell takes no steps, its stamps follow the clock: the
+      // state they show holds at every one of them.
+      if (done)
+        stamp_origin_s_ = std::max(stamp_origin_s_, ros::Time::now().toSec() - sim_->time());
       clock_s_ = stamp().toSec();
       // The job's end: its refined twin runs on the estimator's worker.
       if (estimator_ && finished()) estimator_->finishJob(*sim_, compute_s_, stamp());
@@ -207,9 +226,32 @@ void WindingCell::run() {
 // ---- pacing -----------------------------------------------------------------
 
 void WindingCell::restartPace() {
+  // The stamps' origin: on after a pause, a reset or a restore, never back.
+  stamp_origin_s_ = std::max(stamp_origin_s_, ros::Time::now().toSec() - sim_->time());
   const double now = wallNow();
   pace_.restart(now, sim_->time());
   rate_.restart(now, sim_->time());
+}
+
+// Room for the points a step may draw in at the fastest feed (a few at
+// 6,000 rpm on a large coil), with a wide margin.
+namespace {
+constexpr int kStorageRoom = 64;
+}  // namespace
+
+bool WindingCell::storageFull() const {
+  if (!sim_->model().supply()) return false;
+  const cws::WireConstants& c = sim_->model().constants();
+  return c.n + kStorageRoom > c.capacity;
+}
+
+// The storage is full: the cell holds its state and says so once, on the
+// console, cell_status and /diagnostics.
+void WindingCell::holdFull() {
+  storage_full_ = true;
+  std::string message;
+  cellState(message);
+  ROS_WARN("winding_cell: %s", message.c_str());
 }
 
 bool WindingCell::finished() const {
@@ -223,14 +265,28 @@ void WindingCell::advanceChunk() {
   const double start = wallNow();
   double t_limit = o_.stop_at_end ? jobEndTime() : 1e300;
   if (run_until_) t_limit = std::min(t_limit, *run_until_);
+  if (wind_.active && wind_.duration_s > 0.0) t_limit = std::min(t_limit, windEndTime());
   try {
     publishDue();
     while (sim_->time() < t_limit && pace_.ahead(wallNow(), sim_->time()) < 0.0 &&
            wallNow() - start < 0.010) {
+      if (storageFull()) {
+        holdFull();
+        break;
+      }
       feedPort();
+      double limit = std::min(t_limit, grid_.next());
+      if (wind_.active) {
+        applyWindProfile();
+        // A goal of turns ends on its turns at the present command.
+        if (wind_.turns > 0.0) limit = std::min(limit, windEndTime());
+        if (windEnded()) break;
+      }
       const double step_start = wallNow();
-      sim_->step(std::min(t_limit, grid_.next()));
-      compute_s_ += wallNow() - step_start;
+      sim_->step(limit);
+      const double step_wall = wallNow() - step_start;
+      compute_s_ += step_wall;
+      if (wind_.active) wind_.compute_s += step_wall;
       publishDue();
     }
   } catch (const std::exception& e) {
@@ -324,8 +380,21 @@ void WindingCell::publishDue() {
       port_position_pub_.publish(port);
     }
   }
+  if (due.frames) publishFrames();
   if (due.profile && sim_->model().core())
     profile_pub_.publish(toProfile(*sim_, stamp(), o_.frames));
+}
+
+// joint_states and the frames' TF, on their grid of simulated time (lock
+// held): fast enough that a sampler sees the spindle turn (~tf_rate).
+void WindingCell::publishFrames() {
+  const ros::Time t = stamp();
+  joints_pub_.publish(toJointStates(*sim_, t));
+  // The frames: here, or by robot_state_publisher from joint_states.
+  if (!o_.publish_tf) return;
+  geometry_msgs::TransformStamped tf;
+  if (coreTransform(*sim_, t, o_.frames, tf)) tf_.sendTransform(tf);
+  if (portTransform(*sim_, t, o_.frames, tf)) tf_.sendTransform(tf);
 }
 
 // With ~publish_clock the node's clock is the simulated time plus an offset
@@ -333,7 +402,10 @@ void WindingCell::publishDue() {
 ros::Time WindingCell::stamp() const {
   if (o_.follow_clock) return replay_.origin() + ros::Duration(sim_->time());
   if (o_.publish_clock) return ros::Time(std::max(0.0, clock_offset_ + sim_->time()));
-  return ros::Time::now();
+  // Another node's /clock (use_sim_time): its time. On the wall clock: the
+  // simulated time from the stamps' origin.
+  if (ros::Time::isSimTime()) return ros::Time::now();
+  return ros::Time(std::max(0.0, stamp_origin_s_ + sim_->time()));
 }
 
 void WindingCell::publishClock() {
@@ -356,12 +428,10 @@ void WindingCell::publishState() {
   coil_winding_sim::WindingMetrics metrics = toMetrics(*sim_, t, o_.frames, pace);
   metrics.job_done = job_done_;
   metrics_pub_.publish(metrics);
-  joints_pub_.publish(toJointStates(*sim_, t));
-  // The frames: here, or by robot_state_publisher from joint_states.
-  if (!o_.publish_tf) return;
-  geometry_msgs::TransformStamped tf;
-  if (coreTransform(*sim_, t, o_.frames, tf)) tf_.sendTransform(tf);
-  if (portTransform(*sim_, t, o_.frames, tf)) tf_.sendTransform(tf);
+  publishWindFeedback();
+  // While the cell takes no steps its frames stand still: sent here, at
+  // the state's rate, rather than on the grid of simulated time.
+  if (paused_ || failed_ || holding()) publishFrames();
 }
 
 void WindingCell::publishMarkers() {
@@ -410,6 +480,10 @@ void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
     std::string message;
     cellState(message);
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, message);
+  } else if (storage_full_) {
+    std::string message;
+    cellState(message);
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, message);
   } else if (finished()) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "replay done");
   } else if (newton && fallbackRecent()) {

@@ -50,6 +50,7 @@ void WindingCell::onMachinePort(const geometry_msgs::PointStamped::ConstPtr& msg
 cws::SetpointLimits WindingCell::limits() const { return {max_speed_, max_tension_}; }
 
 void WindingCell::speedInput(const std::string& topic, double w, const ros::Time& stamp) {
+  if (refusedWhileHolding(topic, cws::formatNumber(w) + " rad/s")) return;
   const std::string why = cws::coreSpeedRefusal(limits(), w);
   if (!why.empty()) {
     warn(warningsOf(topic).value, "refused " + topic + " " + cws::formatNumber(w) +
@@ -61,6 +62,7 @@ void WindingCell::speedInput(const std::string& topic, double w, const ros::Time
 }
 
 void WindingCell::tensionInput(const std::string& topic, double f, const ros::Time& stamp) {
+  if (refusedWhileHolding(topic, cws::formatNumber(f) + " N")) return;
   const std::string why = cws::tensionRefusal(limits(), f);
   if (!why.empty()) {
     warn(warningsOf(topic).value, "refused " + topic + " " + cws::formatNumber(f) + " N, which " +
@@ -75,6 +77,7 @@ void WindingCell::tensionInput(const std::string& topic, double f, const ros::Ti
 // setpoints; the simulation refuses a port inside the core or in the past
 // (feedPort) with a warning.
 void WindingCell::portInput(const std::string& topic, const geometry_msgs::PointStamped& msg) {
+  if (refusedWhileHolding(topic, "")) return;
   Eigen::Vector3d p_world;
   std::string why;
   if (!portPoint(msg, o_.frames, p_world, why)) {
@@ -84,6 +87,25 @@ void WindingCell::portInput(const std::string& topic, const geometry_msgs::Point
   if (!admitStamp(topic, msg.header.stamp)) return;
   std::lock_guard<std::mutex> lock(input_mutex_);
   incoming_port_.push_back({p_world, msg.header.stamp, topic});
+}
+
+bool WindingCell::refusedWhileHolding(const std::string& topic, const std::string& what) {
+  if (o_.follow_clock) return false;
+  std::string why, todo = "call ~reset or ~restore to wind again";
+  if (job_done_ && o_.stop_at_end) {
+    why = "the job is done and the cell holds its state (~stop_at_end true)";
+  } else if (job_done_) {
+    why = "the wind goal is done and the cell holds its state";
+    todo = "send a wind goal, or call ~reset or ~restore, to wind again";
+  } else if (storage_full_) {
+    why = "the wire's storage is full and the cell holds its state (~max_points " +
+          std::to_string(o_.max_points) + ")";
+  } else {
+    return false;
+  }
+  warn(warningsOf(topic).value,
+       "refused " + topic + (what.empty() ? "" : " " + what) + ": " + why + "; " + todo);
+  return true;
 }
 
 // An admitted speed or tension: applied between chunks, or with

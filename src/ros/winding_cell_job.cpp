@@ -76,6 +76,16 @@ std::string WindingCell::cellState(std::string& message) const {
     message = text;
     return S::JOB_DONE;
   }
+  if (storage_full_) {
+    const cws::WireConstants& c = sim_->model().constants();
+    message = "holding: the wire's storage is full (" + std::to_string(c.n) + " of " +
+              std::to_string(c.capacity) + " points, ~max_points) after " +
+              cws::formatNumber(std::abs(sim_->coreTurns()), "%.4g") +
+              " turns; reset or restore to wind again, or start the cell with a larger "
+              "~max_points (at most " +
+              std::to_string(cws::kMaxScenePoints) + ")";
+    return S::FULL;
+  }
   if (paused_) {
     message = "paused";
     return S::PAUSED;

@@ -139,6 +139,7 @@ bool WindingCell::onRestore(coil_winding_sim::Restore::Request& req,
 // ~run_until is dropped and the setpoint stamps are forgotten (a new run:
 // a client may start its stamps anew).
 void WindingCell::replace(std::unique_ptr<cws::Simulation> next) {
+  abortWind("the run was replaced (reset or restore)");
   clock_offset_ += sim_->time() - next->time();
   sim_ = std::move(next);
   clock_s_ = stamp().toSec();
@@ -152,6 +153,7 @@ void WindingCell::replace(std::unique_ptr<cws::Simulation> next) {
   restartPace();
   compute_s_ = 0.0;
   job_done_ = false;
+  storage_full_ = false;
   exit_requested_ = false;
   job_start_wall_s_ = wallNow();
   if (estimator_) estimator_->startJob(sim_->saveState());

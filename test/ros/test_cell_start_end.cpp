@@ -1,16 +1,20 @@
-// rostest of the cell's start and end (cell_start_end.test): started with
+// rostest of the cell's start and end (cell_start_end.test, a job that
+// ends: ~stop_at_end): started with
 // ~start at_rest, the core does not turn until a speed setpoint arrives, then
 // turns at it; after a second setpoint doubles the speed midway, the job
 // ends at process.turns (0.5) of the core's actual rotation, not at the time
 // the scene's own speed would need, and cell_status, winding_metrics and
-// /diagnostics say the job is done.
+// /diagnostics say the job is done. A setpoint after the end is refused
+// with a warning.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
 
 #include <cmath>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "coil_winding_sim/CellStatus.h"
 #include "coil_winding_sim/CoreSpeedSetpoint.h"
@@ -28,6 +32,18 @@ struct Listener {
     status_sub = nh.subscribe("cell_status", 10, &Listener::onStatus, this);
     metrics_sub = nh.subscribe("winding_metrics", 10, &Listener::onMetrics, this);
     diag_sub = nh.subscribe("/diagnostics", 10, &Listener::onDiagnostics, this);
+    log_sub = nh.subscribe("/rosout", 1000, &Listener::onLog, this);
+  }
+  void onLog(const rosgraph_msgs::Log::ConstPtr& m) {
+    std::lock_guard<std::mutex> l(mutex);
+    if (m->level == rosgraph_msgs::Log::WARN) warnings.push_back(m->msg);
+  }
+  bool warned(const std::string& words) {
+    std::lock_guard<std::mutex> l(mutex);
+    for (const std::string& w : warnings) {
+      if (w.find(words) != std::string::npos) return true;
+    }
+    return false;
   }
   void onStatus(const coil_winding_sim::CellStatus::ConstPtr& m) {
     std::lock_guard<std::mutex> l(mutex);
@@ -58,7 +74,8 @@ struct Listener {
   coil_winding_sim::WindingMetrics metrics;
   std::string diagnostics;
   int statuses = 0, metrics_count = 0;
-  ros::Subscriber status_sub, metrics_sub, diag_sub;
+  std::vector<std::string> warnings;
+  ros::Subscriber status_sub, metrics_sub, diag_sub, log_sub;
 };
 
 TEST(CellStartEnd, AtRestUntilASetpointThenEndsAtTheTurnsTurned) {
@@ -113,6 +130,17 @@ TEST(CellStartEnd, AtRestUntilASetpointThenEndsAtTheTurnsTurned) {
       },
       10.0))
       << "diagnostics: " << l.diagnostics;
+
+  // A setpoint while the cell holds the finished job: refused, with why
+  // and what to do; nothing moves.
+  sp.angular_velocity = 3.0;
+  pub.publish(sp);
+  EXPECT_TRUE(waitFor(
+      [&] { return l.warned("refused core_speed_setpoint 3 rad/s: the job is done"); }, 10.0));
+  EXPECT_TRUE(l.warned("call ~reset or ~restore to wind again"));
+  ros::WallDuration(0.3).sleep();
+  EXPECT_EQ(l.lastMetrics().sim_time, end.sim_time);
+  EXPECT_NEAR(l.lastMetrics().core_angular_velocity_setpoint, 4.0 * M_PI, 1e-12);
 }
 
 }  // namespace

@@ -121,22 +121,25 @@ TEST(ReplayClock, AClockStalledWithinTheLagOfTheEndCountsAsTheEnd) {
 }
 
 TEST(PublishGrid, TopicsFallDueOnTheirGridOfSimulatedTime) {
-  cws_ros::PublishGrid grid(100.0, 5.0);
+  cws_ros::PublishGrid grid(100.0, 50.0, 5.0);
   grid.restart(0.0);
   EXPECT_EQ(grid.next(), 0.0);
   cws_ros::PublishGrid::Due d = grid.take(0.0);
-  EXPECT_TRUE(d.fast && d.profile);
+  EXPECT_TRUE(d.fast && d.frames && d.profile);
   EXPECT_NEAR(grid.next(), 0.01, 1e-15);
   d = grid.take(0.005);
-  EXPECT_FALSE(d.fast || d.profile);
+  EXPECT_FALSE(d.fast || d.frames || d.profile);
   // A step that lands within rounding short of the grid counts as on it.
   d = grid.take(0.01 - 1e-16);
   EXPECT_TRUE(d.fast);
-  EXPECT_FALSE(d.profile);
+  EXPECT_FALSE(d.frames || d.profile);
   EXPECT_NEAR(grid.next(), 0.02, 1e-15);
+  d = grid.take(0.02);
+  EXPECT_TRUE(d.fast && d.frames);
+  EXPECT_FALSE(d.profile);
   // A long step passes several grid times: one message, the grid moves past.
   d = grid.take(0.2);
-  EXPECT_TRUE(d.fast && d.profile);
+  EXPECT_TRUE(d.fast && d.frames && d.profile);
   EXPECT_NEAR(grid.next(), 0.21, 1e-12);
   // A new run at 0.123 s: the next grid times after it.
   grid.restart(0.123);
@@ -225,6 +228,23 @@ TEST(NodeOptions, DefaultsPassAndEachBadValueIsNamed) {
               o.setpoint_stamp_tolerance_s = nan;
             }).find("~setpoint_stamp_tolerance"),
             std::string::npos);
+  EXPECT_NE(refusal([&](auto& o) { o.tf_rate_hz = -5.0; }).find("~tf_rate"), std::string::npos);
+  EXPECT_NE(refusal([&](auto& o) { o.max_points = 0; }).find("~max_points"), std::string::npos);
+  EXPECT_NE(refusal([&](auto& o) { o.max_points = cws::kMaxScenePoints + 1; }).find("~max_points"),
+            std::string::npos);
+}
+
+// TF and joint_states: ten samples a revolution at the scene's largest
+// speed unless ~tf_rate says otherwise, never fewer than ~state_rate.
+TEST(NodeOptions, FramesComeTenTimesARevolutionAtTheLargestSpeed) {
+  cws::Scene scene;
+  scene.process.max_core_speed_rpm = 1200.0;  // 20 revolutions a second
+  cws_ros::NodeOptions o;
+  EXPECT_DOUBLE_EQ(cws_ros::frameRateHz(o, scene), 200.0);
+  scene.process.max_core_speed_rpm = 60.0;
+  EXPECT_DOUBLE_EQ(cws_ros::frameRateHz(o, scene), o.state_rate_hz);
+  o.tf_rate_hz = 30.0;
+  EXPECT_DOUBLE_EQ(cws_ros::frameRateHz(o, scene), 30.0);
 }
 
 TEST(NodeOptions, StartIsOneOfThreeAndExitNeedsAnEnd) {
@@ -234,12 +254,15 @@ TEST(NodeOptions, StartIsOneOfThreeAndExitNeedsAnEnd) {
   const std::string bad = refusal([](auto& o) { o.start = "stopped"; });
   EXPECT_NE(bad.find("~start"), std::string::npos) << bad;
   EXPECT_NE(bad.find("'stopped'"), std::string::npos) << bad;
-  const std::string no_end = refusal([](auto& o) {
-    o.exit_at_end = true;
-    o.stop_at_end = false;
-  });
+  // The cell runs until stopped by default: an exit needs a job that ends.
+  EXPECT_FALSE(cws_ros::NodeOptions().stop_at_end);
+  const std::string no_end = refusal([](auto& o) { o.exit_at_end = true; });
   EXPECT_NE(no_end.find("~exit_at_end"), std::string::npos) << no_end;
-  EXPECT_EQ(refusal([](auto& o) { o.exit_at_end = true; }), "");
+  EXPECT_EQ(refusal([](auto& o) {
+              o.exit_at_end = true;
+              o.stop_at_end = true;
+            }),
+            "");
 }
 
 TEST(NodeOptions, FollowingTheClockNeedsSimTimeAndAnotherNodesClock) {

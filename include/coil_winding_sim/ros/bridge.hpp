@@ -15,9 +15,11 @@
 
 #include "coil_winding_sim/ErrorEstimate.h"
 #include "coil_winding_sim/TensionSetpoint.h"
+#include "coil_winding_sim/WindAction.h"
 #include "coil_winding_sim/WindingMetrics.h"
 #include "coil_winding_sim/WireState.h"
 #include "coil_winding_sim/WireTension.h"
+#include "coil_winding_sim/core/coil_report.hpp"
 #include "coil_winding_sim/core/error_estimate.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 
@@ -35,6 +37,18 @@ struct Pace {
   double target_real_time_factor = 1.0;
   bool keeping_pace = true;
 };
+
+// The coil report when the scene winds wire onto wire (the only scenes
+// whose turns lie in layers); false otherwise.
+bool coilOf(const cws::Simulation& sim, cws::CoilReport& out);
+
+// A wind goal's result (started at simulated time start_s [s], `turns`
+// turned, wall_s [s] of stepping): its figures, the coil's and the run's
+// summary (summary.json's JSON).
+coil_winding_sim::WindResult toWindResult(const cws::Simulation& sim, double start_s, double turns,
+                                          double wall_s);
+coil_winding_sim::WindFeedback toWindFeedback(const cws::Simulation& sim, double start_s,
+                                              double turns, const Pace& pace);
 
 coil_winding_sim::WireState toWireState(const cws::Simulation& sim, const ros::Time& stamp,
                                         const Frames& frames);

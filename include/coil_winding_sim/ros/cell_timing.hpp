@@ -114,26 +114,33 @@ class ReplayClock {
   double last_clock_wall_s_ = 0.0, end_seen_wall_s_ = 0.0;
 };
 
-// The sim/ topics' grid of simulated time: the fast topics (spindle, tension,
-// port) at one rate, the profile at another [Hz]. Stamps on the grid make a
-// replay's output the same whatever the pace.
+// The grid of simulated time the cell publishes its samples on: the fast
+// sim/ topics (spindle, tension, port), the frames (TF and joint_states) and
+// the profile, each at its own rate [Hz]. Steps end on the grid, so each
+// sample shows the state at its stamp, and a replay's output is the same
+// whatever the pace.
 class PublishGrid {
  public:
-  PublishGrid(double fast_hz, double profile_hz) : fast_hz_(fast_hz), profile_hz_(profile_hz) {}
+  enum Channel { kFast, kFrames, kProfile, kChannels };
+  PublishGrid(double fast_hz, double frames_hz, double profile_hz)
+      : hz_{fast_hz, frames_hz, profile_hz} {}
+  // A channel's rate [Hz]; restart() puts it into effect.
+  void setRate(Channel c, double hz) { hz_[c] = hz; }
   // The grid from simulated time t [s] on (a new run).
   void restart(double t);
-  double next() const { return next_fast_s_ < next_profile_s_ ? next_fast_s_ : next_profile_s_; }
+  // The next grid time of any channel [s].
+  double next() const;
   struct Due {
-    bool fast = false, profile = false;
+    bool fast = false, frames = false, profile = false;
   };
   // What is due at t (within the simulation's time tolerance), moving the
   // grid past t.
   Due take(double t);
 
  private:
-  double fast_hz_, profile_hz_;
-  long fast_index_ = 0, profile_index_ = 0;
-  double next_fast_s_ = 0.0, next_profile_s_ = 0.0;
+  double hz_[kChannels];
+  long index_[kChannels] = {0, 0, 0};
+  double next_s_[kChannels] = {0.0, 0.0, 0.0};
 };
 
 // Warnings at most once a second of wall time, counting those left out.

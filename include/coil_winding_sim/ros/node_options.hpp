@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 
 namespace ros {
@@ -16,17 +17,27 @@ class NodeHandle;
 namespace cws_ros {
 
 struct NodeOptions {
-  std::string scene;                    // ~scene: scene file (empty: the defaults)
-  std::vector<std::string> overrides;   // ~overrides: key.path=value
-  double real_time_factor = 1.0;        // ~real_time_factor; 0: as fast as possible
-  double state_rate_hz = 20.0;          // ~state_rate: wire_state, metrics, TF
+  std::string scene;                   // ~scene: scene file (empty: the defaults)
+  std::vector<std::string> overrides;  // ~overrides: key.path=value
+  double real_time_factor = 1.0;       // ~real_time_factor; 0: as fast as possible
+  double state_rate_hz = 20.0;         // ~state_rate: wire_state, metrics
+  // ~tf_rate: TF and joint_states on a grid of simulated time [Hz]; 0: ten
+  // a revolution at the scene's process.max_core_speed_rpm (frameRateHz).
+  double tf_rate_hz = 0.0;
   double marker_rate_hz = 10.0;         // ~marker_rate
   bool publish_clock = false;           // ~publish_clock: the simulated time as /clock
   bool publish_tf = true;               // ~publish_tf: false when robot_state_publisher does
   double force_color_max_N = 0.0;       // ~force_color_max: red [N]; 0: 2 x the tension at start
   double profile_magnification = 10.0;  // ~profile_magnification: 0 hides the profile marker
-  bool stop_at_end = true;              // ~stop_at_end: hold at the job's end
-  bool exit_at_end = false;             // ~exit_at_end: exit (status 0) at the job's end
+  // ~stop_at_end: hold at the job's end (scripted runs); false: the cell
+  // runs until it is stopped, feeding wire while the core turns.
+  bool stop_at_end = false;
+  bool exit_at_end = false;  // ~exit_at_end: exit (status 0) at the job's end
+  // ~max_points: the wire's storage [points] while the cell runs without a
+  // job end (it replaces the scene's supply.max_points); the cell holds
+  // when it is full. The default, the scene limit, is about 1,400 turns of
+  // the paper's core.
+  int max_points = cws::kMaxScenePoints;
   // ~start: "running" (winding at the scene's speed), "paused" (until
   // ~pause false) or "at_rest" (the core at 0 until a speed setpoint).
   std::string start = "running";
@@ -46,6 +57,10 @@ struct NodeOptions {
 // Reads the private parameters; a missing one keeps its default
 // (default_scene for ~scene).
 NodeOptions readNodeOptions(const ros::NodeHandle& pnh, const std::string& default_scene);
+
+// TF and joint_states' rate [Hz]: ~tf_rate, or ten a revolution at the
+// scene's largest core speed (and never below ~state_rate).
+double frameRateHz(const NodeOptions& o, const cws::Scene& scene);
 
 // Throws std::invalid_argument naming the parameter and what it must be.
 // `sim_time`: /use_sim_time is set. With ~follow_clock the target real-time

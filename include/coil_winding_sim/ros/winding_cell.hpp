@@ -19,9 +19,11 @@
 // The class is split by concern over winding_cell.cpp (construction, the
 // loop, pacing, replay, publishing), winding_cell_inputs.cpp (setpoint
 // topics and their queues), winding_cell_services.cpp and
-// winding_cell_job.cpp (the job's end and the cell's state).
+// winding_cell_job.cpp (the job's end and the cell's state) and
+// winding_cell_wind.cpp (the wind action).
 #pragma once
 
+#include <actionlib/server/simple_action_server.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <dynamic_reconfigure/server.h>
 #include <geometry_msgs/PointStamped.h>
@@ -47,6 +49,7 @@
 #include "coil_winding_sim/RunUntil.h"
 #include "coil_winding_sim/Snapshot.h"
 #include "coil_winding_sim/TensionSetpoint.h"
+#include "coil_winding_sim/WindAction.h"
 #include "coil_winding_sim/WindingCellConfig.h"
 #include "coil_winding_sim/core/command_schedule.hpp"
 #include "coil_winding_sim/core/setpoint_limits.hpp"
@@ -56,6 +59,11 @@
 #include "coil_winding_sim/ros/node_options.hpp"
 
 namespace cws_ros {
+
+// Why a wind goal cannot run under the scene's setpoint limits; empty if
+// it can.
+std::string windGoalRefusal(const coil_winding_sim::WindGoal& goal,
+                            const cws::SetpointLimits& limits);
 
 class WindingCell {
  public:
@@ -72,6 +80,12 @@ class WindingCell {
   // ---- the loop (winding_cell.cpp)
   double wallNow() const;
   bool finished() const;
+  // The cell takes no steps: the job is done (the scene's, finished(), or
+  // a wind goal's) or the wire's storage is full.
+  bool holding() const { return job_done_ || storage_full_ || finished(); }
+  // The storage has no room for the points the next step may draw in.
+  bool storageFull() const;
+  void holdFull();
   // ---- the job (winding_cell_job.cpp)
   bool jobEnded() const;
   double jobEndTime() const;
@@ -87,6 +101,7 @@ class WindingCell {
   ros::Time stamp() const;
   void publishClock();
   void publishState();
+  void publishFrames();
   void publishMarkers();
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void warn(WallThrottle& throttle, const std::string& text) const;
@@ -96,6 +111,21 @@ class WindingCell {
   // A stretch began within the last kFallbackWarnS of wall time.
   static constexpr double kFallbackWarnS = 10.0;
   bool fallbackRecent() const { return wallNow() - fallback_wall_s_ < kFallbackWarnS; }
+
+  // ---- the wind action (winding_cell_wind.cpp)
+  void startWindServer();
+  void onWindGoal();
+  void onWindPreempt();
+  void takeWindRequests();
+  void startWind(const coil_winding_sim::WindGoal& goal);
+  void abortWind(const std::string& why);
+  void applyWindProfile();
+  double windTurns(double t) const;
+  bool windEnded() const;
+  double windEndTime() const;
+  // `how`: "done" (succeeded), else the goal was cancelled or replaced.
+  void endWind(const std::string& how);
+  void publishWindFeedback();
 
   // ---- live parameters (winding_cell_reconfigure.cpp)
   void startReconfigure();
@@ -116,6 +146,9 @@ class WindingCell {
   void tensionInput(const std::string& topic, double f, const ros::Time& stamp);
   void portInput(const std::string& topic, const geometry_msgs::PointStamped& msg);
   void deliver(bool tension, double value, const ros::Time& stamp);
+  // A setpoint that arrives while the cell holds (a finished job, a full
+  // storage) is refused with a warning saying why and what to do.
+  bool refusedWhileHolding(const std::string& topic, const std::string& what);
   ros::Time nodeClock() const;
   bool admitStamp(const std::string& topic, const ros::Time& stamp);
   TopicWarnings& warningsOf(const std::string& topic);
@@ -148,7 +181,9 @@ class WindingCell {
   bool paused_ = false, failed_ = false, keeping_pace_ = true, send_delete_all_ = false;
   // The job's end (once per job: reset and restore start a new one), and
   // the exit it asks for with ~exit_at_end.
-  bool job_done_ = false, exit_requested_ = false;
+  // (Atomic: the setpoint callbacks read them without the lock.)
+  std::atomic<bool> job_done_{false}, storage_full_{false};
+  bool exit_requested_ = false;
   double job_start_wall_s_ = 0.0;  // wall time [s]
   double job_wall_s_ = 0.0;        // the ended job's wall time [s]
   // ~start at_rest: the core held at 0 until the first speed setpoint.
@@ -164,6 +199,11 @@ class WindingCell {
   std::unique_ptr<JobErrorEstimator> estimator_;   // with ~error_estimate
   std::string failure_;
   double clock_offset_ = 0.0;
+  // On the wall clock (no /use_sim_time): the ROS time of simulated time 0
+  // [s]. Samples are stamped with their simulated time on the ROS clock;
+  // the origin moves forward (never back) when the pace restarts and while
+  // the cell takes no steps.
+  double stamp_origin_s_ = 0.0;
   PaceKeeper pace_;
   RateMeter rate_;
   std::atomic<double> speed_setpoint_{0.0}, tension_setpoint_{0.0};
@@ -176,6 +216,24 @@ class WindingCell {
   SetpointStamps stamps_;
   std::mutex warnings_mutex_;  // guards the map (its entries are thread-safe)
   std::map<std::string, TopicWarnings> warnings_;
+
+  // The wind goal in progress (lock held): its start, its end in turns or
+  // simulated time, its profile (times from the start [s], speeds [rad/s],
+  // tensions [N]) and the wall time of its steps [s].
+  struct WindJob {
+    bool active = false;
+    double start_s = 0.0, start_angle_rad = 0.0;
+    double turns = 0.0, duration_s = 0.0;
+    std::vector<double> time_s, speed, tension;
+    double next_profile_s = 0.0;  // when the profile is next applied [s]
+    double compute_s = 0.0;
+  };
+  WindJob wind_;
+  std::unique_ptr<actionlib::SimpleActionServer<coil_winding_sim::WindAction>> wind_server_;
+  // A goal or a cancel from the server's callbacks, for the loop.
+  std::mutex wind_mutex_;
+  boost::shared_ptr<const coil_winding_sim::WindGoal> wind_goal_;
+  bool wind_cancel_ = false;
 
   // Replay (~follow_clock): the bag's start on the ROS clock and its end.
   ReplayClock replay_;
