@@ -164,7 +164,16 @@ std::string readSceneFile(const std::string& path) {
   }
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) {
-    throw SceneError("(file)", "cannot open scene file '" + shown + "': " + std::strerror(errno));
+    const int error = errno;
+    // A relative path is the working directory's: say which file that was.
+    std::string tried;
+    if (!std::filesystem::path(path).is_absolute()) {
+      tried = " (tried " +
+              printable(std::filesystem::absolute(path, ec).lexically_normal().string(), 4096) +
+              ")";
+    }
+    throw SceneError(
+        "(file)", "cannot open scene file '" + shown + "'" + tried + ": " + std::strerror(error));
   }
   std::string text;
   char buf[1 << 16];

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 
@@ -12,6 +13,7 @@ namespace cws_ros {
 NodeOptions readNodeOptions(const ros::NodeHandle& pnh, const std::string& default_scene) {
   NodeOptions o;
   pnh.param<std::string>("scene", o.scene, default_scene);
+  pnh.param<std::string>("scene_base_dir", o.scene_base_dir, o.scene_base_dir);
   pnh.param("overrides", o.overrides, std::vector<std::string>{});
   pnh.param("real_time_factor", o.real_time_factor, o.real_time_factor);
   pnh.param("state_rate", o.state_rate_hz, o.state_rate_hz);
@@ -48,6 +50,12 @@ double frameRateHz(const NodeOptions& o, const cws::Scene& scene) {
 }
 
 void validateNodeOptions(NodeOptions& o, bool sim_time) {
+  // A relative scene path: against ~scene_base_dir (the launch's directory)
+  // when given, else the node's working directory (ROS_HOME).
+  if (!o.scene.empty() && !o.scene_base_dir.empty() &&
+      std::filesystem::path(o.scene).is_relative()) {
+    o.scene = (std::filesystem::path(o.scene_base_dir) / o.scene).lexically_normal().string();
+  }
   if (!(o.spindle_rate_hz > 0.0) || !(o.profile_rate_hz > 0.0) ||
       !std::isfinite(o.spindle_rate_hz) || !std::isfinite(o.profile_rate_hz)) {
     throw std::invalid_argument("~spindle_rate and ~profile_rate must be positive [Hz]");

@@ -65,6 +65,7 @@ std::string cellUrdf(const cws::Scene& scene) {
 int urdfMain(const std::vector<std::string>& args, const std::string& default_scene) {
   std::string scene_path = default_scene;
   std::vector<std::string> overrides;
+  bool world_on_error = false;
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& opt = args[i];
     if (i + 1 >= args.size()) {
@@ -74,6 +75,12 @@ int urdfMain(const std::vector<std::string>& args, const std::string& default_sc
     const std::string& value = args[++i];
     if (opt == "--scene") {
       scene_path = value;
+    } else if (opt == "--on-error") {
+      if (value != "fail" && value != "world") {
+        std::cerr << "wire_sim: urdf: --on-error takes fail or world, not '" << value << "'\n";
+        return 2;
+      }
+      world_on_error = value == "world";
     } else if (opt == "--set") {
       overrides.push_back(value);
     } else if (opt == "--overrides") {
@@ -89,13 +96,25 @@ int urdfMain(const std::vector<std::string>& args, const std::string& default_sc
       }
     } else {
       std::cerr << "wire_sim: urdf: unknown option '" << opt
-                << "' (it takes --scene, --set, --overrides)\n";
+                << "' (it takes --scene, --set, --overrides, --on-error)\n";
       return 2;
     }
   }
+  // The cell's frames do not depend on the job's length: storage for the
+  // most points a scene may have, so that a long job is not checked here.
+  overrides.push_back("supply.max_points=" + std::to_string(cws::kMaxScenePoints));
   try {
     std::cout << cellUrdf(cws::loadScene(scene_path, overrides));
   } catch (const cws::SceneError& e) {
+    // --on-error world (the cell's launch file): a URDF of the world link
+    // alone, so that roslaunch goes on to the node, which names the error
+    // in one line.
+    if (world_on_error) {
+      std::cout
+          << "<?xml version=\"1.0\"?>\n<robot name=\"winding_cell\">\n  <link name=\"world\"/>\n"
+             "</robot>\n";
+      return 0;
+    }
     std::cerr << "wire_sim: bad scene: " << e.what() << "\n";
     return 2;
   }

@@ -12,6 +12,7 @@
 //   wire_sim sweep-run DIR INDEX
 //   wire_sim sweep-gather DIR
 //   wire_sim urdf [--scene FILE] [--set ...] [--overrides "[key=value, ...]"]
+//                 [--on-error fail|world]
 #include <signal.h>
 
 #include <cmath>

@@ -61,10 +61,11 @@ inline std::string readFile(const std::filesystem::path& p) {
 // Starts `roslaunch args...` (args without the program name) against a
 // master of its own on master_port: the child in a process group of its own
 // (as a shell's foreground job, so that a signal to -pid reaches the whole
-// launch), ROS logs in dir/ros_log, its output to log. Returns the child's
-// pid, or -1.
+// launch), ROS logs in dir/ros_log, its output to log, started from the
+// directory `cwd` if one is given. Returns the child's pid, or -1.
 inline pid_t startRoslaunch(std::vector<std::string> args, int master_port,
-                            const std::filesystem::path& dir, const std::string& log) {
+                            const std::filesystem::path& dir, const std::string& log,
+                            const std::filesystem::path& cwd = {}) {
   args.insert(args.begin(), {"roslaunch", "-p", std::to_string(master_port)});
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
@@ -76,7 +77,13 @@ inline pid_t startRoslaunch(std::vector<std::string> args, int master_port,
     ::setpgid(0, 0);
     ::setenv("ROS_MASTER_URI", uri.c_str(), 1);
     ::setenv("ROS_LOG_DIR", (dir / "ros_log").c_str(), 1);
-    if (!std::freopen(log.c_str(), "w", stdout) || !std::freopen(log.c_str(), "a", stderr)) {
+    // Started from `cwd`, as a shell there would (PWD too).
+    if (!cwd.empty() && (::chdir(cwd.c_str()) != 0 || ::setenv("PWD", cwd.c_str(), 1) != 0)) {
+      ::_exit(125);
+    }
+    // One file description for both streams, so that neither writes over
+    // the other's lines.
+    if (!std::freopen(log.c_str(), "w", stdout) || ::dup2(STDOUT_FILENO, STDERR_FILENO) < 0) {
       ::_exit(126);
     }
     ::execvp("roslaunch", argv.data());

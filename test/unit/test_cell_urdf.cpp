@@ -2,10 +2,14 @@
 // joint's origin, written as xyz and rpy, rebuilds the core's frame at rest
 // that the simulation uses, for a tilted core axis too (the rpy read back
 // with URDF's convention R = Rz(yaw) Ry(pitch) Rx(roll), independently of the
-// writer's conversion); the port joints exist only with a supply.
+// writer's conversion); the port joints exist only with a supply. `wire_sim
+// urdf` does not check the job's length, and with --on-error world gives the
+// world link alone for a bad scene (the cell's launch file: the node then
+// names the error).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <iostream>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -61,6 +65,37 @@ TEST(CellUrdf, PortJointsOnlyWithASupply) {
       cws_tools::cellUrdf(cws::loadScene(kDefaultScene, {"physics.supply=false"}));
   EXPECT_EQ(without.find("<joint name=\"port_x\""), std::string::npos);
   EXPECT_NE(without.find("<joint name=\"spindle\" type=\"continuous\">"), std::string::npos);
+}
+
+// urdfMain's exit status, with what it printed on std::cout and std::cerr.
+int urdf(const std::vector<std::string>& args, std::string& out, std::string& err) {
+  std::ostringstream o, e;
+  std::streambuf* const cout_buf = std::cout.rdbuf(o.rdbuf());
+  std::streambuf* const cerr_buf = std::cerr.rdbuf(e.rdbuf());
+  std::vector<std::string> all{"urdf"};
+  all.insert(all.end(), args.begin(), args.end());
+  const int rc = cws_tools::urdfMain(all, kDefaultScene);
+  std::cout.rdbuf(cout_buf);
+  std::cerr.rdbuf(cerr_buf);
+  out = o.str();
+  err = e.str();
+  return rc;
+}
+
+TEST(CellUrdf, TheJobsLengthIsNotCheckedAndABadSceneCanGiveTheWorldLink) {
+  std::string out, err;
+  // 300 s at 600 rpm needs more points than a scripted run may have: the
+  // frames do not care.
+  EXPECT_EQ(urdf({"--set", "process.duration=300"}, out, err), 0) << err;
+  EXPECT_NE(out.find("<joint name=\"spindle\" type=\"continuous\">"), std::string::npos);
+  // A misspelt key: refused by name, or (--on-error world) the world link.
+  EXPECT_EQ(urdf({"--set", "proces.turns=3"}, out, err), 2);
+  EXPECT_NE(err.find("'proces'"), std::string::npos) << err;
+  EXPECT_EQ(urdf({"--set", "proces.turns=3", "--on-error", "world"}, out, err), 0);
+  EXPECT_NE(out.find("<link name=\"world\"/>"), std::string::npos) << out;
+  EXPECT_EQ(out.find("spindle"), std::string::npos) << out;
+  EXPECT_EQ(urdf({"--on-error", "maybe"}, out, err), 2);
+  EXPECT_NE(err.find("--on-error"), std::string::npos) << err;
 }
 
 }  // namespace

@@ -18,6 +18,7 @@ namespace cws_ros {
 
 struct NodeOptions {
   std::string scene;                   // ~scene: scene file (empty: the defaults)
+  std::string scene_base_dir;          // ~scene_base_dir: what a relative ~scene is relative to
   std::vector<std::string> overrides;  // ~overrides: key.path=value
   double real_time_factor = 1.0;       // ~real_time_factor; 0: as fast as possible
   double state_rate_hz = 20.0;         // ~state_rate: wire_state, metrics

@@ -1,0 +1,88 @@
+// Scene errors and relative scene paths, end to end: `roslaunch
+// coil_winding_sim winding_cell.launch` on a ROS master port of its own.
+// - A misspelt key, and a scripted job too long for the storage, end the
+//   launch with one line from the node that names the key, not inside
+//   roslaunch's "Invalid <param> tag" exception for robot_description.
+// - A relative scene path is the directory roslaunch was started from: the
+//   cell runs the scene there, and a missing one is refused with the
+//   absolute path tried.
+//
+// A plain gtest (catkin_add_gtest): it runs under the devel space, so that
+// roslaunch finds the package; it starts no ROS node itself.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "ros_test_support.hpp"
+
+#ifndef CWS_SOURCE_DIR
+#error "CWS_SOURCE_DIR must be defined"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Launch {
+  bool ended = false;
+  int status = 0;
+  std::string output;
+};
+
+// roslaunch of the cell with `args` from `cwd`, allowed 90 s to end by itself.
+Launch launch(const std::vector<std::string>& args, const fs::path& cwd = {}) {
+  const fs::path dir = fs::temp_directory_path() / ("cws_scene_errors_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const int port = cws_ros_test::freePort();
+  std::vector<std::string> all{"coil_winding_sim", "winding_cell.launch", "rviz:=false"};
+  all.insert(all.end(), args.begin(), args.end());
+  const std::string log = (dir / "roslaunch.log").string();
+  Launch l;
+  const pid_t pid = cws_ros_test::startRoslaunch(all, port, dir, log, cwd);
+  if (port > 0 && pid > 0) l.ended = cws_ros_test::waitForLaunch(pid, 90.0, l.status);
+  l.output = cws_ros_test::readFile(log);
+  fs::remove_all(dir);
+  return l;
+}
+
+void expectOneClearLine(const Launch& l, const std::string& words) {
+  EXPECT_TRUE(l.ended) << l.output;
+  EXPECT_NE(l.output.find("[FATAL]"), std::string::npos) << l.output;
+  EXPECT_NE(l.output.find(words), std::string::npos) << l.output;
+  EXPECT_EQ(l.output.find("Invalid <param> tag"), std::string::npos) << l.output;
+  EXPECT_EQ(l.output.find("RLException"), std::string::npos) << l.output;
+}
+
+TEST(SceneErrors, AMisspeltKeyIsNamedByTheNode) {
+  expectOneClearLine(launch({"overrides:=[proces.turns=3]"}), "scene key 'proces': unknown key");
+}
+
+TEST(SceneErrors, AScriptedJobTooLongForTheStorageIsNamedByTheNode) {
+  expectOneClearLine(launch({"overrides:=[process.duration=300]", "stop_at_end:=true"}),
+                     "scene key 'process.duration'");
+}
+
+TEST(SceneErrors, ARelativeSceneIsTheLaunchDirectorys) {
+  const fs::path source(CWS_SOURCE_DIR);
+  const Launch ok =
+      launch({"scene:=test/scenes/spinning_wire.yaml", "overrides:=[process.duration=0.05]",
+              "exit_at_end:=true", "real_time_factor:=0"},
+             source);
+  ASSERT_TRUE(ok.ended) << ok.output;
+  ASSERT_TRUE(WIFEXITED(ok.status));
+  EXPECT_EQ(WEXITSTATUS(ok.status), 0) << ok.output;
+  EXPECT_NE(ok.output.find((source / "test/scenes/spinning_wire.yaml").string()), std::string::npos)
+      << ok.output;
+  EXPECT_NE(ok.output.find("job done: "), std::string::npos) << ok.output;
+
+  const Launch missing = launch({"scene:=config/no_such_scene.yaml"}, source);
+  expectOneClearLine(
+      missing, "cannot open scene file '" + (source / "config/no_such_scene.yaml").string() + "'");
+}
+
+}  // namespace
