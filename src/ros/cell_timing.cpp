@@ -64,6 +64,35 @@ double ReplayClock::target(const ros::Time& now, double wall_s) {
   return target;
 }
 
+void PaceWindow::add(double wall_s, double sim_s) {
+  // Samples at least 20 ms apart: a second spans up to 50 of them.
+  if (n_ > 0 && wall_s - wall_[(head_ + kSize - 1) % kSize] < 0.02) return;
+  wall_[head_] = wall_s;
+  sim_[head_] = sim_s;
+  head_ = (head_ + 1) % kSize;
+  if (n_ < kSize) ++n_;
+}
+
+void PaceWindow::update(double wall_s, double sim_s, double target, bool near_pace) {
+  add(wall_s, sim_s);
+  // The oldest sample within the last second, or the oldest of all.
+  int oldest = (head_ + kSize - n_) % kSize;
+  for (int k = n_; k > 1; --k) {
+    const int i = (head_ + kSize - k) % kSize;
+    if (wall_s - wall_[i] <= 1.0) break;
+    oldest = i;
+  }
+  const double dw = wall_s - wall_[oldest];
+  if (dw > 0.0) factor_ = (sim_s - sim_[oldest]) / dw;
+  const bool keeping = target <= 0.0 || near_pace || (dw >= 1.0 && factor_ >= 0.95 * target);
+  if (keeping) {
+    behind_since_s_ = -1.0;
+  } else if (behind_since_s_ < 0.0) {
+    behind_since_s_ = wall_s;
+  }
+  slow_ = !keeping && wall_s - behind_since_s_ >= 1.0;
+}
+
 void PublishGrid::restart(double t) {
   for (int c = 0; c < kChannels; ++c) {
     index_[c] = static_cast<long>(std::ceil(t * hz_[c]));

@@ -3,11 +3,15 @@
 #include "coil_winding_sim/ros/winding_cell.hpp"
 
 #include <rosgraph_msgs/Clock.h>
+#include <signal.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <thread>
 
 #include "coil_winding_sim/core/time_steppers/implicit_stepper.hpp"
@@ -55,7 +59,7 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
   sim_ = std::make_unique<cws::Simulation>(scene_);
   grid_.restart(sim_->time());
   stamp_origin_s_ = ros::Time::now().toSec() - sim_->time();
-  job_start_wall_s_ = node_start_s_;
+  job_start_sim_s_ = sim_->time();
   if (o_.error_estimate) {
     if (o_.follow_clock || !o_.stop_at_end) {
       ROS_WARN(
@@ -139,10 +143,19 @@ void WindingCell::run() {
   restartPace();
   double next_state = wallNow(), next_marker = next_state, next_clock = next_state,
          next_diagnostics = next_state, next_held = next_state;
+  bool was_quiet = false;
+  loop_wall_s_ = wallNow();
   while (ros::ok()) {
     bool done = false;
     {
       std::lock_guard<std::mutex> lock(sim_mutex_);
+      // Wall time winding: not paused, held, stopped or at rest.
+      const double pass_s = wallNow() - loop_wall_s_;
+      loop_wall_s_ += pass_s;
+      if (!paused_ && !failed_ && !holding() && !at_rest_ && !o_.follow_clock) {
+        job_run_wall_s_ += pass_s;
+        if (wind_.active) wind_.run_wall_s += pass_s;
+      }
       takeWindRequests();
       applySetpoints();
       drainInputs();
@@ -154,9 +167,9 @@ void WindingCell::run() {
         int skipped = 0;
         if (!keeping_pace_ && !holding() && pace_warning_.due(wallNow(), skipped)) {
           ROS_WARN(
-              "winding_cell: not keeping pace: real-time factor %.3g against the target %.3g "
-              "(~real_time_factor)",
-              rate_.last(), pace_.target());
+              "winding_cell: not keeping pace: real-time factor %.3g over the last second "
+              "against the target %.3g (~real_time_factor)",
+              pace_window_.factor(), pace_.target());
         }
       }
       noteFallback();
@@ -179,6 +192,17 @@ void WindingCell::run() {
       publishState();
       publishMarkers();
       ROS_INFO("winding_cell: exiting at the job's end (~exit_at_end)");
+      // Started by roslaunch: the launch ends as after Ctrl-C, each node
+      // and recorder closing in order, without the alarm roslaunch raises
+      // when a required node ends by itself. Else: this node alone. (Half
+      // a second first, for the last messages to reach a recorder.)
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      if (endParentLaunch()) {
+        const double until = wallNow() + 10.0;
+        while (ros::ok() && wallNow() < until) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+      }
       ros::shutdown();
       break;
     }
@@ -187,14 +211,20 @@ void WindingCell::run() {
       publishClock();
       next_clock = now + 0.001;
     }
+    // While the state stands (paused, held, stopped, the core at rest):
+    // the state and the markers once a second, not at their full rates.
+    const bool quiet = done || at_rest_;
     if (now >= next_state) {
       publishState();
-      next_state = now + 1.0 / state_rate_hz_;
+      next_state = now + 1.0 / (quiet ? kQuietRateHz : state_rate_hz_.load());
     }
     if (now >= next_marker) {
       publishMarkers();
-      next_marker = now + 1.0 / marker_rate_hz_;
+      next_marker = now + 1.0 / (quiet ? kQuietRateHz : marker_rate_hz_.load());
     }
+    // Leaving a quiet stretch: at the full rates at once.
+    if (!quiet && was_quiet) next_state = next_marker = now;
+    was_quiet = quiet;
     // Once a second of wall time: the updater's own period counts ROS
     // time, with ~publish_clock the simulated time (100 s of wall time
     // between reports at a real-time factor of 0.01).
@@ -223,6 +253,15 @@ void WindingCell::run() {
   }
 }
 
+// Sends SIGINT to the parent process if it is roslaunch; false if not.
+bool WindingCell::endParentLaunch() {
+  const pid_t parent = ::getppid();
+  std::ifstream in("/proc/" + std::to_string(parent) + "/cmdline");
+  std::string cmdline((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (cmdline.find("roslaunch") == std::string::npos) return false;
+  return ::kill(parent, SIGINT) == 0;
+}
+
 // ---- pacing -----------------------------------------------------------------
 
 void WindingCell::restartPace() {
@@ -230,6 +269,7 @@ void WindingCell::restartPace() {
   stamp_origin_s_ = std::max(stamp_origin_s_, ros::Time::now().toSec() - sim_->time());
   const double now = wallNow();
   pace_.restart(now, sim_->time());
+  pace_window_.restart(now, sim_->time());
   rate_.restart(now, sim_->time());
 }
 
@@ -286,7 +326,7 @@ void WindingCell::advanceChunk() {
       sim_->step(limit);
       const double step_wall = wallNow() - step_start;
       compute_s_ += step_wall;
-      if (wind_.active) wind_.compute_s += step_wall;
+
       publishDue();
     }
   } catch (const std::exception& e) {
@@ -298,7 +338,12 @@ void WindingCell::advanceChunk() {
     run_until_.reset();
     paused_ = true;
   }
-  keeping_pace_ = pace_.keeping(wallNow(), sim_->time());
+  const double now = wallNow();
+  pace_window_.update(now, sim_->time(), pace_.target(), pace_.keeping(now, sim_->time()));
+  keeping_pace_ = !pace_window_.slow();
+  // Behind by more than a quarter second: a stall (a slow start, a burst of
+  // work), not a deficit to chase at full speed; the pace goes on from here.
+  if (pace_.ahead(now, sim_->time()) < -0.25 * pace_.target()) pace_.restart(now, sim_->time());
 }
 
 // ---- replay (~follow_clock) -------------------------------------------------
@@ -446,8 +491,7 @@ void WindingCell::publishMarkers() {
   overlay.state = cellState(words);
   std::replace(overlay.state.begin(), overlay.state.end(), '_', ' ');
   // After the job, its mean pace (the measured one is 0 while it holds).
-  overlay.pace.real_time_factor =
-      job_done_ && job_wall_s_ > 0.0 ? sim_->time() / job_wall_s_ : rate_.last();
+  overlay.pace.real_time_factor = job_done_ ? jobRealTimeFactor() : rate_.last();
   overlay.pace.target_real_time_factor = pace_.target();
   overlay.pace.keeping_pace = keeping_pace_ || paused_ || finished();
   overlay.tension_setpoint_N = tension_setpoint_;

@@ -48,7 +48,7 @@ double WindingCell::jobEndTime() const {
 // say so, and ~exit_at_end asks the loop to end.
 void WindingCell::endJob() {
   job_done_ = true;
-  job_wall_s_ = wallNow() - job_start_wall_s_;
+  job_wall_s_ = job_run_wall_s_;
   exit_requested_ = o_.exit_at_end;
   std::string line;
   cellState(line);
@@ -67,10 +67,10 @@ std::string WindingCell::cellState(std::string& message) const {
     const cws::BulgeReport b = sim_->model().bulging();
     char text[320];
     std::snprintf(text, sizeof text,
-                  "job done: %.4g turns in %.6g s simulated and %.3g s of wall time (real-time "
-                  "factor %.3g), bulging %s",
-                  std::abs(sim_->coreTurns()), sim_->time(), wall_s,
-                  wall_s > 0.0 ? sim_->time() / wall_s : 0.0,
+                  "job done: %.4g turns in %.6g s simulated and %.3g s of wall time winding "
+                  "(real-time factor %.3g), bulging %s",
+                  std::abs(sim_->coreTurns()), sim_->time() - job_start_sim_s_, wall_s,
+                  jobRealTimeFactor(),
                   b.valid ? (cws::formatNumber(1e3 * b.height_m, "%.4f") + " mm").c_str()
                           : "none (nothing wound)");
     message = text;
@@ -103,8 +103,10 @@ void WindingCell::publishStatus() {
   std::lock_guard<std::mutex> lock(sim_mutex_);
   coil_winding_sim::CellStatus s;
   s.state = cellState(s.message);
-  if (s.state == last_status_) return;
+  if (s.state == last_status_ && refused_ == last_refused_) return;
   last_status_ = s.state;
+  last_refused_ = refused_;
+  s.refused = refused_;
   s.header.stamp = stamp();
   s.header.frame_id = o_.frames.world;
   s.job_done = job_done_;

@@ -115,6 +115,7 @@ void WindingCell::onReconfigure(Config& c) {
   for (const std::string& why : refused) {
     ROS_WARN("winding_cell: dynamic_reconfigure: refused %s; keeping the value in use",
              why.c_str());
+    refused_ = "dynamic_reconfigure: " + why + "; the value in use is kept";
   }
   applied_ = c;
 }

@@ -155,7 +155,9 @@ void WindingCell::replace(std::unique_ptr<cws::Simulation> next) {
   job_done_ = false;
   storage_full_ = false;
   exit_requested_ = false;
-  job_start_wall_s_ = wallNow();
+  job_start_sim_s_ = sim_->time();
+  job_run_wall_s_ = 0.0;
+  job_wall_s_ = 0.0;
   if (estimator_) estimator_->startJob(sim_->saveState());
 }
 

@@ -215,13 +215,14 @@ double WindingCell::windEndTime() const {
 // The goal's end (lock held): its result, and the cell holds.
 void WindingCell::endWind(const std::string& how) {
   coil_winding_sim::WindResult r =
-      toWindResult(*sim_, wind_.start_s, windTurns(sim_->time()), wind_.compute_s);
+      toWindResult(*sim_, wind_.start_s, windTurns(sim_->time()), wind_.run_wall_s);
   r.message = how + ": " + cws::formatNumber(r.turns, "%.4g") + " turns in " +
               cws::formatNumber(r.duration, "%.6g") + " s simulated, real-time factor " +
               cws::formatNumber(r.real_time_factor, "%.3g");
   wind_.active = false;
   job_done_ = true;
-  job_wall_s_ = wind_.compute_s;
+  job_wall_s_ = wind_.run_wall_s;
+  job_start_sim_s_ = wind_.start_s;
   ROS_INFO("winding_cell: wind goal %s", r.message.c_str());
   if (how == "done") {
     wind_server_->setSucceeded(r, r.message);

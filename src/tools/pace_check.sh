@@ -36,8 +36,8 @@ for _ in $(seq 50); do rostopic list > /dev/null 2>&1 && break; sleep 0.2; done
 # Subscribers first, so the whole run is seen.
 timeout $((SECONDS_WALL + 8)) rostopic echo -p winding_metrics > "$OUT/metrics.csv" 2>/dev/null &
 timeout $((SECONDS_WALL + 8)) rostopic echo -p /diagnostics/status[0]/level > "$OUT/diag.csv" 2>/dev/null &
-roslaunch coil_winding_sim winding_cell.launch rviz:=false \
-  overrides:="[process.duration=$((SECONDS_WALL + 20))]" "$@" > "$OUT/launch.log" 2>&1 &
+# (The cell runs until stopped.)
+roslaunch coil_winding_sim winding_cell.launch rviz:=false "$@" > "$OUT/launch.log" 2>&1 &
 LAUNCH=$!
 for _ in $(seq 100); do rostopic list 2>/dev/null | grep -q core_speed_setpoint && break; sleep 0.1; done
 rostopic pub -1 core_speed_setpoint coil_winding_sim/CoreSpeedSetpoint "{angular_velocity: $SPEED}" > /dev/null 2>&1 &

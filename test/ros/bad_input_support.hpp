@@ -119,8 +119,9 @@ inline ros::Publisher* speed_pub = nullptr;
 
 using cws_ros_test::waitFor;
 
-// The metrics after `n` more messages (20 Hz): a state published after
-// this call, with time for a DELETEALL marker (10 Hz) to arrive.
+// The metrics after `n` more messages (20 Hz; 1 Hz while paused): a state
+// published after this call, with time for a DELETEALL marker (10 Hz) to
+// arrive.
 inline WindingMetrics fresh(std::size_t n = 4) {
   const std::size_t seen = observer->count();
   EXPECT_TRUE(waitFor([&] { return observer->count() >= seen + n; }, 10.0))

@@ -120,6 +120,40 @@ TEST(ReplayClock, AClockStalledWithinTheLagOfTheEndCountsAsTheEnd) {
   EXPECT_NEAR(replay.target(ros::Time(101.97), 5.7), 2.0, 1e-9);
 }
 
+// Pace judged over the last second: a run slower than its target is slow
+// after a second of it; one that keeps the target's factor is not, even
+// with an old deficit (a slow start); so is one near the pace.
+TEST(PaceWindow, SlowOnlyAfterASecondBelowTheTargetsFactor) {
+  auto run = [](double rtf, bool near_pace, double until_s, cws_ros::PaceWindow& w) {
+    bool ever_slow = false;
+    for (double t = 0.01; t <= until_s + 1e-9; t += 0.01) {
+      w.update(t, rtf * t, 1.0, near_pace);
+      ever_slow |= w.slow();
+    }
+    return ever_slow;
+  };
+  cws_ros::PaceWindow w;
+  w.restart(0.0, 0.0);
+  EXPECT_FALSE(run(1.0, true, 5.0, w));
+  // At the target's factor but behind it (an old deficit): not slow.
+  w.restart(0.0, 0.0);
+  EXPECT_FALSE(run(1.0, false, 5.0, w));
+  EXPECT_NEAR(w.factor(), 1.0, 1e-9);
+  // At 0.8 of the target: slow, once a second of it has passed.
+  w.restart(0.0, 0.0);
+  for (double t = 0.01; t < 0.99; t += 0.01) {
+    w.update(t, 0.8 * t, 1.0, false);
+    EXPECT_FALSE(w.slow()) << t;
+  }
+  EXPECT_TRUE(run(0.8, false, 3.0, w));
+  EXPECT_TRUE(w.slow());
+  EXPECT_NEAR(w.factor(), 0.8, 1e-9);
+  // As fast as possible (no target): never slow.
+  w.restart(0.0, 0.0);
+  for (double t = 0.01; t <= 3.0; t += 0.01) w.update(t, 0.1 * t, 0.0, false);
+  EXPECT_FALSE(w.slow());
+}
+
 TEST(PublishGrid, TopicsFallDueOnTheirGridOfSimulatedTime) {
   cws_ros::PublishGrid grid(100.0, 50.0, 5.0);
   grid.restart(0.0);

@@ -43,6 +43,34 @@ class PaceKeeper {
   double wall0_ = 0.0, sim0_ = 0.0;
 };
 
+// Whether a run keeps its pace, judged as Gazebo users read a real-time
+// factor: over the last second of wall time, not against every deficit
+// since the start. A run keeps pace while it is within 50 ms of the target
+// pace, or its factor over the last second (or more) is at least 95 % of
+// the target; it is slow once it has not kept pace for a second.
+class PaceWindow {
+ public:
+  void restart(double wall_s, double sim_s) {
+    n_ = 0;
+    behind_since_s_ = -1.0;
+    add(wall_s, sim_s);
+  }
+  // A sample after a chunk of steps; `near_pace`: within 50 ms of the pace.
+  void update(double wall_s, double sim_s, double target, bool near_pace);
+  // Not keeping pace for a second or more.
+  bool slow() const { return slow_; }
+  // The factor over the window [-] (0 before it spans any wall time).
+  double factor() const { return factor_; }
+
+ private:
+  void add(double wall_s, double sim_s);
+  static constexpr int kSize = 64;
+  double wall_[kSize] = {}, sim_[kSize] = {};
+  int n_ = 0, head_ = 0;
+  double factor_ = 0.0, behind_since_s_ = -1.0;
+  bool slow_ = false;
+};
+
 // The real-time factor measured between two readings.
 class RateMeter {
  public:

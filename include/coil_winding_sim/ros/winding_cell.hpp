@@ -83,6 +83,8 @@ class WindingCell {
   // The cell takes no steps: the job is done (the scene's, finished(), or
   // a wind goal's) or the wire's storage is full.
   bool holding() const { return job_done_ || storage_full_ || finished(); }
+  // ~exit_at_end under roslaunch: asks the launch to end (SIGINT).
+  static bool endParentLaunch();
   // The storage has no room for the points the next step may draw in.
   bool storageFull() const;
   void holdFull();
@@ -184,8 +186,15 @@ class WindingCell {
   // (Atomic: the setpoint callbacks read them without the lock.)
   std::atomic<bool> job_done_{false}, storage_full_{false};
   bool exit_requested_ = false;
-  double job_start_wall_s_ = 0.0;  // wall time [s]
-  double job_wall_s_ = 0.0;        // the ended job's wall time [s]
+  // The job's pace, as Gazebo's: simulated time over the wall time spent
+  // winding (not paused, held or at rest).
+  double job_start_sim_s_ = 0.0;  // simulated time at the job's start [s]
+  double job_run_wall_s_ = 0.0;   // wall time winding since then [s]
+  double job_wall_s_ = 0.0;       // the ended job's run_wall [s]
+  double loop_wall_s_ = 0.0;      // the loop's last pass [s of wall time]
+  double jobRealTimeFactor() const {
+    return job_wall_s_ > 0.0 ? (sim_->time() - job_start_sim_s_) / job_wall_s_ : 0.0;
+  }
   // ~start at_rest: the core held at 0 until the first speed setpoint.
   std::atomic<bool> at_rest_{false};
   WallThrottle pace_warning_{10.0};                // "not keeping pace" on the console
@@ -193,10 +202,11 @@ class WindingCell {
   long fallback_seen_ = 0;                         // stretches noted so far
   double fallback_wall_s_ = -1e300;                // wall time of the last new one [s]
   std::string last_status_;                        // the state last sent on cell_status
-  double force_max_N_ = 1.0;                       // the wire's colour range, 0 to this [N]
-  std::optional<double> run_until_;                // pause when the simulated time reaches it [s]
-  double compute_s_ = 0.0;                         // wall time in the present job's steps [s]
-  std::unique_ptr<JobErrorEstimator> estimator_;   // with ~error_estimate
+  std::string refused_, last_refused_;  // the last refused live change (cell_status), and sent
+  double force_max_N_ = 1.0;            // the wire's colour range, 0 to this [N]
+  std::optional<double> run_until_;     // pause when the simulated time reaches it [s]
+  double compute_s_ = 0.0;              // wall time in the present job's steps [s]
+  std::unique_ptr<JobErrorEstimator> estimator_;  // with ~error_estimate
   std::string failure_;
   double clock_offset_ = 0.0;
   // On the wall clock (no /use_sim_time): the ROS time of simulated time 0
@@ -205,6 +215,7 @@ class WindingCell {
   // the cell takes no steps.
   double stamp_origin_s_ = 0.0;
   PaceKeeper pace_;
+  PaceWindow pace_window_;
   RateMeter rate_;
   std::atomic<double> speed_setpoint_{0.0}, tension_setpoint_{0.0};
   std::atomic<bool> setpoints_changed_{false};
@@ -226,7 +237,7 @@ class WindingCell {
     double turns = 0.0, duration_s = 0.0;
     std::vector<double> time_s, speed, tension;
     double next_profile_s = 0.0;  // when the profile is next applied [s]
-    double compute_s = 0.0;
+    double run_wall_s = 0.0;      // wall time winding [s]
   };
   WindJob wind_;
   std::unique_ptr<actionlib::SimpleActionServer<coil_winding_sim::WindAction>> wind_server_;
@@ -279,6 +290,7 @@ class WindingCell {
   std::unique_ptr<dynamic_reconfigure::Server<coil_winding_sim::WindingCellConfig>> reconfigure_;
   coil_winding_sim::WindingCellConfig applied_;
   std::atomic<double> state_rate_hz_{20.0}, marker_rate_hz_{10.0};
+  static constexpr double kQuietRateHz = 1.0;  // state and markers while the state stands
 };
 
 }  // namespace cws_ros
