@@ -79,6 +79,7 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
     previous = a;
     r.point_turn[i] = 1 + static_cast<int>(std::floor(std::abs(unwrapped) / kTwoPi));
   }
+  r.turns_wound = std::abs(unwrapped) / kTwoPi;
   r.point_layer = layersOf(m, p_core, last);
 
   // Turns: their points, layer (the most common), plan, position, stand-off.
@@ -101,7 +102,7 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
     const double start = kTwoPi * (turn.turn - 1);
     turn.planned_min = 1 + plan.at(std::max(0.0, start - 0.5 * kTwoPi)).layer;
     turn.planned_max = 1 + plan.at(start + (1.0 - 1e-9) * kTwoPi).layer;
-    int above = 0;
+    int above = 0, turn_index = -1;  // (the point of the turn's stand-off)
     for (int j = turn.first_point; j < i; ++j) {
       const int layer = r.point_layer[j];
       above += layer > turn.planned_max;
@@ -109,6 +110,7 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
       // layers: they bulge no layer.)
       if (layer != turn.layer) continue;
       const double height = std::max(0.0, stand_off[j] - (layer - 1) * rise);
+      if (height > turn.stand_off_m || turn_index < 0) turn_index = j;
       turn.stand_off_m = std::max(turn.stand_off_m, height);
     }
     if (static_cast<int>(r.bulging_per_layer_m.size()) < turn.layer) {
@@ -118,6 +120,11 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
     // no layer.)
     double& bulge = r.bulging_per_layer_m[turn.layer - 1];
     if (turn.planned_min == turn.planned_max) bulge = std::max(bulge, turn.stand_off_m);
+    if (turn.planned_min == turn.planned_max && turn_index >= 0 &&
+        (r.bulging_index < 0 || turn.stand_off_m > r.bulging_m)) {
+      r.bulging_m = turn.stand_off_m;
+      r.bulging_index = turn_index;
+    }
     // (A crossover zone, where the next turn starts to climb, spans less
     // than a quarter of a turn.)
     turn.overlap = above >= std::max<double>(kOverlapPoints, kOverlapFraction * turn.points);
@@ -148,6 +155,28 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
     if (r.first_overlap_turn == 0) r.first_overlap_turn = turn.turn;
   }
   return r;
+}
+
+BulgeReport headlineBulging(const WireModel& m, const Scene& s, const CoilReport* coil) {
+  BulgeReport b = m.bulging();
+  if (!b.valid || !s.physics.wire_contact) return b;
+  CoilReport own;
+  if (!coil) {
+    own = reportCoil(m, s);
+    coil = &own;
+  }
+  if (!coil->valid) return b;
+  // The build-up stays; the bulging is the coil's, at its point (none yet
+  // while every turn wound crosses between layers).
+  if (coil->bulging_index < 0) {
+    b.height_m = 0.0;
+    return b;
+  }
+  b.height_m = coil->bulging_m;
+  b.index = coil->bulging_index;
+  b.arc_length_m = b.index * m.constants().segment_length;
+  b.p_core = m.core()->pointCore(m.committedTime(), m.committed().p_world.col(b.index));
+  return b;
 }
 
 }  // namespace cws

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "coil_winding_sim/core/coil_report.hpp"
 #include "coil_winding_sim/core/input_log.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
@@ -121,7 +122,8 @@ RunDifference differenceOf(const Simulation& run, const Simulation& other) {
   const int count = std::min(woundCount(run), woundCount(other));
   d.shape_rel_diameter =
       curveDistance(curveOf(run, count), curveOf(other, count)) / run.scene().wire.diameter;
-  const BulgeReport a = run.model().bulging(), b = other.model().bulging();
+  const BulgeReport a = headlineBulging(run.model(), run.scene()),
+                    b = headlineBulging(other.model(), other.scene());
   if (a.valid && b.valid && b.height_m > 0.0) {
     d.bulging_valid = true;
     d.bulging_rel = std::abs(a.height_m - b.height_m) / b.height_m;

@@ -143,10 +143,13 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
         << ", \"wall_time_s\": " << num(estimate->wall_s)
         << ", \"refined_wall_time_s\": " << num(estimate->refined_wall_s) << "},\n";
   }
-  // Bulging: null until the scene has a core with contact and wound wire.
-  const BulgeReport b = m.bulging();
+  // Bulging (headlineBulging): null until the scene has a core with contact
+  // and wound wire.
+  const CoilReport coil = reportCoil(m, sim.scene());
+  const BulgeReport b = headlineBulging(m, sim.scene(), &coil);
   if (b.valid) {
     out << "  \"bulging_height_m\": " << num(b.height_m) << ",\n"
+        << "  \"build_up_height_m\": " << num(b.build_up_m) << ",\n"
         << "  \"bulging_index\": " << b.index << ",\n"
         << "  \"bulging_arc_length_m\": " << num(b.arc_length_m) << ",\n"
         << "  \"bulging_position_core_m\": [" << num(b.p_core.x()) << ", " << num(b.p_core.y())
@@ -154,6 +157,7 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
         << "  \"wound_points\": " << b.wound_points << ",\n";
   } else {
     out << "  \"bulging_height_m\": null,\n"
+        << "  \"build_up_height_m\": null,\n"
         << "  \"bulging_index\": null,\n"
         << "  \"bulging_arc_length_m\": null,\n"
         << "  \"bulging_position_core_m\": null,\n"
@@ -162,7 +166,7 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
   // Turns, layers, gaps and overlaps (coil_report.hpp): null without a
   // wound coil.
   out << "  \"coil\": ";
-  writeCoilJson(reportCoil(m, sim.scene()), out);
+  writeCoilJson(coil, out);
   out << "\n}\n";
 }
 
@@ -176,13 +180,17 @@ void writeCoilJson(const CoilReport& r, std::ostream& out) {
     for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + num(v[i]);
     return s + "]";
   };
-  out << "{\n    \"turns\": " << r.turns.size() << ",\n"
+  // (turns: the wound wire's turns to a whole one; per_turn lists each,
+  // the last one the turn being laid.)
+  out << "{\n    \"turns\": " << r.wound_turns() << ",\n"
+      << "    \"turns_wound\": " << num(r.turns_wound) << ",\n"
       << "    \"layers\": " << r.layers << ",\n"
       << "    \"gaps\": " << r.gaps << ",\n"
       << "    \"largest_gap_m\": " << num(r.largest_gap_m) << ",\n"
       << "    \"first_gap_turn\": " << r.first_gap_turn << ",\n"
       << "    \"overlaps\": " << r.overlaps << ",\n"
       << "    \"first_overlap_turn\": " << r.first_overlap_turn << ",\n"
+      << "    \"bulging_m\": " << num(r.bulging_m) << ",\n"
       << "    \"bulging_per_layer_m\": " << list(r.bulging_per_layer_m) << ",\n"
       << "    \"per_turn\": [";
   for (std::size_t i = 0; i < r.turns.size(); ++i) {

@@ -222,6 +222,7 @@ BulgeReport WireModel::bulging() const {
       b.index = i;
     }
   }
+  b.build_up_m = b.height_m;
   b.arc_length_m = b.index * c_.segment_length;
   b.p_core = core_->pointCore(committed_time_, committed_.p_world.col(b.index));
   return b;

@@ -107,8 +107,11 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
   msg.header.stamp = stamp;
   msg.header.frame_id = frames.world;
   msg.sim_time = sim.time();
-  const cws::BulgeReport b = m.bulging();
+  cws::CoilReport coil;
+  const bool coil_valid = coilOf(sim, coil);
+  const cws::BulgeReport b = cws::headlineBulging(m, sim.scene(), coil_valid ? &coil : nullptr);
   msg.bulging_height = b.valid ? b.height_m : std::numeric_limits<double>::quiet_NaN();
+  msg.build_up_height = b.valid ? b.build_up_m : std::numeric_limits<double>::quiet_NaN();
   msg.bulging_index = b.valid ? b.index : -1;
   const int last = m.lastInContact();
   msg.wound_length = last > 0 ? last * m.constants().segment_length : 0.0;
@@ -126,9 +129,9 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
   msg.step_size = sim.stepper().lastStep();
   msg.max_constraint_residual = m.maxConstraintResidual();
   msg.points = m.constants().n;
-  cws::CoilReport coil;
-  if (coilOf(sim, coil)) {
-    msg.turns = static_cast<int>(coil.turns.size());
+  if (coil_valid) {
+    msg.turns = coil.wound_turns();
+    msg.turns_wound = coil.turns_wound;
     msg.layers = coil.layers;
     msg.gaps = coil.gaps;
     msg.largest_gap = coil.largest_gap_m;
@@ -148,10 +151,13 @@ coil_winding_sim::WindResult toWindResult(const cws::Simulation& sim, double sta
   r.duration = sim.time() - start_s;
   r.wall_time = wall_s;
   r.real_time_factor = wall_s > 0.0 ? r.duration / wall_s : 0.0;
-  const cws::BulgeReport b = sim.model().bulging();
-  r.bulging_height = b.valid ? b.height_m : std::numeric_limits<double>::quiet_NaN();
   cws::CoilReport coil;
-  if (coilOf(sim, coil)) {
+  const bool coil_valid = coilOf(sim, coil);
+  const cws::BulgeReport b =
+      cws::headlineBulging(sim.model(), sim.scene(), coil_valid ? &coil : nullptr);
+  r.bulging_height = b.valid ? b.height_m : std::numeric_limits<double>::quiet_NaN();
+  r.build_up_height = b.valid ? b.build_up_m : std::numeric_limits<double>::quiet_NaN();
+  if (coil_valid) {
     r.bulging_per_layer = coil.bulging_per_layer_m;
     r.layers = coil.layers;
     r.gaps = coil.gaps;

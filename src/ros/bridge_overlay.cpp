@@ -35,7 +35,8 @@ visualization_msgs::MarkerArray toOverlayMarkers(const cws::Simulation& sim, con
   visualization_msgs::MarkerArray out;
   const cws::WireModel& m = sim.model();
   const cws::RotatingCore* core = m.core();
-  const cws::BulgeReport b = m.bulging();
+  const cws::BulgeReport b = cws::headlineBulging(m, sim.scene());
+  const bool coil = sim.scene().physics.wire_contact;
 
   // The figures beside the core, a marker per line (rviz spaces the lines
   // of one text marker far apart), top down along world -y: in the package's
@@ -53,7 +54,11 @@ visualization_msgs::MarkerArray toOverlayMarkers(const cws::Simulation& sim, con
   lines.push_back(m.supply() ? "tension " + format("%.4g", o.tension_setpoint_N) + " N set, " +
                                    format("%.4g", m.portAxialForce()) + " N at the port"
                              : std::string("no supply"));
-  lines.push_back("bulging " + (b.valid ? format("%.3f", 1e3 * b.height_m) + " mm" : "-"));
+  // (A coil's bulging is above its layers; their build-up beside it.)
+  lines.push_back("bulging " + (b.valid ? format("%.3f", 1e3 * b.height_m) + " mm" : "-") +
+                  (coil && b.valid ? ", layers built up " + format("%.3f", 1e3 * b.build_up_m) +
+                                         " mm"
+                                   : std::string()));
   lines.push_back("wire colour: force " + format("%.3g", o.force_min_N) + " N blue to " +
                   format("%.3g", o.force_max_N) + " N red");
   if (o.profile_magnification > 0.0 && b.valid) {

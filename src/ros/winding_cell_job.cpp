@@ -64,7 +64,7 @@ std::string WindingCell::cellState(std::string& message) const {
   }
   if (job_done_) {
     const double wall_s = job_wall_s_;
-    const cws::BulgeReport b = sim_->model().bulging();
+    const cws::BulgeReport b = cws::headlineBulging(sim_->model(), sim_->scene());
     char text[320];
     std::snprintf(text, sizeof text,
                   "job done: %.4g turns in %.6g s simulated and %.3g s of wall time winding "
@@ -112,7 +112,7 @@ void WindingCell::publishStatus() {
   s.job_done = job_done_;
   s.sim_time = sim_->time();
   s.core_turns = std::abs(sim_->coreTurns());
-  const cws::BulgeReport b = sim_->model().bulging();
+  const cws::BulgeReport b = cws::headlineBulging(sim_->model(), sim_->scene());
   s.bulging_height = b.valid ? b.height_m : std::numeric_limits<double>::quiet_NaN();
   status_pub_.publish(s);
 }

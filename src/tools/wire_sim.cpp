@@ -229,13 +229,17 @@ int run(const Args& a) {
         estimate->refinement.c_str(), estimate->shape_error_rel_diameter,
         estimate->bulging_error_rel, estimate->wall_s, estimate->refined_wall_s);
   }
-  const cws::BulgeReport b = sim.model().bulging();
+  const cws::BulgeReport b = cws::headlineBulging(sim.model(), sim.scene());
   if (b.valid) {
     std::printf(
         "      bulging height %.4f mm at point %d (%.1f mm from the fixed end), "
         "%.3f core turns, %.1f mm of wire fed\n",
         1e3 * b.height_m, b.index, 1e3 * b.arc_length_m, sim.coreTurns(),
         1e3 * sim.model().fedLength());
+    if (sim.scene().physics.wire_contact) {
+      std::printf("      build-up of the layers %.4f mm (the largest stand-off from the core)\n",
+                  1e3 * b.build_up_m);
+    }
   }
   return 0;
 }

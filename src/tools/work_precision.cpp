@@ -48,7 +48,7 @@ void execute(const std::string& scene_path, const std::vector<std::string>& base
       r.p_core.col(i) = m.core() ? m.core()->pointCore(sim.time(), m.committed().p_world.col(i))
                                  : Eigen::Vector3d(m.committed().p_world.col(i));
     }
-    const cws::BulgeReport b = m.bulging();
+    const cws::BulgeReport b = cws::headlineBulging(m, sim.scene());
     r.bulging_m = b.valid ? b.height_m : 0.0;
     r.wall_s = sim.wallTime();
     r.sim_s = sim.time();

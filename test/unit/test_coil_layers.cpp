@@ -137,6 +137,46 @@ TEST(CoilLayers, TheSecondLayerLiesInTheGroovesOfTheFirst) {
   std::printf("second layer %.4f d above the first (sqrt(3)/2 = 0.8660)\n", rise / d);
   EXPECT_NEAR(rise, 0.5 * std::sqrt(3.0) * d, 0.05 * 0.5 * std::sqrt(3.0) * d);
 }
+// The figures a user reads of a coil in two layers: the bulging is the
+// largest stand-off above a layer's ideal surface, not the build-up of the
+// layers (the largest stand-off from the core), which is its own figure;
+// both against the drum's geometry (a point's stand-off is its distance from
+// the axis less the drum's radius and the wire's), and the turns wound are
+// the core's turns.
+TEST(CoilLayers, TheBulgingIsAboveTheLayersAndTheBuildUpIsItsOwnFigure) {
+  std::vector<std::string> keys = drum(10.0);
+  keys.insert(keys.end(),
+              {"process.winding_width=6e-3", "process.layers=2", "physics.flanges=true"});
+  const cws::Scene s = cws::loadScene(k3d, keys);
+  cws::Simulation sim(s);
+  sim.run();
+  const cws::WireModel& m = sim.model();
+  const cws::CoilReport coil = cws::reportCoil(m, s);
+  const cws::BulgeReport b = cws::headlineBulging(m, s, &coil);
+  ASSERT_TRUE(coil.valid && b.valid);
+  ASSERT_EQ(coil.layers, 2);
+  const double d = s.wire.diameter, rise = 0.5 * std::sqrt(3.0) * d;
+  auto standOff = [&](int i) {
+    return m.core()->pointCore(sim.time(), m.committed().p_world.col(i)).head<2>().norm() -
+           5.0e-3 - 0.5 * d;
+  };
+  double build_up = 0.0;
+  for (int i = 0; i < b.wound_points; ++i) build_up = std::max(build_up, standOff(i));
+  EXPECT_NEAR(b.build_up_m, build_up, 1e-9);
+  EXPECT_GT(b.build_up_m, 0.8 * d);  // the second layer stands sqrt(3)/2 d out
+  // The bulging: the largest of the layers', at a point of its layer.
+  EXPECT_EQ(b.height_m, *std::max_element(coil.bulging_per_layer_m.begin(),
+                                          coil.bulging_per_layer_m.end()));
+  // (It leaves out the second layer's own rise.)
+  EXPECT_LT(b.height_m, b.build_up_m - 0.8 * d);
+  const int layer = coil.point_layer.at(b.index);
+  EXPECT_NEAR(b.height_m, standOff(b.index) - (layer - 1) * rise, 1e-9);
+  std::printf("bulging %.4f d (point %d, layer %d), build-up %.4f d, %d turns (%.3f)\n",
+              b.height_m / d, b.index, layer, b.build_up_m / d, coil.wound_turns(),
+              coil.turns_wound);
+  EXPECT_EQ(coil.wound_turns(), 10);
+}
+
 // A pitch of 1.5 d leaves a gap of 0.5 d beside every turn: reported at
 // each turn from the second on (the last, still being laid, aside), and
 // once the wire's lag behind the port has built up (from the fourth turn)

@@ -15,7 +15,10 @@
 //   crossover zone at a turn's end is less;
 // - bulging per layer: the largest stand-off above the layer's ideal
 //   surface, the core's outline grown by (layer - 1) sqrt(3)/2 d
-//   (orthocyclic layers).
+//   (orthocyclic layers);
+// - the coil's bulging (its headline figure, the defect): the largest of
+//   those; the build-up of the layers (the largest stand-off from the core)
+//   is its own figure (headlineBulging).
 #pragma once
 
 #include <limits>
@@ -25,6 +28,7 @@ namespace cws {
 
 class WireModel;
 struct Scene;
+struct BulgeReport;
 
 struct TurnReport {
   int turn = 0;  // 1 from the fixed end
@@ -50,6 +54,14 @@ struct CoilReport {
   double largest_gap_m = 0.0;
   int first_gap_turn = 0, first_overlap_turn = 0;  // 0: none
   std::vector<double> bulging_per_layer_m;         // index: layer - 1 [m]
+  // The largest of them and the point where it occurs (-1: none) [m].
+  double bulging_m = 0.0;
+  int bulging_index = -1;
+  // The wound wire's angle about the core axis from the fixed end [turns];
+  // wound_turns rounds it to a whole turn (process.turns wound give
+  // process.turns; the list of turns ends with the one being laid).
+  double turns_wound = 0.0;
+  int wound_turns() const { return static_cast<int>(turns_wound + 0.5); }
 };
 
 // A gap is reported beyond (1 + kGapTolerance) d: the penalty law's
@@ -60,5 +72,14 @@ constexpr double kOverlapFraction = 0.25;
 
 // The report of the model's wound wire; needs the scene's traverse and wire.
 CoilReport reportCoil(const WireModel& m, const Scene& s);
+
+// The bulging every report shows (summary.json, the node's messages, rviz,
+// the error estimate), defined here once: in a scene that winds in layers
+// (physics.wire_contact), the coil's bulging (the largest stand-off above a
+// layer's ideal surface) at its point, with the build-up (the largest
+// stand-off from the core) beside it; in other scenes the paper's bulging,
+// the largest stand-off from the core, which is then the build-up too.
+// `coil`: the scene's coil report if already made.
+BulgeReport headlineBulging(const WireModel& m, const Scene& s, const CoilReport* coil = nullptr);
 
 }  // namespace cws

@@ -62,11 +62,14 @@ struct PointReport {
 struct BulgeReport {
   bool valid = false;         // false: no core or nothing wound
   double height_m = 0.0;      // largest stand-off (0 when the wire lies on the core)
+  double build_up_m = 0.0;    // largest stand-off from the core (headlineBulging) [m]
   int index = -1;             // the point where it occurs
   double arc_length_m = 0.0;  // its natural arc length from the fixed end
   Eigen::Vector3d p_core = Eigen::Vector3d::Zero();  // its position, core frame [m]
   int wound_points = 0;                              // points of the wound part
 };
+// (WireModel::bulging is the stand-off alone; reports use
+// headlineBulging, coil_report.hpp.)
 
 // Everything a model needs besides its scene to continue a run exactly.
 struct ModelState {
