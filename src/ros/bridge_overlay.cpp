@@ -56,9 +56,9 @@ visualization_msgs::MarkerArray toOverlayMarkers(const cws::Simulation& sim, con
                              : std::string("no supply"));
   // (A coil's bulging is above its layers; their build-up beside it.)
   lines.push_back("bulging " + (b.valid ? format("%.3f", 1e3 * b.height_m) + " mm" : "-") +
-                  (coil && b.valid ? ", layers built up " + format("%.3f", 1e3 * b.build_up_m) +
-                                         " mm"
-                                   : std::string()));
+                  (coil && b.valid
+                       ? ", layers built up " + format("%.3f", 1e3 * b.build_up_m) + " mm"
+                       : std::string()));
   lines.push_back("wire colour: force " + format("%.3g", o.force_min_N) + " N blue to " +
                   format("%.3g", o.force_max_N) + " N red");
   if (o.profile_magnification > 0.0 && b.valid) {

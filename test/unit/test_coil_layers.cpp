@@ -157,16 +157,16 @@ TEST(CoilLayers, TheBulgingIsAboveTheLayersAndTheBuildUpIsItsOwnFigure) {
   ASSERT_EQ(coil.layers, 2);
   const double d = s.wire.diameter, rise = 0.5 * std::sqrt(3.0) * d;
   auto standOff = [&](int i) {
-    return m.core()->pointCore(sim.time(), m.committed().p_world.col(i)).head<2>().norm() -
-           5.0e-3 - 0.5 * d;
+    return m.core()->pointCore(sim.time(), m.committed().p_world.col(i)).head<2>().norm() - 5.0e-3 -
+           0.5 * d;
   };
   double build_up = 0.0;
   for (int i = 0; i < b.wound_points; ++i) build_up = std::max(build_up, standOff(i));
   EXPECT_NEAR(b.build_up_m, build_up, 1e-9);
   EXPECT_GT(b.build_up_m, 0.8 * d);  // the second layer stands sqrt(3)/2 d out
   // The bulging: the largest of the layers', at a point of its layer.
-  EXPECT_EQ(b.height_m, *std::max_element(coil.bulging_per_layer_m.begin(),
-                                          coil.bulging_per_layer_m.end()));
+  EXPECT_EQ(b.height_m,
+            *std::max_element(coil.bulging_per_layer_m.begin(), coil.bulging_per_layer_m.end()));
   // (It leaves out the second layer's own rise.)
   EXPECT_LT(b.height_m, b.build_up_m - 0.8 * d);
   const int layer = coil.point_layer.at(b.index);
