@@ -91,6 +91,7 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
   speed_sub_ = nh_.subscribe("core_speed_setpoint", 100, &WindingCell::onSpeed, this);
   tension_sub_ = nh_.subscribe("tension_setpoint", 100, &WindingCell::onTension, this);
   port_sub_ = nh_.subscribe("port_position_setpoint", 100, &WindingCell::onPort, this);
+  trajectory_sub_ = nh_.subscribe("joint_trajectory", 100, &WindingCell::onTrajectory, this);
   if (o_.machine_inputs) {
     // The machine's commands (docs/MACHINE_INTERFACE.md) as setpoints.
     machine_spindle_sub_ =
@@ -322,6 +323,9 @@ void WindingCell::advanceChunk() {
         if (wind_.turns > 0.0) limit = std::min(limit, windEndTime());
         if (windEnded()) break;
       }
+      // Trajectory points end steps and apply at their times.
+      applyDue();
+      limit = std::min(limit, pending_.nextTime());
       const double step_start = wallNow();
       sim_->step(limit);
       const double step_wall = wallNow() - step_start;

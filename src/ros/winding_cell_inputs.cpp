@@ -2,9 +2,11 @@
 // the simulation loop between chunks (winding_cell.hpp). Neither takes the
 // simulation's lock: a burst of setpoints cannot hold up the simulation or
 // the services.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "coil_winding_sim/core/external_forces/supply.hpp"
 #include "coil_winding_sim/core/setpoint_limits.hpp"
 #include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
@@ -87,6 +89,41 @@ void WindingCell::portInput(const std::string& topic, const geometry_msgs::Point
   if (!admitStamp(topic, msg.header.stamp)) return;
   std::lock_guard<std::mutex> lock(input_mutex_);
   incoming_port_.push_back({p_world, msg.header.stamp, topic});
+}
+
+// A machine axis's trajectory: checked and read by the bridge here, its
+// setpoints queued at their times by the loop (drainInputs).
+void WindingCell::onTrajectory(const trajectory_msgs::JointTrajectory::ConstPtr& msg) {
+  const std::string topic = "joint_trajectory";
+  if (refusedWhileHolding(topic, "")) return;
+  IncomingTrajectory in;
+  std::string why;
+  if (!fromTrajectory(*msg, in.setpoints, why)) {
+    warn(warningsOf(topic).value, "refused " + topic + ": " + why);
+    return;
+  }
+  for (const auto& [t, w] : in.setpoints.spindle) {
+    why = cws::coreSpeedRefusal(limits(), w);
+    if (!why.empty()) {
+      warn(warningsOf(topic).value, "refused " + topic + ": spindle velocity " +
+                                        cws::formatNumber(w) + " rad/s at " + cws::formatNumber(t) +
+                                        " s " + why);
+      return;
+    }
+  }
+  if (!admitStamp(topic, msg->header.stamp)) return;
+  in.stamp = msg->header.stamp;
+  std::lock_guard<std::mutex> lock(input_mutex_);
+  incoming_trajectory_.push_back(std::move(in));
+}
+
+double WindingCell::simTimeOf(const ros::Time& stamp) const {
+  if (stamp.isZero()) return sim_->time();
+  if (o_.follow_clock) return (stamp - replay_.origin()).toSec();
+  if (o_.publish_clock) return stamp.toSec() - clock_offset_;
+  // Another node's clock: as far ahead of the simulated time as of it.
+  if (ros::Time::isSimTime()) return sim_->time() + (stamp - ros::Time::now()).toSec();
+  return stamp.toSec() - stamp_origin_s_;
 }
 
 bool WindingCell::refusedWhileHolding(const std::string& topic, const std::string& what) {
@@ -193,6 +230,37 @@ void WindingCell::drainInputs() {
     port_queue_.push_back({t_s, in.p_world, in.topic});
   }
   incoming_port_.clear();
+  // Trajectories: each replaces what remains of the one before from its
+  // start; points in the past apply at once.
+  for (IncomingTrajectory& in : incoming_trajectory_) {
+    const double t0 = simTimeOf(in.stamp);
+    if (!in.setpoints.spindle.empty()) {
+      pending_.dropFrom(t0, cws::Command::Kind::kCoreSpeed);
+      for (const auto& [t, w] : in.setpoints.spindle) {
+        pending_.add(t0 + t, {cws::Command::Kind::kCoreSpeed, w});
+      }
+      at_rest_ = false;  // (~start at_rest: the controller has taken over)
+    }
+    const cws::Supply* supply = sim_->model().supply();
+    if (!in.setpoints.port.empty() && !supply) {
+      warn(warningsOf("joint_trajectory").value,
+           "refused joint_trajectory's port joints: the scene has no supply port");
+      continue;
+    }
+    for (const auto& [t, p] : in.setpoints.port) {
+      // An axis the trajectory leaves out: where the port's path ends now.
+      const Eigen::Vector3d end =
+          supply->port(std::max(sim_->time(), sim_->portCommandEnd())).p_world;
+      Eigen::Vector3d p_world = p;
+      for (int a = 0; a < 3; ++a) {
+        if (std::isnan(p_world[a])) p_world[a] = end[a];
+      }
+      // (A point at or before the present: reached ~port_move_time from now.)
+      const double t_s = t0 + t > sim_->time() ? t0 + t : std::numeric_limits<double>::quiet_NaN();
+      port_queue_.push_back({t_s, p_world, "joint_trajectory"});
+    }
+  }
+  incoming_trajectory_.clear();
 }
 
 // Applies the queued speed and tension setpoints whose time has come.

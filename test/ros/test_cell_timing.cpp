@@ -8,6 +8,7 @@
 #include <limits>
 #include <string>
 
+#include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/cell_timing.hpp"
 #include "coil_winding_sim/ros/node_options.hpp"
 
@@ -315,4 +316,63 @@ TEST(NodeOptions, FollowingTheClockNeedsSimTimeAndAnotherNodesClock) {
   o.real_time_factor = 5.0;
   cws_ros::validateNodeOptions(o, true);
   EXPECT_EQ(o.real_time_factor, 0.0);  // as fast as the clock allows
+}
+
+// A machine axis's trajectory as the cell's setpoints: velocities as given;
+// positions alone give the speed that reaches the next point (0 at the
+// last); the port from its joints' positions, an axis not named left NaN;
+// bad trajectories refused by what is wrong.
+TEST(Trajectory, SpindleSpeedsAndPortPositionsAtTheirTimes) {
+  auto point = [](double t, std::vector<double> pos, std::vector<double> vel) {
+    trajectory_msgs::JointTrajectoryPoint p;
+    p.time_from_start = ros::Duration(t);
+    p.positions = std::move(pos);
+    p.velocities = std::move(vel);
+    return p;
+  };
+  trajectory_msgs::JointTrajectory msg;
+  msg.joint_names = {"spindle", "port_y"};
+  msg.points = {point(0.0, {0.0, 0.01}, {10.0, 0.0}), point(0.5, {3.0, 0.02}, {20.0, 0.0})};
+  cws_ros::TrajectorySetpoints out;
+  std::string why;
+  ASSERT_TRUE(cws_ros::fromTrajectory(msg, out, why)) << why;
+  ASSERT_EQ(out.spindle.size(), 2u);
+  EXPECT_EQ(out.spindle[1], std::make_pair(0.5, 20.0));
+  ASSERT_EQ(out.port.size(), 2u);
+  EXPECT_EQ(out.port[1].first, 0.5);
+  EXPECT_EQ(out.port[1].second.y(), 0.02);
+  EXPECT_TRUE(std::isnan(out.port[1].second.x()) && std::isnan(out.port[1].second.z()));
+
+  // Positions alone: 3 rad in 0.5 s, then 1 rad in 0.25 s, then stop.
+  msg.joint_names = {"spindle"};
+  msg.points = {point(0.0, {0.0}, {}), point(0.5, {3.0}, {}), point(0.75, {4.0}, {})};
+  ASSERT_TRUE(cws_ros::fromTrajectory(msg, out, why)) << why;
+  ASSERT_EQ(out.spindle.size(), 3u);
+  EXPECT_DOUBLE_EQ(out.spindle[0].second, 6.0);
+  EXPECT_DOUBLE_EQ(out.spindle[1].second, 4.0);
+  EXPECT_DOUBLE_EQ(out.spindle[2].second, 0.0);
+  EXPECT_TRUE(out.port.empty());
+
+  auto refusal = [&](const trajectory_msgs::JointTrajectory& m) {
+    cws_ros::TrajectorySetpoints o;
+    std::string w;
+    return cws_ros::fromTrajectory(m, o, w) ? std::string() : w;
+  };
+  trajectory_msgs::JointTrajectory bad = msg;
+  bad.joint_names = {"elbow"};
+  EXPECT_NE(refusal(bad).find("joint 'elbow'"), std::string::npos);
+  bad.joint_names = {"spindle", "spindle"};
+  EXPECT_NE(refusal(bad).find("named twice"), std::string::npos);
+  bad = msg;
+  bad.points = {point(0.0, {0.0}, {})};
+  EXPECT_NE(refusal(bad).find("positions at two points"), std::string::npos);
+  bad = msg;
+  bad.points[2].time_from_start = ros::Duration(0.5);
+  EXPECT_NE(refusal(bad).find("time_from_start"), std::string::npos);
+  bad = msg;
+  bad.joint_names = {"port_x"};
+  bad.points[1].positions = {std::numeric_limits<double>::quiet_NaN()};
+  EXPECT_NE(refusal(bad).find("port's joints need a finite position"), std::string::npos);
+  bad.points.clear();
+  EXPECT_NE(refusal(bad).find("no points"), std::string::npos);
 }

@@ -1,12 +1,14 @@
 // rostest (port_input.test): port_position_setpoint and the machine
 // command adapter (machine/spindle/command, machine/port/command) refuse
 // bad messages with a warning naming the problem and keep the last good
-// setpoint; good ones apply.
+// setpoint; good ones apply. A trajectory_msgs/JointTrajectory drives the
+// spindle and the port at its points' times.
 #include <geometry_msgs/PointStamped.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/JointState.h>
+#include <trajectory_msgs/JointTrajectory.h>
 
 #include <limits>
 #include <mutex>
@@ -120,6 +122,55 @@ TEST(PortInput, BadMachineSpindleCommandsAreRefused) {
   js.velocity = {7.0};
   pub.publish(js);
   EXPECT_TRUE(waitFor([] { return speedSetpoint() == 7.0; }, 10.0));
+}
+
+// Trajectories of the spindle and the port (joint_trajectory), stamped
+// zero: from the simulated time they arrive at.
+TEST(PortInput, JointTrajectoriesDriveTheSpindleAndThePort) {
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<trajectory_msgs::JointTrajectory>("joint_trajectory", 10);
+  ASSERT_TRUE(waitFor([&] { return metrics_count > 0 && pub.getNumSubscribers() > 0; }, 30.0));
+  auto point = [](double t, double position, double velocity, bool with_velocity) {
+    trajectory_msgs::JointTrajectoryPoint p;
+    p.time_from_start = ros::Duration(t);
+    p.positions = {position};
+    if (with_velocity) p.velocities = {velocity};
+    return p;
+  };
+  // The spindle: 3 rad/s now, 6 rad/s 20 ms (simulated) later.
+  trajectory_msgs::JointTrajectory spindle;
+  spindle.joint_names = {"spindle"};
+  spindle.points = {point(0.0, 0.0, 3.0, true), point(0.02, 0.0, 6.0, true)};
+  double t0 = 0.0;
+  {
+    std::lock_guard<std::mutex> l(mutex);
+    t0 = metrics.sim_time;
+  }
+  pub.publish(spindle);
+  EXPECT_TRUE(waitFor([] { return speedSetpoint() == 3.0; }, 20.0)) << speedSetpoint();
+  double t_six = -1.0;
+  EXPECT_TRUE(waitFor(
+      [&] {
+        std::lock_guard<std::mutex> l(mutex);
+        if (metrics.core_angular_velocity_setpoint == 6.0 && t_six < 0.0) t_six = metrics.sim_time;
+        return t_six >= 0.0;
+      },
+      60.0));
+  EXPECT_GE(t_six, t0 + 0.02);
+  EXPECT_LT(t_six, t0 + 0.05);
+
+  // The port: z to 2 mm 10 ms from now; x and y stay.
+  trajectory_msgs::JointTrajectory port;
+  port.joint_names = {"port_z"};
+  port.points = {point(0.01, 0.002, 0.0, false)};
+  pub.publish(port);
+  EXPECT_TRUE(waitFor([] { return std::abs(portNow().z - 0.002) < 1e-12; }, 60.0)) << portNow().z;
+  EXPECT_DOUBLE_EQ(portNow().x, kX);
+
+  // A joint the cell does not have: refused by name.
+  port.joint_names = {"elbow"};
+  pub.publish(port);
+  EXPECT_TRUE(warned("refused joint_trajectory: joint 'elbow' is not one of the cell's"));
 }
 
 int main(int argc, char** argv) {

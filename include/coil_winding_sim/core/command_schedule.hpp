@@ -7,6 +7,7 @@
 // PortTrajectory.)
 #pragma once
 
+#include <iterator>
 #include <limits>
 #include <map>
 
@@ -32,6 +33,13 @@ class CommandSchedule {
   bool empty() const { return queue_.empty(); }
   std::size_t size() const { return queue_.size(); }
   void clear() { queue_.clear(); }
+  // Removes the commands of `kind` at t_s [s] or later (a new trajectory
+  // replaces what remains of the one before).
+  void dropFrom(double t_s, Command::Kind kind) {
+    for (auto it = queue_.lower_bound(t_s); it != queue_.end();) {
+      it = it->second.kind == kind ? queue_.erase(it) : std::next(it);
+    }
+  }
   // Hands every command due at time t [s] (within the time tolerance of
   // PortTrajectory::timeTolerance) to apply(t_s, command) in time order and
   // removes it. Returns the number applied.

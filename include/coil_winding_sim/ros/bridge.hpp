@@ -9,9 +9,12 @@
 #include <ros/time.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <trajectory_msgs/JointTrajectory.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "coil_winding_sim/ErrorEstimate.h"
 #include "coil_winding_sim/TensionSetpoint.h"
@@ -130,5 +133,18 @@ bool spindleVelocity(const sensor_msgs::JointState& msg, double& omega, std::str
 // A point [m] in the world frame (finite; frame_id empty or `frames.world`).
 bool portPoint(const geometry_msgs::PointStamped& msg, const Frames& frames,
                Eigen::Vector3d& p_world, std::string& why);
+
+// A trajectory_msgs/JointTrajectory of the cell's joints (bridge_trajectory.cpp)
+// as setpoints at times from the trajectory's start [s]: the spindle's
+// speed [rad/s] from each point's velocity, or, with positions alone, the
+// speed that reaches the next point's position (0 at the last); the port's
+// position [m, world] from the positions of port_x, port_y, port_z (an axis
+// not named: NaN, the position in use).
+struct TrajectorySetpoints {
+  std::vector<std::pair<double, double>> spindle;
+  std::vector<std::pair<double, Eigen::Vector3d>> port;
+};
+bool fromTrajectory(const trajectory_msgs::JointTrajectory& msg, TrajectorySetpoints& out,
+                    std::string& why);
 
 }  // namespace cws_ros

@@ -32,6 +32,7 @@
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
+#include <trajectory_msgs/JointTrajectory.h>
 
 #include <Eigen/Core>
 #include <atomic>
@@ -54,6 +55,7 @@
 #include "coil_winding_sim/core/command_schedule.hpp"
 #include "coil_winding_sim/core/setpoint_limits.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/cell_timing.hpp"
 #include "coil_winding_sim/ros/job_error_estimate.hpp"
 #include "coil_winding_sim/ros/node_options.hpp"
@@ -144,6 +146,10 @@ class WindingCell {
   void onMachineSpindle(const sensor_msgs::JointState::ConstPtr& msg);
   void onMachineTension(const coil_winding_sim::TensionSetpoint::ConstPtr& msg);
   void onMachinePort(const geometry_msgs::PointStamped::ConstPtr& msg);
+  void onTrajectory(const trajectory_msgs::JointTrajectory::ConstPtr& msg);
+  // The simulated time a stamp on the node's clock stands for [s] (lock
+  // held; zero: now).
+  double simTimeOf(const ros::Time& stamp) const;
   void speedInput(const std::string& topic, double w, const ros::Time& stamp);
   void tensionInput(const std::string& topic, double f, const ros::Time& stamp);
   void portInput(const std::string& topic, const geometry_msgs::PointStamped& msg);
@@ -270,6 +276,12 @@ class WindingCell {
   std::mutex input_mutex_;
   std::vector<Incoming> incoming_;
   std::vector<IncomingPort> incoming_port_;
+  // Trajectories (joint_trajectory), read by the bridge, with their stamps.
+  struct IncomingTrajectory {
+    TrajectorySetpoints setpoints;
+    ros::Time stamp;
+  };
+  std::vector<IncomingTrajectory> incoming_trajectory_;
   cws::CommandSchedule pending_;  // with ~follow_clock: at their stamps
   std::deque<PortSample> port_queue_;
 
@@ -279,7 +291,7 @@ class WindingCell {
   ros::Publisher spindle_command_pub_, spindle_state_pub_, tension_command_pub_,
       tension_measured_pub_, port_command_pub_, port_position_pub_, profile_pub_;
   ros::Subscriber speed_sub_, tension_sub_, port_sub_, machine_spindle_sub_, machine_tension_sub_,
-      machine_port_sub_;
+      machine_port_sub_, trajectory_sub_;
   ros::ServiceServer reset_srv_, pause_srv_, snapshot_srv_, restore_srv_, run_until_srv_;
   tf2_ros::TransformBroadcaster tf_;
   diagnostic_updater::Updater diagnostics_;
