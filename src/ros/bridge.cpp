@@ -372,7 +372,7 @@ bool toPortPosition(const cws::Simulation& sim, const ros::Time& stamp, const Fr
 }
 
 sensor_msgs::PointCloud2 toProfile(const cws::Simulation& sim, const ros::Time& stamp,
-                                   const Frames& frames) {
+                                   const Frames& frames, double turns) {
   sensor_msgs::PointCloud2 cloud;
   cloud.header.stamp = stamp;
   cloud.header.frame_id = frames.core;
@@ -380,7 +380,19 @@ sensor_msgs::PointCloud2 toProfile(const cws::Simulation& sim, const ros::Time& 
   const cws::RotatingCore* core = m.core();
   // The wound part: up to the last point touching the core.
   const int last = m.contact() ? m.lastInContact() : m.constants().n - 1;
-  const int count = core ? last + 1 : 0;
+  // The first point: `turns` turns about the axis back from the last.
+  int first = 0;
+  if (core && turns > 0.0 && last > 0) {
+    const double t = sim.time();
+    Eigen::Vector3d a = core->pointCore(t, m.committed().p_world.col(last));
+    double turned = 0.0;
+    for (first = last; first > 0 && turned < 2.0 * M_PI * turns; --first) {
+      const Eigen::Vector3d b = core->pointCore(t, m.committed().p_world.col(first - 1));
+      turned += std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.x() * b.x() + a.y() * b.y()));
+      a = b;
+    }
+  }
+  const int count = core ? last + 1 - first : 0;
   sensor_msgs::PointCloud2Modifier mod(cloud);
   mod.setPointCloud2Fields(
       4, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32, "z", 1,
@@ -393,7 +405,7 @@ sensor_msgs::PointCloud2 toProfile(const cws::Simulation& sim, const ros::Time& 
   const bool section = !sim.scene().core.cylinders.empty();
   sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z"),
       h(cloud, "stand_off");
-  for (int i = 0; i < count; ++i, ++x, ++y, ++z, ++h) {
+  for (int i = first; i < first + count; ++i, ++x, ++y, ++z, ++h) {
     const Eigen::Vector3d p_core = core->pointCore(sim.time(), m.committed().p_world.col(i));
     *x = static_cast<float>(p_core.x());
     *y = static_cast<float>(p_core.y());

@@ -19,6 +19,8 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh, const std::string& defau
   pnh.param("state_rate", o.state_rate_hz, o.state_rate_hz);
   pnh.param("marker_rate", o.marker_rate_hz, o.marker_rate_hz);
   pnh.param("tf_rate", o.tf_rate_hz, o.tf_rate_hz);
+  pnh.param("wire_rate", o.wire_rate_hz, o.wire_rate_hz);
+  pnh.param("profile_turns", o.profile_turns, o.profile_turns);
   pnh.param("publish_clock", o.publish_clock, o.publish_clock);
   pnh.param("publish_tf", o.publish_tf, o.publish_tf);
   pnh.param("force_color_max", o.force_color_max_N, o.force_color_max_N);
@@ -99,6 +101,12 @@ void validateNodeOptions(NodeOptions& o, bool sim_time) {
   if (!(o.state_rate_hz > 0.0) || !(o.marker_rate_hz > 0.0) || !std::isfinite(o.state_rate_hz) ||
       !std::isfinite(o.marker_rate_hz)) {
     throw std::invalid_argument("~state_rate and ~marker_rate must be positive [Hz]");
+  }
+  if (!(o.wire_rate_hz > 0.0) || !std::isfinite(o.wire_rate_hz)) {
+    throw std::invalid_argument("~wire_rate must be positive [Hz]");
+  }
+  if (!(o.profile_turns >= 0.0) || !std::isfinite(o.profile_turns)) {
+    throw std::invalid_argument("~profile_turns must be >= 0 (0: the whole wound wire)");
   }
   if (!(o.tf_rate_hz >= 0.0) || !std::isfinite(o.tf_rate_hz)) {
     throw std::invalid_argument(

@@ -83,6 +83,7 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
                                             : std::max(1.0, 2.0 * scene_.process.tension);
 
   state_pub_ = nh_.advertise<coil_winding_sim::WireState>("wire_state", 5);
+  compact_pub_ = nh_.advertise<coil_winding_sim::WireStateCompact>("wire_state_compact", 20);
   metrics_pub_ = nh_.advertise<coil_winding_sim::WindingMetrics>("winding_metrics", 5);
   marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("wire_markers", 2, true);
   status_pub_ = nh_.advertise<coil_winding_sim::CellStatus>("cell_status", 1, true);
@@ -145,6 +146,7 @@ void WindingCell::run() {
   double next_state = wallNow(), next_marker = next_state, next_clock = next_state,
          next_diagnostics = next_state, next_held = next_state;
   bool was_quiet = false;
+  double next_wire = next_state;
   loop_wall_s_ = wallNow();
   while (ros::ok()) {
     bool done = false;
@@ -223,8 +225,12 @@ void WindingCell::run() {
       publishMarkers();
       next_marker = now + 1.0 / (quiet ? kQuietRateHz : marker_rate_hz_.load());
     }
+    if (now >= next_wire) {
+      publishCompactWire();
+      next_wire = now + 1.0 / (quiet ? kQuietRateHz : o_.wire_rate_hz);
+    }
     // Leaving a quiet stretch: at the full rates at once.
-    if (!quiet && was_quiet) next_state = next_marker = now;
+    if (!quiet && was_quiet) next_state = next_marker = next_wire = now;
     was_quiet = quiet;
     // Once a second of wall time: the updater's own period counts ROS
     // time, with ~publish_clock the simulated time (100 s of wall time
@@ -431,7 +437,7 @@ void WindingCell::publishDue() {
   }
   if (due.frames) publishFrames();
   if (due.profile && sim_->model().core())
-    profile_pub_.publish(toProfile(*sim_, stamp(), o_.frames));
+    profile_pub_.publish(toProfile(*sim_, stamp(), o_.frames, o_.profile_turns));
 }
 
 // joint_states and the frames' TF, on their grid of simulated time (lock
@@ -481,6 +487,24 @@ void WindingCell::publishState() {
   // While the cell takes no steps its frames stand still: sent here, at
   // the state's rate, rather than on the grid of simulated time.
   if (paused_ || failed_ || holding()) publishFrames();
+}
+
+// The wire's compact form while someone listens (a recorder): the carried
+// points not yet sent, the whole wire every kCompactKeyframeS and for a new
+// listener.
+void WindingCell::publishCompactWire() {
+  const uint32_t listeners = compact_pub_.getNumSubscribers();
+  const bool more = listeners > compact_subscribers_;
+  compact_subscribers_ = listeners;
+  if (listeners == 0) return;
+  std::lock_guard<std::mutex> lock(sim_mutex_);
+  const double now = wallNow();
+  if (more || now >= compact_keyframe_s_) {
+    carried_sent_ = 0;
+    compact_keyframe_s_ = now + kCompactKeyframeS;
+  }
+  compact_pub_.publish(toWireStateCompact(*sim_, stamp(), o_.frames, carried_sent_));
+  carried_sent_ = carriedBlock(*sim_);
 }
 
 void WindingCell::publishMarkers() {

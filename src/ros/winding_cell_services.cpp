@@ -154,6 +154,7 @@ void WindingCell::replace(std::unique_ptr<cws::Simulation> next) {
   compute_s_ = 0.0;
   job_done_ = false;
   storage_full_ = false;
+  carried_sent_ = 0;  // (the reader starts the new run's wire from point 0)
   exit_requested_ = false;
   job_start_sim_s_ = sim_->time();
   job_run_wall_s_ = 0.0;

@@ -8,6 +8,8 @@
 #include <limits>
 #include <string>
 
+#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/simulation.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/cell_timing.hpp"
 #include "coil_winding_sim/ros/node_options.hpp"
@@ -375,4 +377,55 @@ TEST(Trajectory, SpindleSpeedsAndPortPositionsAtTheirTimes) {
   EXPECT_NE(refusal(bad).find("port's joints need a finite position"), std::string::npos);
   bad.points.clear();
   EXPECT_NE(refusal(bad).find("no points"), std::string::npos);
+}
+
+// The wire's compact form for recordings against the simulation itself:
+// read message by message (each sending only the carried points not sent
+// before), the reader holds the whole wire: the carried part in the core
+// frame and the rest in the world frame, each point where the simulation
+// has it (to float precision); a reader that missed a message waits for
+// one that starts from point 0.
+TEST(CompactWire, TheReaderHoldsTheWholeWireFromMessagesThatSendTheCarriedWireOnce) {
+  cws::Simulation sim(cws::loadScene(
+      std::string(CWS_SOURCE_DIR) + "/config/scenes/winding_cell.yaml", {"process.turns=5"}));
+  const cws_ros::Frames frames;
+  cws_ros::CompactWire reader;
+  int sent = 0;
+  std::size_t carried_sent = 0, messages = 0;
+  for (double t = 0.02; t <= 0.5 + 1e-9; t += 0.02) {
+    while (sim.time() < t) sim.step(t);
+    const coil_winding_sim::WireStateCompact msg =
+        cws_ros::toWireStateCompact(sim, ros::Time(1.0), frames, sent);
+    sent = cws_ros::carriedBlock(sim);
+    carried_sent += msg.carried_force.size();
+    ++messages;
+    std::string why;
+    ASSERT_TRUE(reader.add(msg, why)) << why;
+  }
+  const cws::WireModel& m = sim.model();
+  const int carried = cws_ros::carriedBlock(sim);
+  ASSERT_GT(carried, 100);  // three turns and more lie carried
+  EXPECT_LT(carried_sent, static_cast<std::size_t>(carried) + messages);  // each sent once
+  EXPECT_EQ(reader.points(), m.constants().n);
+  const visualization_msgs::MarkerArray markers = reader.markers(ros::Time(1.0), 60.0);
+  ASSERT_EQ(markers.markers.size(), 2u);
+  const auto& core_part = markers.markers[0].points;
+  const auto& world_part = markers.markers[1].points;
+  ASSERT_EQ(core_part.size(), static_cast<std::size_t>(carried));
+  ASSERT_EQ(world_part.size(), static_cast<std::size_t>(m.constants().n - carried));
+  EXPECT_EQ(markers.markers[0].header.frame_id, frames.core);
+  double worst = 0.0;
+  for (int i = 0; i < m.constants().n; ++i) {
+    const Eigen::Vector3d p_world = m.committed().p_world.col(i);
+    const Eigen::Vector3d p = i < carried ? m.core()->pointCore(sim.time(), p_world) : p_world;
+    const geometry_msgs::Point& q = i < carried ? core_part[i] : world_part[i - carried];
+    worst = std::max(worst, (p - Eigen::Vector3d(q.x, q.y, q.z)).norm());
+  }
+  EXPECT_LT(worst, 1e-8) << "[m]";
+  // A reader that joins late: refused until a message starts from point 0.
+  cws_ros::CompactWire late;
+  std::string why;
+  EXPECT_FALSE(late.add(cws_ros::toWireStateCompact(sim, ros::Time(1.0), frames, sent), why));
+  EXPECT_NE(why.find("waiting for one from point 0"), std::string::npos) << why;
+  EXPECT_TRUE(late.add(cws_ros::toWireStateCompact(sim, ros::Time(1.0), frames, 0), why)) << why;
 }

@@ -21,6 +21,7 @@
 #include "coil_winding_sim/WindAction.h"
 #include "coil_winding_sim/WindingMetrics.h"
 #include "coil_winding_sim/WireState.h"
+#include "coil_winding_sim/WireStateCompact.h"
 #include "coil_winding_sim/WireTension.h"
 #include "coil_winding_sim/core/coil_report.hpp"
 #include "coil_winding_sim/core/error_estimate.hpp"
@@ -123,8 +124,11 @@ bool toPortPosition(const cws::Simulation& sim, const ros::Time& stamp, const Fr
 // the core; all points without contact) in the core frame: float32 fields
 // x, y, z [m] and stand_off [m] from the winding surface (NaN without
 // cylinders). Empty without a core.
+// `turns` > 0: the last `turns` turns of it only (about the core axis, back
+// from the last point touching the core), as a line sensor near the
+// winding point sees it; 0: all of it.
 sensor_msgs::PointCloud2 toProfile(const cws::Simulation& sim, const ros::Time& stamp,
-                                   const Frames& frames);
+                                   const Frames& frames, double turns = 0.0);
 
 // Machine commands to simulation inputs. Each returns false and says why in
 // `why` for a message that cannot be used.
@@ -133,6 +137,37 @@ bool spindleVelocity(const sensor_msgs::JointState& msg, double& omega, std::str
 // A point [m] in the world frame (finite; frame_id empty or `frames.world`).
 bool portPoint(const geometry_msgs::PointStamped& msg, const Frames& frames,
                Eigen::Vector3d& p_world, std::string& why);
+
+// The wire in its compact form (bridge_compact.cpp): the carried block
+// from point `carried_from` (clamped to the carried wire, which may have
+// shrunk since) and the rest of the wire.
+coil_winding_sim::WireStateCompact toWireStateCompact(const cws::Simulation& sim,
+                                                      const ros::Time& stamp, const Frames& frames,
+                                                      int carried_from);
+// Points the core carries rigidly (0 to this, exclusive), as the compact
+// form sends them.
+int carriedBlock(const cws::Simulation& sim);
+
+// A reader of compact messages: the whole wire as the last message left it,
+// and its markers (replay).
+class CompactWire {
+ public:
+  // False, with why, for a message that does not continue the wire held
+  // (its carried block starts beyond it: a reader that missed messages
+  // waits for the next one from 0).
+  bool add(const coil_winding_sim::WireStateCompact& msg, std::string& why);
+  int points() const { return static_cast<int>(force_.size()); }
+  // The wire as line strips coloured as the cell's (0 N blue to
+  // force_scale_N red): the carried part in the core frame, the rest in the
+  // world frame.
+  visualization_msgs::MarkerArray markers(const ros::Time& stamp, double force_scale_N) const;
+
+ private:
+  std::vector<float> carried_xyz_, carried_force_;
+  std::vector<float> free_xyz_, force_;  // force_: the whole wire's, carried first
+  std::string world_, core_;
+  float diameter_ = 0.0f;
+};
 
 // A trajectory_msgs/JointTrajectory of the cell's joints (bridge_trajectory.cpp)
 // as setpoints at times from the trajectory's start [s]: the spindle's

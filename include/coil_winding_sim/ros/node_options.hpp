@@ -26,6 +26,8 @@ struct NodeOptions {
   // a revolution at the scene's process.max_core_speed_rpm (frameRateHz).
   double tf_rate_hz = 0.0;
   double marker_rate_hz = 10.0;         // ~marker_rate
+  double wire_rate_hz = 5.0;            // ~wire_rate: wire_state_compact (recordings) [Hz]
+  double profile_turns = 2.0;           // ~profile_turns: sim/profile's last turns; 0: all
   bool publish_clock = false;           // ~publish_clock: the simulated time as /clock
   bool publish_tf = true;               // ~publish_tf: false when robot_state_publisher does
   double force_color_max_N = 0.0;       // ~force_color_max: red [N]; 0: 2 x the tension at start

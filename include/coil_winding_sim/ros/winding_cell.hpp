@@ -106,6 +106,7 @@ class WindingCell {
   void publishClock();
   void publishState();
   void publishFrames();
+  void publishCompactWire();
   void publishMarkers();
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void warn(WallThrottle& throttle, const std::string& text) const;
@@ -287,7 +288,15 @@ class WindingCell {
 
   PublishGrid grid_;
 
-  ros::Publisher state_pub_, metrics_pub_, marker_pub_, clock_pub_, status_pub_, joints_pub_;
+  ros::Publisher state_pub_, metrics_pub_, marker_pub_, clock_pub_, status_pub_, joints_pub_,
+      compact_pub_;
+  // wire_state_compact: the carried points sent so far (the reader holds
+  // them), the subscribers then, and when the whole wire is next sent
+  // [s of wall time].
+  int carried_sent_ = 0;
+  uint32_t compact_subscribers_ = 0;
+  double compact_keyframe_s_ = 0.0;
+  static constexpr double kCompactKeyframeS = 10.0;
   ros::Publisher spindle_command_pub_, spindle_state_pub_, tension_command_pub_,
       tension_measured_pub_, port_command_pub_, port_position_pub_, profile_pub_;
   ros::Subscriber speed_sub_, tension_sub_, port_sub_, machine_spindle_sub_, machine_tension_sub_,
