@@ -14,6 +14,7 @@
 #   make compare  machine run vs simulation:  make compare BAG=run.bag [OUT=out/compare] [ARGS="--align angle"]
 #                 or MACHINE=a.bag SIM=b.bag instead of BAG (src/tools/compare_bags.py)
 #   make compare-demo   the same on synthetic bags with a known perturbation
+#   make screenshots    the README's rviz pictures, taken as its commands run (Xvfb)
 #   make test     build and run all tests; non-zero exit if any test fails
 #   make format   clang-format -i all C++ sources
 #   make clean    remove the workspace .ws/
@@ -70,7 +71,7 @@ CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCATKIN_ENABLE_TESTING=ON \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON
 
-.PHONY: deps build run study coil-study bench work-precision stability robustness compare compare-demo test format format-check clean
+.PHONY: deps build run study coil-study bench work-precision stability robustness compare compare-demo screenshots test format format-check clean
 
 deps:
 ifeq ($(SKIP_DEPS),1)
@@ -171,6 +172,16 @@ compare-demo: deps
 	$(PYTHON) src/tools/make_synthetic_bags.py --combined-bag out/compare_demo/synthetic.bag \
 	  --tension-offset 2 --tension-noise 0.2 --time-shift 0.005 --profile-offset-mm 0.1
 	$(PYTHON) src/tools/compare_bags.py out/compare_demo/synthetic.bag --out out/compare_demo $(ARGS)
+
+# The README's rviz pictures, each taken as the command beside it runs
+# (src/tools/rviz_screenshot.sh; test_screenshots takes them too).
+screenshots: build
+	source $(DEVEL_DIR)/setup.bash && src/tools/rviz_screenshot.sh docs/rviz_winding_cell.png \
+	  real_time_factor:=0
+	source $(DEVEL_DIR)/setup.bash && src/tools/rviz_screenshot.sh docs/rviz_coil_layers.png \
+	  scene:=$(ROOT)/config/scenes/two_layers.yaml \
+	  "overrides:=[process.turns=14, process.winding_width=7e-3]" real_time_factor:=0 \
+	  rviz_config:=$(ROOT)/rviz/coil.rviz
 
 # Per-step cost against the number of points (Google Benchmark).
 bench: build
