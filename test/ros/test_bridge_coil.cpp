@@ -5,6 +5,7 @@
 // lies a layer further out.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -53,11 +54,20 @@ TEST(BridgeCoil, OverlapOfALateReversalInMetricsAndMarkers) {
 
   const coil_winding_sim::WindingMetrics m =
       cws_ros::toMetrics(sim, ros::Time(1.0), cws_ros::Frames(), cws_ros::Pace());
-  EXPECT_GE(m.turns, 7);
+  EXPECT_EQ(m.turns, 7);  // the job's turns
+  EXPECT_GT(m.turns_wound, 6.5);
+  EXPECT_LT(m.turns_wound, 7.5);
   EXPECT_EQ(m.first_overlap_turn, 5);
   EXPECT_GE(m.overlaps, 1);
   EXPECT_GE(m.layers, 2);
   ASSERT_GE(m.bulging_per_layer.size(), 2u);
+  // The headline bulging is the layers' largest, not their build-up: the
+  // build-up is the largest stand-off from the core, which the climbing
+  // turn lifts a layer's rise (sqrt(3)/2 d) above its bulging.
+  EXPECT_EQ(m.bulging_height,
+            *std::max_element(m.bulging_per_layer.begin(), m.bulging_per_layer.end()));
+  EXPECT_EQ(m.build_up_height, sim.model().bulging().height_m);
+  EXPECT_GT(m.build_up_height, m.bulging_height + 0.5 * d);
 
   const visualization_msgs::MarkerArray a =
       cws_ros::toMarkers(sim, ros::Time(1.0), cws_ros::Frames(), 40.0);
