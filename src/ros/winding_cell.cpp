@@ -420,7 +420,13 @@ void WindingCell::advanceReplay() {
 
 // The sim/ topics due at the simulated time.
 void WindingCell::publishDue() {
-  const PublishGrid::Due due = grid_.take(sim_->time());
+  PublishGrid::Due due = grid_.take(sim_->time());
+  // The core at rest (~start at_rest): the series stand still, so they go
+  // out once a second of simulated time, not at their rates.
+  if (at_rest_ && !o_.follow_clock) {
+    if (sim_->time() < next_rest_sample_s_) due = PublishGrid::Due();
+    if (due.fast || due.frames || due.profile) next_rest_sample_s_ = sim_->time() + 1.0;
+  }
   if (due.fast) {
     const ros::Time st = stamp();
     spindle_command_pub_.publish(toSpindleCommand(*sim_, st));

@@ -100,7 +100,7 @@ TEST(Recording, BagHoldsTheTopicsWithMonotonicStamps) {
     }
   }
   for (const char* t :
-       {"wire_state", "winding_metrics", "wire_markers", "tf", "diagnostics", "tension_setpoint"}) {
+       {"wire_state_compact", "winding_metrics", "tf", "diagnostics", "tension_setpoint"}) {
     EXPECT_TRUE(topics.count(t)) << "missing topic " << t << " in " << bag_path;
   }
   EXPECT_GT(metrics_msgs, 5);

@@ -287,6 +287,7 @@ class WindingCell {
   std::deque<PortSample> port_queue_;
 
   PublishGrid grid_;
+  double next_rest_sample_s_ = 0.0;  // the core at rest: the next grid sample [s]
 
   ros::Publisher state_pub_, metrics_pub_, marker_pub_, clock_pub_, status_pub_, joints_pub_,
       compact_pub_;
