@@ -1,6 +1,7 @@
 // The winding cell's job: when it ends (the core's actual turns, or
 // process.duration), what the node says then, and the cell's state on
 // cell_status and /diagnostics (winding_cell.hpp).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -21,15 +22,23 @@ bool WindingCell::jobEnded() const {
 }
 
 // When the job ends if the core keeps its present command [s] (+inf:
-// never): the first time its angle reaches the job's turns, found on the
-// core's closed-form motion (ramp, then constant speed).
+// never).
 double WindingCell::jobEndTime() const {
   if (scene_.process.duration) return *scene_.process.duration;
+  if (!sim_->model().core()) return sim_->endTime();
+  return timeAtTurns(0.0, scene_.process.turns);
+}
+
+// The first time the core's angle lies `turns` turns from start_angle_rad
+// [rad] if it keeps its present command [s] (+inf: never; now if it does
+// already), found on its closed-form motion (ramp, then constant speed).
+double WindingCell::timeAtTurns(double start_angle_rad, double turns) const {
   const cws::RotatingCore* core = sim_->model().core();
-  if (!core) return sim_->endTime();
-  const double target = 2.0 * M_PI * scene_.process.turns;
+  const double target = 2.0 * M_PI * turns;
   const double t0 = sim_->time();
-  auto reached = [&](double t) { return std::abs(core->angle(t)) >= target * (1.0 - 1e-12); };
+  auto reached = [&](double t) {
+    return std::abs(core->angle(t) - start_angle_rad) >= target * (1.0 - 1e-12);
+  };
   if (reached(t0)) return t0;
   double h = 1e-3;
   while (!reached(t0 + h)) {

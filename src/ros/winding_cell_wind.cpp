@@ -196,20 +196,14 @@ bool WindingCell::windEnded() const {
 // never): steps end there, so that the job ends at its turns.
 double WindingCell::windEndTime() const {
   if (wind_.duration_s > 0.0) return wind_.start_s + wind_.duration_s;
-  const double t0 = sim_->time();
-  auto reached = [&](double t) { return windTurns(t) >= wind_.turns * (1.0 - 1e-12); };
-  if (reached(t0)) return t0;
-  double h = 1e-3;
-  while (!reached(t0 + h)) {
-    h *= 2.0;
-    if (h > 1e6) return std::numeric_limits<double>::infinity();
+  // (Found again only when the command changes: the core's motion under
+  // one command is one closed form.)
+  const double command = sim_->model().core()->command();
+  if (command != wind_.end_command) {
+    wind_.end_command = command;
+    wind_.end_s = timeAtTurns(wind_.start_angle_rad, wind_.turns);
   }
-  double lo = t0, hi = t0 + h;
-  for (int i = 0; i < 200 && hi - lo > 1e-13 * std::max(1.0, hi); ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (reached(mid) ? hi : lo) = mid;
-  }
-  return hi;
+  return wind_.end_s;
 }
 
 // The goal's end (lock held): its result, and the cell holds.

@@ -37,6 +37,7 @@
 #include <Eigen/Core>
 #include <atomic>
 #include <deque>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -93,6 +94,7 @@ class WindingCell {
   // ---- the job (winding_cell_job.cpp)
   bool jobEnded() const;
   double jobEndTime() const;
+  double timeAtTurns(double start_angle_rad, double turns) const;
   void endJob();
   std::string cellState(std::string& message) const;
   void publishStatus();
@@ -245,6 +247,8 @@ class WindingCell {
     std::vector<double> time_s, speed, tension;
     double next_profile_s = 0.0;  // when the profile is next applied [s]
     double run_wall_s = 0.0;      // wall time winding [s]
+    // windEndTime's last answer [s] and the core command it was for [rad/s].
+    mutable double end_s = 0.0, end_command = std::numeric_limits<double>::quiet_NaN();
   };
   WindJob wind_;
   std::unique_ptr<actionlib::SimpleActionServer<coil_winding_sim::WindAction>> wind_server_;
