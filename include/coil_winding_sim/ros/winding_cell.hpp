@@ -17,7 +17,8 @@
 // end the node shuts down.
 //
 // The class is split by concern over winding_cell.cpp (construction, the
-// loop, pacing, replay, publishing), winding_cell_inputs.cpp (setpoint
+// loop, pacing, replay), winding_cell_publish.cpp (what it publishes,
+// /diagnostics), winding_cell_inputs.cpp (setpoint
 // topics and their queues), winding_cell_services.cpp and
 // winding_cell_job.cpp (the job's end and the cell's state) and
 // winding_cell_wind.cpp (the wind action).
