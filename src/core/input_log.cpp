@@ -13,24 +13,19 @@ void InputLog::clear() {
   overflowed_ = false;
 }
 
-void InputLog::add(const Input& in) {
+void InputLog::record(double t_s, const Setpoint& setpoint) {
   if (inputs_.size() >= kCapacity) {
     overflowed_ = true;
     return;
   }
-  inputs_.push_back(in);
+  inputs_.push_back({t_s, setpoint});
 }
 
-void InputLog::coreSpeed(double t_s, double omega_rad_s) {
-  add({t_s, Kind::kCoreSpeed, omega_rad_s, Eigen::Vector3d::Zero()});
-}
-
-void InputLog::supplyTension(double t_s, double tension_N) {
-  add({t_s, Kind::kSupplyTension, tension_N, Eigen::Vector3d::Zero()});
-}
-
-void InputLog::portCommand(double t_s, const Eigen::Vector3d& p_world, double at_s) {
-  add({t_s, Kind::kPortCommand, at_s, p_world});
+InputLog InputLog::since(std::size_t first) const {
+  InputLog out;
+  out.overflowed_ = overflowed_;
+  if (first < inputs_.size()) out.inputs_.assign(inputs_.begin() + first, inputs_.end());
+  return out;
 }
 
 bool InputLog::replay(Simulation& sim, double t_end_s, const std::function<bool()>& stop) const {
@@ -43,18 +38,7 @@ bool InputLog::replay(Simulation& sim, double t_end_s, const std::function<bool(
   auto giveDue = [&] {
     const double tol = PortTrajectory::timeTolerance(sim.time());
     while (next < inputs_.size() && inputs_[next].t_s <= sim.time() + tol) {
-      const Input& in = inputs_[next++];
-      switch (in.kind) {
-        case Kind::kCoreSpeed:
-          sim.setCoreSpeed(in.value);
-          break;
-        case Kind::kSupplyTension:
-          sim.setSupplyTension(in.value);
-          break;
-        case Kind::kPortCommand:
-          sim.setPortCommand(in.p_world, in.value);
-          break;
-      }
+      sim.apply(inputs_[next++].setpoint);
     }
   };
   giveDue();

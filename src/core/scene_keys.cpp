@@ -223,6 +223,8 @@ std::vector<SceneKey> declareKeys() {
                                              "false: linear elastic laws"),
       key<&S::physics, &Physics::gravity>("physics.gravity", "", kAny, "the wire's weight"),
       key<&S::physics, &Physics::damping>("physics.damping", "", kAny, "viscous damping"),
+      key<&S::physics, &Physics::air_drag>("physics.air_drag", "", kAny,
+                                           "quadratic drag of still air"),
       key<&S::physics, &Physics::contact>("physics.contact", "", kAny,
                                           "wire against the core's cylinders and faces"),
       key<&S::physics, &Physics::friction>("physics.friction", "", kAny,
@@ -250,6 +252,11 @@ std::vector<SceneKey> declareKeys() {
           "damping.translational", "N s/m^2", kNonNegative, "viscous force per length and speed"),
       key<&S::damping, &DampingParams::rotational>("damping.rotational", "N m s/m", kNonNegative,
                                                    "viscous moment per length and spin rate"),
+      key<&S::air_drag, &AirDragParams::density>("air_drag.density", "kg/m^3", kNonNegative,
+                                                 "density of the air"),
+      key<&S::air_drag, &AirDragParams::drag_coefficient>(
+          "air_drag.drag_coefficient", "-", kNonNegative,
+          "drag coefficient of a cylinder across the flow"),
 
       key<&S::start, &StartParams::type>("start.type", "", oneOf({"clamped"}),
                                          "fixed end: position and direction held"),

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "coil_winding_sim/core/external_forces/free_wire_contact.hpp"
+#include "coil_winding_sim/core/run_checks.hpp"
 #include "coil_winding_sim/core/setpoint_limits.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 
@@ -153,26 +154,9 @@ void Simulation::step(double t_limit) {
   }
   afterStep();
   if (max_residual_ > kDivergedResidual) {
-    std::ostringstream msg;
-    msg << "at t = " << t_ << " s the wire diverged: a segment is " << max_residual_
-        << " rad off its frame's tangent (a sound run stays below 1e-3): " << stepper_->name()
-        << " is unstable on this scene at its step of " << stepper_->lastStep() << " s (";
-    const IntegratorInfo* info = findIntegrator(scene_.solver.integrator);
-    if (info && info->explicit_fixed_step) {
-      msg << "validation checks only l / c; a stiffer contact or load needs a smaller step): "
-             "lower solver.fixed_step, or use rkf45, which tells an unstable step from a "
-             "motion that itself diverges";
-    } else if (info && info->newton_steps) {
-      // The Newton-step methods hold the frames on their segments exactly:
-      // what diverged are the positions.
-      msg << "solver.implicit_step = " << scene_.solver.implicit_step
-          << " s): lower solver.implicit_step, or use rkf45";
-    } else {
-      msg << "solver.rtol = " << scene_.solver.rtol
-          << "): lower solver.rtol, or use another "
-             "integrator";
-    }
-    throw IntegrationError(withRampCause(msg.str(), t_, ramp));
+    throw IntegrationError(withRampCause(
+        remedy::diverged(scene_, t_, max_residual_, stepper_->name(), stepper_->lastStep()), t_,
+        ramp));
   }
   // Wire deeper than its radius in other wire has passed into it: a sound
   // coil rests a few percent of the radius deep, and from there it would be
@@ -188,39 +172,16 @@ void Simulation::step(double t_limit) {
     }
     const double radius = model_->constants().radius;
     if (deep.depth_m > kWireThroughWire * radius) {
-      const IntegratorInfo* info = findIntegrator(scene_.solver.integrator);
-      const bool newton = info && info->newton_steps;
-      std::ostringstream msg;
-      msg << "at t = " << t_ << " s wire passed into " << what << ": point " << deep.point
-          << " lies " << deep.depth_m / radius << " wire radii deep in segment " << deep.segment
-          << " (a sound coil: below 0.1): the step carried it past the contact's penalty "
-             "spring with "
-          << stepper_->name() << "; "
-          << (newton ? "lower solver.implicit_step" : "use bdf2, or a smaller step");
-      throw IntegrationError(msg.str());
+      throw IntegrationError(remedy::wireThroughWire(
+          scene_, t_, what, deep.point, deep.depth_m / radius, deep.segment, stepper_->name()));
     }
   }
 }
 
-// A method that fails inside a core speed ramp shorter than the time a wave
-// crosses a segment (an instant speed change: core.start_at_speed's start,
-// or core.max_angular_acceleration raised far above a machine's) fails on
-// that ramp, whatever its own message says: name it and the remedy.
-// t_fail_s: when the failure began (a collapse: its first small step);
-// ramp: the ramp under way then.
 std::string Simulation::withRampCause(const std::string& what, double t_fail_s,
                                       const Ramp& ramp) const {
-  if (!(ramp.end_s > t_fail_s) || ramp.end_s - t_fail_s >= explicitStepLimit(scene_)) return what;
-  std::ostringstream msg;
-  msg << what << ". It began to fail within a core speed ramp of " << ramp.acceleration_rad_s2
-      << " rad/s^2 that ends at t = " << ramp.end_s
-      << " s, a speed change faster than a wave crosses a segment (core.start_at_speed starts "
-         "the core in "
-      << RotatingCore::kInstantRamp_s
-      << " s; core.max_angular_acceleration sets other ramps): " << stepper_->name()
-      << " cannot follow it; use symplectic_euler or rkf45, or lower "
-         "core.max_angular_acceleration and set core.start_at_speed: false";
-  return msg.str();
+  return remedy::withinRamp(scene_, what, stepper_->name(), t_fail_s, ramp.end_s,
+                            ramp.acceleration_rad_s2);
 }
 
 void Simulation::checkCollapse(const Ramp& ramp) {
@@ -236,20 +197,10 @@ void Simulation::checkCollapse(const Ramp& ramp) {
     small_ramp_ = ramp;
   }
   if (small_steps_ < kCollapseSteps) return;
-  std::ostringstream msg;
-  const double ratio = stepper_->collapseRatio();
-  msg << stepper_->name() << ": the step size collapsed: " << small_steps_
-      << " steps in a row below " << collapse_step_s_ << " s (";
-  if (ratio == 1.0) {
-    msg << "the explicit stability limit l / c";
-  } else {
-    msg << ratio << " x the explicit stability limit l / c";
-  }
-  msg << ") from t = " << small_since_s_ << " s to " << t_ << " s, last " << h
-      << " s: the scene is too stiff for " << stepper_->name()
-      << " at solver.rtol = " << scene_.solver.rtol
-      << " (contact or stick/slip switching holds its step); use symplectic_euler";
-  throw IntegrationError(withRampCause(msg.str(), small_since_s_, small_ramp_));
+  throw IntegrationError(
+      withRampCause(remedy::collapsed(scene_, stepper_->name(), small_steps_, collapse_step_s_,
+                                      stepper_->collapseRatio(), small_since_s_, t_, h),
+                    small_since_s_, small_ramp_));
 }
 
 void Simulation::run(const std::function<void(const Simulation&)>& progress,

@@ -8,9 +8,7 @@
 #include <stdexcept>
 
 #include "coil_winding_sim/core/external_forces/damping.hpp"
-#include "coil_winding_sim/core/external_forces/end_load.hpp"
 #include "coil_winding_sim/core/external_forces/free_wire_contact.hpp"
-#include "coil_winding_sim/core/external_forces/gravity.hpp"
 
 namespace cws {
 
@@ -77,41 +75,15 @@ WireModel::WireModel(const Scene& s)
     section_ = std::make_unique<CoreSection>(s.core);
   }
 
-  const bool plastic = s.physics.plasticity;
-  stretching_ = std::make_unique<Stretching>(c_, s.wire.stretch, plastic);
-  bending_ = std::make_unique<Bending>(c_, s.wire.bend, plastic);
-  all_ = {stretching_.get(), bending_.get()};
-  if (s.physics.torsion) {
-    twisting_ = std::make_unique<Twisting>(c_, s.wire.torsion, plastic);
-    all_.push_back(twisting_.get());
-    bending_->shareSpatialPass(*twisting_);
-  }
-  if (s.physics.gravity) {
-    external_.push_back(std::make_unique<Gravity>(c_, s.gravity.acceleration_world));
-  }
-  if (s.physics.damping) {
-    auto damping = std::make_unique<Damping>(c_, s.damping);
-    damping_ = damping.get();
-    external_.push_back(std::move(damping));
-  }
-  if (s.physics.contact) {
-    auto contact = std::make_unique<Contact>(c_, s, *core_);
-    if (s.physics.wire_contact) contact->attachCarriedWire(carried_p_core_);
-    contact_ = contact.get();
-    external_.push_back(std::move(contact));
-    if (s.physics.wire_contact) {
-      auto free = std::make_unique<FreeWireContact>(c_, *contact_);
-      free_wire_contact_ = free.get();
-      external_.push_back(std::move(free));
-    }
-  }
-  if (s.physics.supply) {
-    auto supply = std::make_unique<Supply>(c_, s, core_.get());
-    supply_ = supply.get();
-    external_.push_back(std::move(supply));
-  }
-  external_.push_back(std::make_unique<EndLoad>(c_, s.end.load));
-  for (auto& e : external_) all_.push_back(e.get());
+  effects_ = makeEffects(s, EffectContext{c_, core_.get(), &carried_p_core_});
+  all_ = effects_.list();
+  stretching_ = effects_.find<Stretching>();
+  bending_ = effects_.find<Bending>();
+  twisting_ = effects_.find<Twisting>();
+  damping_ = effects_.find<Damping>();
+  contact_ = effects_.find<Contact>();
+  free_wire_contact_ = effects_.find<FreeWireContact>();
+  supply_ = effects_.find<Supply>();
 
   // Straight wire, at rest, all frames equal: along the clamp direction, or
   // with a supply from the clamp towards the port.

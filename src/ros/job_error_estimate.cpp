@@ -30,9 +30,9 @@ void JobErrorEstimator::setStatus(const std::string& status) {
   status_ = status;
 }
 
-void JobErrorEstimator::startJob(const cws::SimulationState& start) {
-  start_ = start;
-  log_.clear();
+void JobErrorEstimator::startJob(const cws::Simulation& sim) {
+  start_ = sim.saveState();
+  first_input_ = sim.inputs().size();
   finished_ = false;
 }
 
@@ -44,8 +44,8 @@ void JobErrorEstimator::finishJob(const cws::Simulation& finished, double comput
   setStatus("running the job again refined");
   // The worker gets its own copies: the node goes on with its simulation.
   busy_ = true;
-  worker_ = std::thread([this, start = start_, log = log_, end = finished.saveState(), compute_s,
-                         stamp] {
+  worker_ = std::thread([this, start = start_, log = finished.inputs().since(first_input_),
+                         end = finished.saveState(), compute_s, stamp] {
     // Settled when the worker ends, however it ends.
     struct Settle {
       std::atomic<bool>& busy;

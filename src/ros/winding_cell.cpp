@@ -65,7 +65,7 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
           "without ~stop_at_end; no estimates");
     } else {
       estimator_ = std::make_unique<JobErrorEstimator>(nh_);
-      estimator_->startJob(sim_->saveState());
+      estimator_->startJob(*sim_);
     }
   }
   speed_setpoint_ = cws::rpmToRadPerSec(scene_.process.core_speed_rpm);

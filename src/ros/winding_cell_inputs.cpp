@@ -215,9 +215,8 @@ void WindingCell::drainInputs() {
     const double t_s = in.stamp.isZero() ? -std::numeric_limits<double>::infinity()
                                          : (in.stamp - replay_.origin()).toSec();
     // (After equal times: arrival order kept.)
-    pending_.add(t_s,
-                 {in.tension ? cws::Command::Kind::kSupplyTension : cws::Command::Kind::kCoreSpeed,
-                  in.value});
+    pending_.add(t_s, in.tension ? cws::Setpoint::supplyTension(in.value)
+                                 : cws::Setpoint::coreSpeed(in.value));
   }
   incoming_.clear();
   for (const IncomingPort& in : incoming_port_) {
@@ -235,9 +234,9 @@ void WindingCell::drainInputs() {
   for (IncomingTrajectory& in : incoming_trajectory_) {
     const double t0 = simTimeOf(in.stamp);
     if (!in.setpoints.spindle.empty()) {
-      pending_.dropFrom(t0, cws::Command::Kind::kCoreSpeed);
+      pending_.dropFrom(t0, cws::Setpoint::Kind::kCoreSpeed);
       for (const auto& [t, w] : in.setpoints.spindle) {
-        pending_.add(t0 + t, {cws::Command::Kind::kCoreSpeed, w});
+        pending_.add(t0 + t, cws::Setpoint::coreSpeed(w));
       }
       at_rest_ = false;  // (~start at_rest: the controller has taken over)
     }
@@ -266,14 +265,12 @@ void WindingCell::drainInputs() {
 // Applies the queued speed and tension setpoints whose time has come.
 void WindingCell::applyDue() {
   const double t = sim_->time();
-  pending_.takeDue(t, [&](double, const cws::Command& c) {
-    cws::applyCommand(*sim_, c);
-    if (c.kind == cws::Command::Kind::kSupplyTension) {
+  pending_.takeDue(t, [&](double, const cws::Setpoint& c) {
+    sim_->apply(c);
+    if (c.kind == cws::Setpoint::Kind::kSupplyTension) {
       tension_setpoint_ = c.value;
-      if (estimator_) estimator_->inputs().supplyTension(t, c.value);
     } else {
       speed_setpoint_ = c.value;
-      if (estimator_) estimator_->inputs().coreSpeed(t, c.value);
     }
   });
 }
@@ -284,8 +281,7 @@ void WindingCell::feedPort() {
     const PortSample& s = port_queue_.front();
     const double t_s = std::isnan(s.t_s) ? sim_->time() + o_.port_move_time_s : s.t_s;
     try {
-      sim_->setPortCommand(s.p_world, t_s);
-      if (estimator_) estimator_->inputs().portCommand(sim_->time(), s.p_world, t_s);
+      sim_->apply(cws::Setpoint::portPosition(s.p_world, t_s));
     } catch (const std::invalid_argument& e) {
       warn(warningsOf("port_position_setpoint").value, "refused " + s.topic + ": " + e.what());
     }
@@ -296,12 +292,8 @@ void WindingCell::feedPort() {
 void WindingCell::applySetpoints() {
   if (!setpoints_changed_.exchange(false)) return;
   const double speed = speed_setpoint_, tension = tension_setpoint_;
-  sim_->setCoreSpeed(speed);
-  sim_->setSupplyTension(tension);
-  if (estimator_) {
-    estimator_->inputs().coreSpeed(sim_->time(), speed);
-    estimator_->inputs().supplyTension(sim_->time(), tension);
-  }
+  sim_->apply(cws::Setpoint::coreSpeed(speed));
+  sim_->apply(cws::Setpoint::supplyTension(tension));
 }
 
 // Makes `scene` the scene in use (its limits apply to the setpoints).

@@ -92,7 +92,7 @@ void WindingCell::onReconfigure(Config& c) {
   if (c.static_friction != applied_.static_friction ||
       c.kinetic_friction != applied_.kinetic_friction) {
     try {
-      sim_->setFriction(c.static_friction, c.kinetic_friction);
+      sim_->apply(cws::Setpoint::friction(c.static_friction, c.kinetic_friction));
       scene_.contact.static_friction = c.static_friction;
       scene_.contact.kinetic_friction = c.kinetic_friction;
     } catch (const cws::SceneError& e) {

@@ -159,7 +159,7 @@ void WindingCell::replace(std::unique_ptr<cws::Simulation> next) {
   job_start_sim_s_ = sim_->time();
   job_run_wall_s_ = 0.0;
   job_wall_s_ = 0.0;
-  if (estimator_) estimator_->startJob(sim_->saveState());
+  if (estimator_) estimator_->startJob(*sim_);
 }
 
 }  // namespace cws_ros

@@ -168,14 +168,14 @@ void WindingCell::applyWindProfile() {
   const double speed = at(wind_.speed);
   if (speed != speed_setpoint_) {
     speed_setpoint_ = speed;
-    sim_->setCoreSpeed(speed);
+    sim_->apply(cws::Setpoint::coreSpeed(speed));
     if (speed != 0.0) at_rest_ = false;
   }
   if (!wind_.tension.empty()) {
     const double tension = at(wind_.tension);
     if (tension != tension_setpoint_) {
       tension_setpoint_ = tension;
-      sim_->setSupplyTension(tension);
+      sim_->apply(cws::Setpoint::supplyTension(tension));
     }
   }
 }

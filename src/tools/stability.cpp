@@ -177,7 +177,7 @@ void execute(const Study& st, Run& r) {
   auto scheduleFrom = [&](std::size_t first) {
     schedule.clear();
     for (std::size_t i = first; i < events.size(); ++i) {
-      schedule.add(events[i].time_s, {cws::Command::Kind::kCoreSpeed, events[i].speed_rad_s});
+      schedule.add(events[i].time_s, cws::Setpoint::coreSpeed(events[i].speed_rad_s));
     }
   };
   scheduleFrom(0);
@@ -212,8 +212,7 @@ void execute(const Study& st, Run& r) {
     double next_report_s = resumed_at_s + 60.0;
     double next_checkpoint_s = resumed_at_s + st.checkpoint_s;
     while (sim->time() < sim->endTime()) {
-      schedule.takeDue(sim->time(),
-                       [&](double, const cws::Command& c) { cws::applyCommand(*sim, c); });
+      schedule.takeDue(sim->time(), [&](double, const cws::Setpoint& c) { sim->apply(c); });
       sim->step(std::min(sim->endTime(), schedule.nextTime()));
       if (++k % 1000 != 0) continue;
       // Ctrl-C: keep the run's state for the next study and stop.
@@ -419,5 +418,18 @@ int runStability(const std::string& scene_path, const std::vector<std::string>& 
   }
   return rc;
 }
+
+// The stability matrix's kind of sweep plan: its own runs, identities and
+// report; a refused scene is one of its results.
+const bool kStabilityKind = registerPlanKind("stability", [] {
+  PlanKind k;
+  k.case_identity = stabilityCaseIdentity;
+  k.run_case = runStabilityCase;
+  k.gather = [](const SweepPlan& plan, const std::string& dir) {
+    return writeStabilityTables(plan, dir, false);
+  };
+  k.check_scenes = false;
+  return k;
+}());
 
 }  // namespace cws_tools

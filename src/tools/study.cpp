@@ -123,4 +123,11 @@ int writeStudyTables(const SweepPlan& plan, const std::string& dir) {
   return all_ok ? 0 : 1;
 }
 
+// The study's kind of sweep plan: plain runs whose table gains the study's.
+const bool kStudyKind = registerPlanKind("study", [] {
+  PlanKind k;
+  k.add_to_table = writeStudyTables;
+  return k;
+}());
+
 }  // namespace cws_tools

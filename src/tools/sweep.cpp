@@ -20,8 +20,6 @@
 #include "coil_winding_sim/core/simulation.hpp"
 #include "coil_winding_sim/core/text_format.hpp"
 #include "run_store.hpp"
-#include "stability.hpp"
-#include "study.hpp"
 
 namespace cws_tools {
 
@@ -143,7 +141,8 @@ SweepPlan readPlan(const std::string& dir) {
 }
 
 std::string caseIdentity(const SweepPlan& plan, std::size_t index) {
-  if (plan.kind == "stability") return stabilityCaseIdentity(plan, index);
+  const PlanKind* kind = findPlanKind(plan.kind);
+  if (kind && kind->case_identity) return kind->case_identity(plan, index);
   const cws::Scene scene = cws::loadScene(plan.scene, plan.caseOverrides(index));
   char buf[40];
   std::snprintf(buf, sizeof buf, "%016llx",
@@ -165,7 +164,8 @@ int runSweepCase(const std::string& dir, std::size_t index, const std::function<
               << plan.cases.size() << " cases, 0 to " << plan.cases.size() - 1 << ")\n";
     return 2;
   }
-  if (plan.kind == "stability") return runStabilityCase(plan, dir, index, stop);
+  const PlanKind* kind = findPlanKind(plan.kind);
+  if (kind && kind->run_case) return kind->run_case(plan, dir, index, stop);
   const std::string case_dir = casePath(plan, dir, index);
   fs::create_directories(case_dir);
   std::error_code ec;
@@ -324,8 +324,9 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const
 
 int gatherSweep(const std::string& dir) {
   const SweepPlan plan = readPlan(dir);
-  // The stability study's table is its report.
-  if (plan.kind == "stability") return writeStabilityTables(plan, dir, false);
+  // A kind with a table of its own (the stability study's report).
+  const PlanKind* kind = findPlanKind(plan.kind);
+  if (kind && kind->gather) return kind->gather(plan, dir);
   const std::size_t n = plan.cases.size();
   std::vector<CaseStatus> status(n);
   std::vector<std::vector<std::pair<std::string, double>>> numbers(n);
@@ -420,7 +421,7 @@ int gatherSweep(const std::string& dir) {
   }
   int rc = pending.empty() && failed == 0 ? 0 : 1;
   // What the plan's kind adds to the table.
-  if (plan.kind == "study") rc = std::max(rc, writeStudyTables(plan, dir));
+  if (kind && kind->add_to_table) rc = std::max(rc, kind->add_to_table(plan, dir));
   return rc;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -214,12 +215,30 @@ SweepPlan casesPlan(const std::string& scene, const std::vector<std::string>& ov
   return p;
 }
 
+namespace {
+std::map<std::string, PlanKind>& planKinds() {
+  static std::map<std::string, PlanKind> kinds;
+  return kinds;
+}
+}  // namespace
+
+bool registerPlanKind(const std::string& name, PlanKind kind) {
+  planKinds()[name] = std::move(kind);
+  return true;
+}
+
+const PlanKind* findPlanKind(const std::string& name) {
+  const auto it = planKinds().find(name);
+  return it == planKinds().end() ? nullptr : &it->second;
+}
+
 void checkPlan(const SweepPlan& plan) {
   if (plan.cases.empty()) {
     throw SweepError("the sweep has no cases (give --grid KEY=VALUES or a --cases file with rows)");
   }
-  // (A stability run's scene is its case's: one refused is a result.)
-  if (plan.kind == "stability") return;
+  // (A kind whose refused scene is one of its results checks none.)
+  const PlanKind* kind = findPlanKind(plan.kind);
+  if (kind && !kind->check_scenes) return;
   for (std::size_t i = 0; i < plan.cases.size(); ++i) {
     try {
       (void)cws::loadScene(plan.scene, plan.caseOverrides(i));
@@ -273,8 +292,10 @@ SweepPlan parsePlanText(const std::string& text, const std::string& file) {
     }
     const std::string where = file + " line " + std::to_string(number);
     if (f[0] == "kind" && f.size() == 2) {
-      if (f[1] != "sweep" && f[1] != "study" && f[1] != "stability") {
-        throw SweepError(where + ": unknown kind '" + f[1] + "' (sweep, study or stability)");
+      if (f[1] != "sweep" && !findPlanKind(f[1])) {
+        std::string known = "sweep";
+        for (const auto& [name, k] : planKinds()) known += ", " + name;
+        throw SweepError(where + ": unknown kind '" + f[1] + "' (" + known + ")");
       }
       p.kind = f[1];
     } else if (f[0] == "option" && f.size() == 3) {

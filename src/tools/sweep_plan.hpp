@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -28,9 +29,9 @@ struct GridAxis {
 GridAxis parseGridAxis(const std::string& arg);
 
 struct SweepPlan {
-  // What the cases are and what the table adds: "sweep" (plain runs),
-  // "study" (the paper's 2 x 2 study, whose tables gather adds) or
-  // "stability" (the stability matrix: its runs and its report).
+  // What the cases are and what the table adds: "sweep" (plain runs) or a
+  // registered kind (PlanKind: "study", the paper's 2 x 2 study, whose
+  // tables gather adds; "stability", the stability matrix).
   std::string kind = "sweep";
   std::string scene;                            // base scene file ("": built-in defaults)
   std::vector<std::string> overrides;           // the sweep's --set, before each case's keys
@@ -50,6 +51,29 @@ struct SweepPlan {
   // An option's value, or `fallback`.
   std::string option(const std::string& key, const std::string& fallback) const;
 };
+
+// What a kind of plan does in place of a plain sweep's way; an empty hook
+// keeps the plain way. A kind registers itself (registerPlanKind) where it
+// is defined (study.cpp, stability.cpp): the sweep knows none of them.
+struct PlanKind {
+  // A case's identity (a run is kept while it stays the same).
+  std::function<std::string(const SweepPlan&, std::size_t)> case_identity;
+  // Runs case i in `dir`; its exit code.
+  std::function<int(const SweepPlan&, const std::string&, std::size_t,
+                    const std::function<bool()>&)>
+      run_case;
+  // Writes the table in place of the plain one; its exit code.
+  std::function<int(const SweepPlan&, const std::string&)> gather;
+  // Adds to the plain table; its exit code.
+  std::function<int(const SweepPlan&, const std::string&)> add_to_table;
+  // Whether checkPlan loads every case's scene (false: a refused scene is
+  // one of the kind's results).
+  bool check_scenes = true;
+};
+// Registers a kind under `name`; returns true (for a static initializer).
+bool registerPlanKind(const std::string& name, PlanKind kind);
+// The kind registered under `name`; null for "sweep" or an unknown name.
+const PlanKind* findPlanKind(const std::string& name);
 
 // The cartesian product of the axes, the first axis varying slowest.
 SweepPlan gridPlan(const std::string& scene, const std::vector<std::string>& overrides,

@@ -41,8 +41,11 @@ void shoot(const std::string& name, const std::string& args) {
   fs::create_directories(dir);
   const fs::path png = dir / (name + ".png");
   const std::string src(CWS_SOURCE_DIR);
-  const std::string cmd = src + "/src/tools/rviz_screenshot.sh " + png.string() + " " + args +
-                          " > " + (dir / (name + ".log")).string() + " 2>&1";
+  // Bounded well inside ctest's 300 s for both pictures: a hang shows its
+  // log instead of a timeout.
+  const std::string cmd = "CWS_SCREENSHOT_DEADLINE=90 timeout -k 10 130 " + src +
+                          "/src/tools/rviz_screenshot.sh " + png.string() + " " + args + " > " +
+                          (dir / (name + ".log")).string() + " 2>&1";
   const int rc = std::system(cmd.c_str());
   const std::string log = cws_ros_test::readFile(dir / (name + ".log"));
   ASSERT_EQ(rc, 0) << log;

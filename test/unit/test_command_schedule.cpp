@@ -10,7 +10,7 @@
 #include "coil_winding_sim/core/command_schedule.hpp"
 #include "coil_winding_sim/core/simulation.hpp"
 
-using cws::Command;
+using Command = cws::Setpoint;
 
 TEST(CommandSchedule, TakesDueCommandsInTimeOrder) {
   cws::CommandSchedule s;
@@ -45,7 +45,7 @@ TEST(CommandSchedule, ASpeedCommandTakesEffectAtItsTime) {
   while (sim.time() < sim.endTime()) {
     s.takeDue(sim.time(), [&](double t, const Command& c) {
       EXPECT_NEAR(sim.time(), t, 1e-12);  // a step ended at the command
-      cws::applyCommand(sim, c);
+      sim.apply(c);
       checked = true;
     });
     sim.step(std::min(sim.endTime(), s.nextTime()));

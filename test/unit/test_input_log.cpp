@@ -31,21 +31,23 @@ void stepTo(cws::Simulation& sim, double t_s) {
 TEST(InputLog, ReplayIsTheRunThatReceivedTheInputs) {
   const cws::Scene scene = shortCase();
   // The run driven by hand: a faster core at 5 ms, 45 N at 8 ms, a port
-  // command given at 10 ms for 12 ms; each input logged when given.
+  // command given at 10 ms for 12 ms; the simulation logs each input it
+  // accepts.
   cws::Simulation by_hand(scene);
-  cws::InputLog log;
   const Eigen::Vector3d p_port(-22.5e-3, -5.0e-3, 0.0);
   stepTo(by_hand, 0.005);
-  by_hand.setCoreSpeed(90.0);
-  log.coreSpeed(by_hand.time(), 90.0);
+  by_hand.apply(cws::Setpoint::coreSpeed(90.0));
   stepTo(by_hand, 0.008);
-  by_hand.setSupplyTension(45.0);
-  log.supplyTension(by_hand.time(), 45.0);
+  by_hand.apply(cws::Setpoint::supplyTension(45.0));
   stepTo(by_hand, 0.010);
-  by_hand.setPortCommand(p_port, 0.012);
-  log.portCommand(by_hand.time(), p_port, 0.012);
+  by_hand.apply(cws::Setpoint::portPosition(p_port, 0.012));
+  // A refused setpoint is not logged (a port position in the past).
+  EXPECT_THROW(by_hand.apply(cws::Setpoint::portPosition(p_port, 0.001)), std::invalid_argument);
   stepTo(by_hand, scene.endTime());
+  const cws::InputLog& log = by_hand.inputs();
   ASSERT_EQ(log.size(), 3u);
+  EXPECT_NEAR(log.inputs()[0].t_s, 0.005, 1e-15);
+  EXPECT_EQ(log.inputs()[2].setpoint.kind, cws::Setpoint::Kind::kPortPosition);
 
   cws::Simulation replayed(scene);
   ASSERT_TRUE(log.replay(replayed, scene.endTime()));
@@ -75,7 +77,8 @@ TEST(InputLog, StopEndsTheReplayBeforeTheEnd) {
 
 TEST(InputLog, AnOverflowedLogRefusesToReplay) {
   cws::InputLog log;
-  for (std::size_t k = 0; k <= cws::InputLog::kCapacity; ++k) log.supplyTension(1e-9 * k, 30.0);
+  for (std::size_t k = 0; k <= cws::InputLog::kCapacity; ++k)
+    log.record(1e-9 * k, cws::Setpoint::supplyTension(30.0));
   EXPECT_TRUE(log.overflowed());
   EXPECT_EQ(log.size(), cws::InputLog::kCapacity);
   cws::Simulation sim(shortCase());
@@ -117,11 +120,10 @@ TEST(InputLog, EstimateFromInputsIsTheRefinedRunWithTheSameInputs) {
   // The job: a tension step at 6 ms, given by hand and logged.
   cws::Simulation job(scene);
   const cws::SimulationState start = job.saveState();
-  cws::InputLog log;
   stepTo(job, 0.006);
-  job.setSupplyTension(60.0);
-  log.supplyTension(job.time(), 60.0);
+  job.apply(cws::Setpoint::supplyTension(60.0));
   stepTo(job, scene.endTime());
+  const cws::InputLog& log = job.inputs();
   const std::optional<cws::ErrorEstimate> e = cws::estimateFromInputs(start, log, job);
   ASSERT_TRUE(e.has_value());
   EXPECT_EQ(e->refinement, kQuarterStep);

@@ -1,9 +1,7 @@
-// Setpoints scheduled by simulated time: a core speed or a supply tension
-// that takes effect when the simulated time reaches its time. The node's
-// replay queue (setpoints applied at their stamps) and the stability
-// study's speed events both run on it; steps end at nextTime(), so a
-// command takes effect at its time whatever the step. (A port position is
-// a point of a path rather than a switch, and has its own queue:
+// Setpoints scheduled by simulated time: each takes effect when the simulated time reaches its
+// time. The node's replay queue (setpoints applied at their stamps) and the stability study's speed
+// events both run on it; steps end at nextTime(), so a command takes effect at its time whatever
+// the step. (A port position is a point of a path rather than a switch, and has its own queue:
 // PortTrajectory.)
 #pragma once
 
@@ -11,21 +9,15 @@
 #include <limits>
 #include <map>
 
+#include "coil_winding_sim/core/setpoint.hpp"
+
 namespace cws {
-
-class Simulation;
-
-struct Command {
-  enum class Kind { kCoreSpeed, kSupplyTension };
-  Kind kind = Kind::kCoreSpeed;
-  double value = 0.0;  // [rad/s] or [N]
-};
 
 class CommandSchedule {
  public:
   // At simulated time t_s [s]; -infinity: at the next chance. Commands at
   // equal times keep the order they were added in.
-  void add(double t_s, const Command& c) { queue_.emplace(t_s, c); }
+  void add(double t_s, const Setpoint& c) { queue_.emplace(t_s, c); }
   // The earliest command's time [s]; +infinity when none is left.
   double nextTime() const {
     return queue_.empty() ? std::numeric_limits<double>::infinity() : queue_.begin()->first;
@@ -35,7 +27,7 @@ class CommandSchedule {
   void clear() { queue_.clear(); }
   // Removes the commands of `kind` at t_s [s] or later (a new trajectory
   // replaces what remains of the one before).
-  void dropFrom(double t_s, Command::Kind kind) {
+  void dropFrom(double t_s, Setpoint::Kind kind) {
     for (auto it = queue_.lower_bound(t_s); it != queue_.end();) {
       it = it->second.kind == kind ? queue_.erase(it) : std::next(it);
     }
@@ -58,11 +50,7 @@ class CommandSchedule {
 
  private:
   static double tolerance(double t);
-  std::multimap<double, Command> queue_;
+  std::multimap<double, Setpoint> queue_;
 };
-
-// Applies a command to a simulation (Simulation::setCoreSpeed or
-// setSupplyTension).
-void applyCommand(Simulation& sim, const Command& c);
 
 }  // namespace cws

@@ -44,4 +44,27 @@ RunMeasures measureRun(const Simulation& sim);
 // empty when the run counts as stable.
 std::vector<std::string> stabilityViolations(const RunMeasures& m, const StabilityCriteria& c = {});
 
+// What a failed step says (Simulation::step throws IntegrationError with
+// it): what failed, where, and what to change. `method` is the stepper's
+// name.
+namespace remedy {
+// A segment `residual` [rad] off its frame's tangent at t [s], with steps
+// of step_s [s].
+std::string diverged(const Scene& s, double t, double residual, const std::string& method,
+                     double step_s);
+// Point `point` `depth_radii` wire radii deep in segment `segment` of
+// `what` ("wound wire", "free wire") at t [s].
+std::string wireThroughWire(const Scene& s, double t, const char* what, int point,
+                            double depth_radii, int segment, const std::string& method);
+// `steps` accepted steps in a row below `below_s` [s] (`ratio` times the
+// explicit limit l / c) from since_s to t [s], the last h [s].
+std::string collapsed(const Scene& s, const std::string& method, long steps, double below_s,
+                      double ratio, double since_s, double t, double h);
+// `what` with the cause named when the failure began (t_fail_s [s]) within
+// a core speed ramp (ending at ramp_end_s [s], of ramp_acceleration
+// [rad/s^2]) shorter than a wave's crossing of a segment; else `what`.
+std::string withinRamp(const Scene& s, const std::string& what, const std::string& method,
+                       double t_fail_s, double ramp_end_s, double ramp_acceleration);
+}  // namespace remedy
+
 }  // namespace cws

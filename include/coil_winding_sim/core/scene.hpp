@@ -178,6 +178,7 @@ struct PhysicsSwitches {
   bool plasticity = true;
   bool gravity = false;
   bool damping = false;
+  bool air_drag = false;  // quadratic drag of the air (AirDrag)
   bool contact = false;   // virtual springs on the core's cylinders and faces
   bool friction = false;  // static/kinetic friction on contact (needs contact)
   bool flanges = false;   // the core's flanges at the ends of process.winding_width (3-D)
@@ -201,6 +202,12 @@ struct GravityParams {
 struct DampingParams {
   double translational = 0.0;  // viscous force per length and speed [N s/m^2]
   double rotational = 0.0;     // viscous moment per length and spin [N m s/m]
+};
+
+// Quadratic drag of still air on the wire (physics.air_drag).
+struct AirDragParams {
+  double density = 1.2;           // of the air [kg/m^3]
+  double drag_coefficient = 1.2;  // of a cylinder across the flow [-]
 };
 
 // The fixed end of the wire (mass point 0), clamped in position and direction.
@@ -238,6 +245,7 @@ struct Scene {
   PhysicsSwitches physics;
   GravityParams gravity;
   DampingParams damping;
+  AirDragParams air_drag;
   StartParams start;
   EndParams end;
   OutputParams output;

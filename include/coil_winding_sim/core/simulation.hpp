@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "coil_winding_sim/core/input_log.hpp"
 #include "coil_winding_sim/core/pace_profile.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
@@ -38,6 +39,17 @@ class Simulation {
   SimulationState saveState() const;
   static std::unique_ptr<Simulation> fromState(const SimulationState& state);
 
+  // Applies a setpoint now (Setpoint::applyTo) and, once accepted, logs it
+  // at the present time in inputs(); a refused one throws as its setter
+  // does and is not logged.
+  void apply(const Setpoint& setpoint) {
+    setpoint.applyTo(*this);
+    inputs_.record(t_, setpoint);
+  }
+  // The setpoints this run accepted through apply(), in order.
+  const InputLog& inputs() const { return inputs_; }
+
+  // The setters behind the setpoints (not logged; apply() logs).
   // Setpoints, effective from the present time on: core angular velocity
   // [rad/s] (reached at the scene's acceleration limit) and supply tension
   // [N]. Ignored when the scene has no core / no supply. A value beyond the
@@ -156,6 +168,7 @@ class Simulation {
   double t_end_ = 0.0;
   double wall_s_ = 0.0;
   PaceProfile pace_;
+  InputLog inputs_;
   double max_residual_ = 0.0;
   double max_axial_force_ = 0.0;
   double max_penetration_ = 0.0;

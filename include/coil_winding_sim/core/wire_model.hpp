@@ -23,6 +23,7 @@
 #include "coil_winding_sim/core/inner_forces/bending.hpp"
 #include "coil_winding_sim/core/inner_forces/stretching.hpp"
 #include "coil_winding_sim/core/inner_forces/twisting.hpp"
+#include "coil_winding_sim/core/make_effects.hpp"
 #include "coil_winding_sim/core/rotating_core.hpp"
 #include "coil_winding_sim/core/scene.hpp"
 #include "coil_winding_sim/core/time_steppers/ode_system.hpp"
@@ -167,7 +168,7 @@ class WireModel : public OdeSystem, public NewtonModelView {
   std::vector<const ForceEffect*> effects() const;
   const Stretching& stretching() const { return *stretching_; }
   const Bending& bending() const { return *bending_; }
-  const Twisting* twisting() const { return twisting_.get(); }
+  const Twisting* twisting() const { return twisting_; }
   // Null when the scene needs no core (no contact, supply or core clamp).
   const RotatingCore* core() const override { return core_.get(); }
   RotatingCore* core() { return core_.get(); }
@@ -255,10 +256,10 @@ class WireModel : public OdeSystem, public NewtonModelView {
   Damping* damping_ = nullptr;
   Supply* supply_ = nullptr;
   std::unique_ptr<CoreSection> section_;  // with a core that has cylinders
-  std::unique_ptr<Stretching> stretching_;
-  std::unique_ptr<Bending> bending_;
-  std::unique_ptr<Twisting> twisting_;  // null when physics.torsion is off
-  std::vector<std::unique_ptr<ForceEffect>> external_;
+  EffectSet effects_;                     // makeEffects: what the scene switches on
+  Stretching* stretching_ = nullptr;
+  Bending* bending_ = nullptr;
+  Twisting* twisting_ = nullptr;  // null when physics.torsion is off
   std::vector<ForceEffect*> all_;
   FrameConstraints constraints_;
   int points_added_ = 0;

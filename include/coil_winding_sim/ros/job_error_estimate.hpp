@@ -26,11 +26,9 @@ class JobErrorEstimator {
   JobErrorEstimator(const JobErrorEstimator&) = delete;
   JobErrorEstimator& operator=(const JobErrorEstimator&) = delete;
 
-  // A new job from `start` (the scene's start, a reset, a restored
-  // snapshot): its inputs are logged from here on.
-  void startJob(const cws::SimulationState& start);
-  // The inputs the job receives, logged by the caller when given.
-  cws::InputLog& inputs() { return log_; }
+  // A new job from the present state of `sim` (the scene's start, a reset,
+  // a restored snapshot): its inputs are those `sim` logs from here on.
+  void startJob(const cws::Simulation& sim);
   // The job ended at finished.time() after compute_s [s] of wall time in its
   // steps: its refined twin runs on the worker (a refined run of an earlier
   // job still under way is stopped first). Once per job.
@@ -47,8 +45,8 @@ class JobErrorEstimator {
 
   ros::Publisher pub_;
   cws::SimulationState start_;
-  cws::InputLog log_;
-  bool finished_ = false;  // finishJob called for the present job
+  std::size_t first_input_ = 0;  // the job's first in the simulation's log
+  bool finished_ = false;        // finishJob called for the present job
   std::thread worker_;
   std::atomic<bool> stop_{false};
   std::atomic<bool> busy_{false};  // a refined run under way

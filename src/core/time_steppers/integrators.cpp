@@ -27,32 +27,29 @@ std::unique_ptr<TimeStepper> makeBdf2(const SolverParams& p, OdeSystem& sys) {
 std::unique_ptr<TimeStepper> makeGeneralizedAlpha(const SolverParams& p, OdeSystem& sys) {
   return std::make_unique<ImplicitStepper>(p, sys, ImplicitStepper::Scheme::kGeneralizedAlpha);
 }
+// A row: name, description, the solver keys it reads and its maker; the
+// caller sets its traits by name on the row returned.
+IntegratorInfo& row(std::vector<IntegratorInfo>& r, const char* name, const char* description,
+                    std::vector<const char*> keys,
+                    std::unique_ptr<TimeStepper> (*make)(const SolverParams&, OdeSystem&)) {
+  r.push_back({name, description, std::move(keys), make});
+  return r.back();
+}
+
 std::vector<IntegratorInfo> registry() {
   std::vector<IntegratorInfo> r;
-  r.push_back({"rkf45",
-               "the paper's Runge-Kutta-Fehlberg 4(5), error-controlled; the reference",
-               {"rtol", "atol", "min_step", "max_step", "initial_step", "baumgarte_nu"},
-               false,
-               true,
-               false,
-               false,
-               makeRkf45});
-  r.push_back({"symplectic_euler",
-               "fixed-step semi-implicit Euler below the explicit limit l / c",
-               {"fixed_step", "baumgarte_nu"},
-               true,
-               false,
-               false,
-               false,
-               makeSymplecticEuler});
-  r.push_back({"rosenbrock2",
-               "linearly implicit Rosenbrock-W, banded Jacobian; stiff scenes without friction",
-               {"rtol", "atol", "min_step", "max_step", "initial_step", "baumgarte_nu"},
-               false,
-               true,
-               false,
-               false,
-               makeRosenbrock2});
+  const std::vector<const char*> adaptive = {"rtol",     "atol",         "min_step",
+                                             "max_step", "initial_step", "baumgarte_nu"};
+  row(r, "rkf45", "the paper's Runge-Kutta-Fehlberg 4(5), error-controlled; the reference",
+      adaptive, makeRkf45)
+      .error_controlled = true;
+  row(r, "symplectic_euler", "fixed-step semi-implicit Euler below the explicit limit l / c",
+      {"fixed_step", "baumgarte_nu"}, makeSymplecticEuler)
+      .explicit_fixed_step = true;
+  row(r, "rosenbrock2",
+      "linearly implicit Rosenbrock-W, banded Jacobian; stiff scenes without friction", adaptive,
+      makeRosenbrock2)
+      .error_controlled = true;
   // The Newton-step methods' keys (generalized_alpha adds rho_infinity).
   const std::vector<const char*> newton = {
       "implicit_step",     "steps_per_revolution",  "newton_tol",
@@ -61,16 +58,21 @@ std::vector<IntegratorInfo> registry() {
       "min_step"};
   std::vector<const char*> alpha = newton;
   alpha.insert(alpha.begin() + 2, "rho_infinity");
-  r.push_back({"implicit_euler", "backward Euler with Newton steps (first order, L-stable)", newton,
-               false, false, true, true, makeImplicitEuler});
-  r.push_back({"bdf2", "variable-step BDF2 with Newton steps (second order, L-stable)", newton,
-               false, false, true, true, makeBdf2});
-  r.push_back({"generalized_alpha",
-               "generalized-alpha with Newton steps (second order, high frequencies damped to "
-               "rho_infinity)",
-               alpha, false, false, true, true, makeGeneralizedAlpha,
-               "not calibrated for generalized_alpha: 0.2 to 5 times its true error on the five "
-               "accuracy cases (docs/PERFORMANCE.md)"});
+  const std::size_t first_newton = r.size();
+  row(r, "implicit_euler", "backward Euler with Newton steps (first order, L-stable)", newton,
+      makeImplicitEuler);
+  row(r, "bdf2", "variable-step BDF2 with Newton steps (second order, L-stable)", newton, makeBdf2);
+  row(r, "generalized_alpha",
+      "generalized-alpha with Newton steps (second order, high frequencies damped to "
+      "rho_infinity)",
+      alpha, makeGeneralizedAlpha);
+  for (std::size_t k = first_newton; k < r.size(); ++k) {
+    r[k].newton_steps = true;
+    r[k].numerically_dissipative = true;
+  }
+  r.back().estimate_caveat =
+      "not calibrated for generalized_alpha: 0.2 to 5 times its true error on the five "
+      "accuracy cases (docs/PERFORMANCE.md)";
   return r;
 }
 }  // namespace

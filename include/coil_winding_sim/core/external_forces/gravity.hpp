@@ -1,20 +1,21 @@
-// Uniform gravity on the free mass points.
+// Uniform gravity on the free mass points: the weight M g of each.
 #pragma once
 
-#include "coil_winding_sim/core/wire_types.hpp"
+#include "coil_winding_sim/core/external_forces/point_force_effect.hpp"
 
 namespace cws {
 
-class Gravity : public ForceEffect {
+class Gravity : public PointForceEffect {
  public:
-  Gravity(const WireConstants& c, const Eigen::Vector3d& g_world) : c_(c), g_world_(g_world) {}
+  Gravity(const WireConstants& c, const Eigen::Vector3d& g_world)
+      : PointForceEffect(c, Power::kApplied, /*constant=*/true), g_world_(g_world) {}
   const char* name() const override { return "gravity"; }
-  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
-  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
-  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
+  void pointLaw(double, const Eigen::Vector3d&, const Eigen::Vector3d&, bool,
+                PointForce& out) const override {
+    out.f_world = c_.point_mass * g_world_;
+  }
 
  private:
-  const WireConstants& c_;   // the model's: n grows with a supply
   Eigen::Vector3d g_world_;  // [m/s^2]
 };
 

@@ -20,6 +20,8 @@ struct IntegratorInfo {
   const char* name;
   const char* description;
   std::vector<const char*> keys;  // the solver keys it reads
+  std::unique_ptr<TimeStepper> (*make)(const SolverParams& p, OdeSystem& sys) = nullptr;
+  // Its traits, each set by name in its row (integrators.cpp).
   // Fixed step solver.fixed_step, explicit: refused above the stability
   // limit l / c.
   bool explicit_fixed_step = false;
@@ -33,7 +35,6 @@ struct IntegratorInfo {
   // dissipation is reported as its own term; the energy balance then
   // bounds only energy the method creates.
   bool numerically_dissipative = false;
-  std::unique_ptr<TimeStepper> (*make)(const SolverParams& p, OdeSystem& sys) = nullptr;
   // What --error-estimate's refinement is known to get wrong with this
   // method, said beside the estimate (null: within a factor of 2 of the
   // true error where measured).

@@ -1,0 +1,264 @@
+// Contact geometry: which surfaces a point touches, how deep and along
+// which normal. The core's cylinders and faces placed at the core's angle,
+// its flanges, and the wound wire the core carries (physics.wire_contact):
+// the carried segments as capsules of the wire's radius, found through a
+// grid of the core frame (carried_wire_index.hpp), and grouped into runs so
+// that a point lying on a turn feels it once, and a point in the groove of
+// two turns feels both. The law of the force on a touch is contact.cpp's.
+#include <algorithm>
+#include <cmath>
+
+#include "coil_winding_sim/core/external_forces/contact.hpp"
+
+namespace cws {
+
+void Contact::placeSurfaces(double t) const {
+  // Every evaluation of a Newton solve places the surfaces at the step's
+  // end: the same angle, the same placement.
+  const double angle = core_.angle(t);
+  if (angle == placed_angle_) return;
+  placed_angle_ = angle;
+  rot_world_core_ = core_.rotationWorldCore(t);
+  const Eigen::Matrix3d& rot = rot_world_core_;
+  for (std::size_t j = 0; j < radii_.size(); ++j) {
+    centers_world_[j] = core_.originWorld() + rot * centers_core_[j];
+  }
+  if (face_length_.empty()) return;
+  for (std::size_t j = 0; j < face_length_.size(); ++j) {
+    face_from_world_[j] = core_.originWorld() + rot * face_from_core_[j];
+    face_dir_world_[j] = rot * face_dir_core_[j];
+    face_normal_world_[j] = rot * face_normal_core_[j];
+  }
+}
+
+int Contact::touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n_world) const {
+  int best = -1;
+  h = 0.0;
+  const Eigen::Vector3d& a = core_.axisWorld();
+  // A point beyond the body's reach from the axis (the free span) touches
+  // none of its surfaces.
+  {
+    const Eigen::Vector3d r = p_world - core_.originWorld();
+    if ((r - r.dot(a) * a).squaredNorm() > body_reach_ * body_reach_) return best;
+  }
+  for (std::size_t j = 0; j < radii_.size(); ++j) {
+    const Eigen::Vector3d d = p_world - centers_world_[j];
+    const Eigen::Vector3d d_perp = d - d.dot(a) * a;
+    // A cylinder clearly out of reach is passed by its squared distance
+    // (most are: the point lies at one corner of the core); the others
+    // are judged on the root, as before.
+    const double reach = radii_[j] + c_.radius - h + 1e-9 * (radii_[j] + c_.radius);
+    const double dist2 = d_perp.squaredNorm();
+    if (reach <= 0.0 || dist2 > reach * reach) continue;
+    const double dist = std::sqrt(dist2);
+    const double depth = radii_[j] + c_.radius - dist;
+    if (depth > h && dist > 0.0) {
+      h = depth;
+      n_world = d_perp / dist;
+      best = static_cast<int>(j);
+    }
+  }
+  // Faces: the point is over the face strip and at most a wire diameter
+  // below its outer side (deeper points belong to the other side).
+  for (std::size_t j = 0; j < face_length_.size(); ++j) {
+    const Eigen::Vector3d d = p_world - face_from_world_[j];
+    const double along = d.dot(face_dir_world_[j]);
+    if (along < 0.0 || along > face_length_[j]) continue;
+    const double depth = c_.radius - d.dot(face_normal_world_[j]);
+    if (depth > h && depth < 2.0 * c_.radius) {
+      h = depth;
+      n_world = face_normal_world_[j];
+      best = static_cast<int>(radii_.size() + j);
+    }
+  }
+  return best;
+}
+
+bool Contact::touchAll(int i, const Eigen::Vector3d& p_world, const int* ref, Touch* out) const {
+  for (int s = 0; s < slots_; ++s) out[s].surface = -1;
+  // A point farther from the core axis than any surface reaches (the free
+  // span towards the port) touches none.
+  {
+    const Eigen::Vector3d& a = core_.axisWorld();
+    const Eigen::Vector3d r = p_world - core_.originWorld();
+    const double radial2 = (r - r.dot(a) * a).squaredNorm();
+    const double reach = std::max({body_reach_, flange_radius_, carried_reach_});
+    if (radial2 > reach * reach) return false;
+  }
+  out[0].surface = touch(p_world, out[0].h, out[0].n_world);
+  bool any = out[0].surface >= 0;
+  if (flange_slot_ < 0 && wire_slot_ == slots_) return any;
+  const Eigen::Vector3d& a = core_.axisWorld();
+  const Eigen::Vector3d r = p_world - core_.originWorld();
+  // Flanges: within a wire diameter of the winding's side, and within
+  // their reach from the axis.
+  if (flange_slot_ >= 0) {
+    const double along = r.dot(a);
+    if (withinFlangeReach(r, along)) {
+      Touch& t = out[flange_slot_];
+      t.h = 0.0;
+      for (std::size_t j = 0; j < flange_at_.size(); ++j) {
+        const double depth = c_.radius - flange_side_[j] * (along - flange_at_[j]);
+        if (depth > t.h && depth < 2.0 * c_.radius) {
+          t = Touch{static_cast<int>(radii_.size() + face_length_.size() + j), depth,
+                    flange_side_[j] * a};
+        }
+      }
+      any = any || t.surface >= 0;
+    }
+  }
+  if (wire_slot_ == slots_) return any;
+  Touch runs[kMaxRuns];
+  const int m = touchWire(i, rot_world_core_.transpose() * r, runs);
+  if (m == 0) return any;
+  // Each run keeps the slot whose surface it continues; new runs take the
+  // free slots, deepest first. Where more runs touch than there are slots,
+  // those held keep theirs: the deepest would otherwise take turns with
+  // each other from one evaluation to the next (a point nested among wires
+  // touches several at almost the same depth).
+  bool used[kMaxRuns] = {};
+  for (int s = wire_slot_; s < slots_; ++s) {
+    if (ref[s] < wire_base_) continue;
+    for (int g = 0; g < m; ++g) {
+      if (!used[g] && sameSurface(runs[g].surface, ref[s])) {
+        out[s] = runs[g];
+        used[g] = true;
+        break;
+      }
+    }
+  }
+  for (int g = 0; g < m; ++g) {
+    if (used[g]) continue;
+    for (int s = wire_slot_; s < slots_; ++s) {
+      if (out[s].surface < 0) {
+        out[s] = runs[g];
+        break;
+      }
+    }
+  }
+  return true;
+}
+
+void Contact::syncCarriedWire() const {
+  if (!carried_p_core_) return;
+  // Carried segments j join carried points j and j + 1 < c.first (from
+  // point 1: point 0 is the clamp); they are rigid in the core frame while
+  // carried. A release (c.first fell) moves some of them again: all are
+  // hashed anew.
+  const int carried = std::max(1, c_.first - 1);
+  if (carried < indexed_segments_) {
+    carried_index_.clear();
+    indexed_segments_ = 0;
+    carried_reach_ = 0.0;
+  }
+  const std::vector<Eigen::Vector3d>& p = *carried_p_core_;
+  for (int j = std::max(1, indexed_segments_); j < carried; ++j) {
+    carried_index_.add(j, p[j], p[j + 1]);
+    // The segment's direction and squared length, read by every query.
+    segment_dir_core_[j] = p[j + 1] - p[j];
+    segment_length2_[j] = segment_dir_core_[j].squaredNorm();
+    // (The core axis is z in the core frame.)
+    for (const Eigen::Vector3d* e : {&p[j], &p[j + 1]}) {
+      carried_reach_ = std::max(carried_reach_, e->head<2>().norm() + 2.0 * c_.radius);
+    }
+  }
+  indexed_segments_ = carried;
+}
+
+const int* Contact::nearSegments(int i, const Eigen::Vector3d& p_core, int& count) const {
+  NearList& list = near_[i];
+  const std::int64_t cell = carried_index_.cellKey(p_core);
+  if (list.count >= 0 && list.version == carried_index_.version() && list.cell == cell &&
+      (p_core - list.p_core).squaredNorm() <= near_skin_ * near_skin_) {
+    count = list.count;
+    return &near_segments_[static_cast<std::size_t>(i) * kNearMax];
+  }
+  // Made anew: the cell's segments that may come within the reach while the
+  // point stays within the skin.
+  int* out = &near_segments_[static_cast<std::size_t>(i) * kNearMax];
+  const double keep = 2.0 * c_.radius + near_skin_;
+  const double keep2 = keep * keep * (1.0 + 1e-9);
+  list = NearList{p_core, cell, carried_index_.version(), 0};
+  carried_index_.forEachNear(p_core, [&](int j) {
+    if (list.count < 0) return;
+    Eigen::Vector3d offset;
+    bool inside;
+    if (segmentOffset(j, p_core, offset, inside) > keep2) return;
+    if (list.count == kNearMax) {
+      list.count = -1;
+      return;
+    }
+    out[list.count++] = j;
+  });
+  count = list.count;
+  return list.count >= 0 ? out : nullptr;
+}
+
+int Contact::touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const {
+  const int last = lastWireSegment(i);
+  if (last < 0 || !carried_p_core_) return 0;
+  // The touching segments, by index (a point touches few).
+  constexpr int kMaxHits = 24;
+  int hit[kMaxHits];
+  double depth[kMaxHits];
+  Eigen::Vector3d normal[kMaxHits];
+  int hits = 0;
+  const double reach = 2.0 * c_.radius;
+  // (Most segments of the cell lie beyond the reach: their squared
+  // distance rejects them before a root is taken.)
+  const double beyond2 = reach * reach * (1.0 + 1e-9);
+  auto visit = [&](int j) {
+    if (j > last || hits == kMaxHits) return;
+    Eigen::Vector3d n;
+    bool inside;
+    const double dist2 = segmentOffset(j, p_core, n, inside);
+    if (dist2 > beyond2) return;
+    const double dist = std::sqrt(dist2);
+    if (dist > 0.0) n /= dist;
+    if (dist >= reach || dist == 0.0) return;
+    hit[hits] = j;
+    depth[hits] = reach - dist;
+    normal[hits] = n;
+    ++hits;
+  };
+  int near = 0;
+  const int* list = nearSegments(i, p_core, near);
+  if (list) {
+    for (int k = 0; k < near; ++k) visit(list[k]);
+  } else {
+    carried_index_.forEachNear(p_core, visit);
+  }
+  if (hits == 0) return 0;
+  // Sort by index (insertion: few), then split into runs of segments at
+  // most kSameRun apart; each run's deepest segment stands for it.
+  for (int a = 1; a < hits; ++a) {
+    for (int b = a; b > 0 && hit[b - 1] > hit[b]; --b) {
+      std::swap(hit[b - 1], hit[b]);
+      std::swap(depth[b - 1], depth[b]);
+      std::swap(normal[b - 1], normal[b]);
+    }
+  }
+  // (Scratch left uninitialized: Touch's defaults would be written for all
+  // kMaxHits on every query.)
+  struct Run {
+    int surface;
+    double h;
+    Eigen::Vector3d n;
+  };
+  Run all[kMaxHits];
+  int m = 0;
+  for (int a = 0; a < hits; ++a) {
+    if (m > 0 && hit[a] - hit[a - 1] <= kSameRun) {
+      if (depth[a] > all[m - 1].h) all[m - 1] = Run{wire_base_ + hit[a], depth[a], normal[a]};
+      continue;
+    }
+    all[m++] = Run{wire_base_ + hit[a], depth[a], normal[a]};
+  }
+  // The deepest runs, in the world frame.
+  std::sort(all, all + m, [](const Run& x, const Run& y) { return x.h > y.h; });
+  m = std::min(m, kMaxRuns);
+  for (int g = 0; g < m; ++g) runs[g] = Touch{all[g].surface, all[g].h, rot_world_core_ * all[g].n};
+  return m;
+}
+
+}  // namespace cws
