@@ -9,9 +9,9 @@
 #include <limits>
 #include <sstream>
 
-#include "coil_winding_sim/core/coil_report.hpp"
-#include "coil_winding_sim/core/core_geometry.hpp"
-#include "coil_winding_sim/core/output.hpp"
+#include "coil_winding_sim/core/model/core_geometry.hpp"
+#include "coil_winding_sim/core/run/coil_report.hpp"
+#include "coil_winding_sim/core/run/output.hpp"
 #include "marker_style.hpp"
 
 namespace cws_ros {

@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "coil_winding_sim/ErrorEstimate.h"
-#include "coil_winding_sim/core/error_estimate.hpp"
+#include "coil_winding_sim/core/run/error_estimate.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 
 namespace cws_ros {

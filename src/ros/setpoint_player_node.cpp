@@ -17,7 +17,7 @@
 
 #include "coil_winding_sim/CoreSpeedSetpoint.h"
 #include "coil_winding_sim/TensionSetpoint.h"
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace {
 struct Keyframe {

@@ -19,7 +19,7 @@
 #include <new>
 #include <vector>
 
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 #include "coil_winding_sim/ros/snapshot_bag.hpp"
 
 namespace cws_ros {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "coil_winding_sim/core/setpoint_limits.hpp"
+#include "coil_winding_sim/core/run/setpoint_limits.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/snapshot_bag.hpp"
 #include "coil_winding_sim/ros/snapshot_reader.hpp"

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws_tools {
 

@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "coil_winding_sim/core/checksum.hpp"
-#include "coil_winding_sim/core/output.hpp"
+#include "coil_winding_sim/core/run/output.hpp"
 
 namespace cws_tools {
 

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <string>
 
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 namespace cws_tools {
 

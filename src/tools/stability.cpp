@@ -11,12 +11,12 @@
 #include <iterator>
 #include <sstream>
 
-#include "coil_winding_sim/core/command_schedule.hpp"
-#include "coil_winding_sim/core/output.hpp"
-#include "coil_winding_sim/core/run_checks.hpp"
-#include "coil_winding_sim/core/scene.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
-#include "coil_winding_sim/core/stability_cases.hpp"
+#include "coil_winding_sim/core/run/command_schedule.hpp"
+#include "coil_winding_sim/core/run/output.hpp"
+#include "coil_winding_sim/core/run/run_checks.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
+#include "coil_winding_sim/core/scene/stability_cases.hpp"
 #include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "run_store.hpp"

@@ -1,5 +1,5 @@
 // The stability matrix: extreme cases x every integrator, each run checked
-// against the stated criteria (core/run_checks.hpp). It is a sweep of kind
+// against the stated criteria (core/run/run_checks.hpp). It is a sweep of kind
 // "stability": each run is a case of the sweep, in DIR/runs/<case>.<method>
 // (its result, the checkpoint of an unfinished run, status.txt, log.txt),
 // run locally or on Slurm; gathering writes DIR/stability.csv and

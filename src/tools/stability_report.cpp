@@ -1,12 +1,13 @@
 #include "stability_report.hpp"
 
+#include <cstddef>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <thread>
 
-#include "coil_winding_sim/core/output.hpp"
+#include "coil_winding_sim/core/run/output.hpp"
 #include "coil_winding_sim/core/text_format.hpp"
 
 namespace cws_tools {
@@ -14,21 +15,11 @@ namespace cws_tools {
 namespace fs = std::filesystem;
 
 const char* outcomeName(Outcome o) {
-  switch (o) {
-    case Outcome::kStable:
-      return "stable";
-    case Outcome::kViolated:
-      return "CRITERIA BROKEN";
-    case Outcome::kStopped:
-      return "stopped";
-    case Outcome::kRefused:
-      return "refused";
-    case Outcome::kBudget:
-      return "BUDGET";
-    case Outcome::kPending:
-      return "PENDING";
-  }
-  return "?";
+  // In the order of Outcome's values.
+  static const char* const kNames[] = {"stable",  "CRITERIA BROKEN", "stopped",
+                                       "refused", "BUDGET",          "PENDING"};
+  const auto i = static_cast<std::size_t>(o);
+  return i < sizeof kNames / sizeof kNames[0] ? kNames[i] : "?";
 }
 
 namespace {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/run_checks.hpp"
-#include "coil_winding_sim/core/stability_cases.hpp"
+#include "coil_winding_sim/core/run/run_checks.hpp"
+#include "coil_winding_sim/core/scene/stability_cases.hpp"
 
 namespace cws_tools {
 

@@ -8,8 +8,8 @@
 #include <map>
 #include <sstream>
 
-#include "coil_winding_sim/core/output.hpp"
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/run/output.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 #include "sweep.hpp"
 
 namespace cws_tools {

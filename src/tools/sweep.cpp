@@ -15,9 +15,9 @@
 #include <map>
 #include <sstream>
 
-#include "coil_winding_sim/core/output.hpp"
-#include "coil_winding_sim/core/scene.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/output.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/core/text_format.hpp"
 #include "run_store.hpp"
 

@@ -6,7 +6,7 @@
 #include <set>
 #include <sstream>
 
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws_tools {
 

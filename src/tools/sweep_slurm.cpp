@@ -13,7 +13,7 @@
 #include <regex>
 #include <sstream>
 
-#include "coil_winding_sim/core/output.hpp"
+#include "coil_winding_sim/core/run/output.hpp"
 #include "sweep.hpp"
 
 namespace cws_tools {

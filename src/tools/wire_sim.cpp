@@ -28,9 +28,9 @@
 #include <vector>
 
 #include "cell_urdf.hpp"
-#include "coil_winding_sim/core/output.hpp"
-#include "coil_winding_sim/core/scene.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/output.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "stability.hpp"

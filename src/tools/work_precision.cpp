@@ -10,8 +10,8 @@
 #include <mutex>
 #include <sstream>
 
-#include "coil_winding_sim/core/output.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/output.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "parallel.hpp"
 

@@ -11,8 +11,8 @@
 #include <string>
 
 #include "coil_winding_sim/core/implicit/spatial_formulation.hpp"
-#include "coil_winding_sim/core/scene.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace {
 

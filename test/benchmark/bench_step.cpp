@@ -2,7 +2,7 @@
 // number of mass points (Google Benchmark). `make bench` runs it.
 #include <benchmark/benchmark.h>
 
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 namespace {
 // A plastic wire with torsion, gravity and damping, clamped at one end,

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "coil_winding_sim/core/external_forces/contact.hpp"
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 
 namespace {

@@ -8,8 +8,8 @@
 #include <limits>
 #include <string>
 
-#include "coil_winding_sim/core/scene.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/cell_timing.hpp"
 #include "coil_winding_sim/ros/node_options.hpp"

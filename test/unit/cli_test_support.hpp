@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "temp_dir_test.hpp"
 

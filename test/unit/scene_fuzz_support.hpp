@@ -25,8 +25,8 @@
 #include <typeinfo>
 #include <vector>
 
-#include "coil_winding_sim/core/scene.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/core/time_steppers/ode_system.hpp"
 #include "temp_dir_test.hpp"
 

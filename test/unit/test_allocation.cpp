@@ -8,7 +8,7 @@
 #include <string>
 
 #include "coil_winding_sim/core/external_forces/free_wire_contact.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 // GCC sees the replaced operator delete free() what operator new got from
 // malloc() through inlining and warns; the pair is consistent.

@@ -15,8 +15,8 @@
 #include <string>
 
 #include "cell_urdf.hpp"
-#include "coil_winding_sim/core/rotating_core.hpp"
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace {
 

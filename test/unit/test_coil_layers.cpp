@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/coil_report.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/coil_report.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 #ifdef CWS_SOURCE_DIR
 namespace {

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <vector>
 
-#include "coil_winding_sim/core/command_schedule.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/command_schedule.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 using Command = cws::Setpoint;
 

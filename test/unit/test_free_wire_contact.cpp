@@ -13,8 +13,8 @@
 #include "coil_winding_sim/core/external_forces/free_wire_contact.hpp"
 #include "coil_winding_sim/core/implicit/pair_coupling_solve.hpp"
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
-#include "coil_winding_sim/core/rotating_core.hpp"
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 #ifdef CWS_SOURCE_DIR
 namespace {

@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/hysteresis.hpp"
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/model/hysteresis.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace {
 

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/error_estimate.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/error_estimate.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 #include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
 
 namespace {

@@ -7,9 +7,9 @@
 #include <cstdio>
 #include <string>
 
-#include "coil_winding_sim/core/error_estimate.hpp"
-#include "coil_winding_sim/core/input_log.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/error_estimate.hpp"
+#include "coil_winding_sim/core/run/input_log.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 #include "wire_test_support.hpp"
 
 #ifdef CWS_SOURCE_DIR

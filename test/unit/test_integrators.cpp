@@ -2,8 +2,8 @@
 // stepper factory; the error estimate refines the setting each one reads.
 #include <gtest/gtest.h>
 
-#include "coil_winding_sim/core/error_estimate.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/error_estimate.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "wire_test_support.hpp"
 

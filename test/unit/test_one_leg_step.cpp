@@ -9,8 +9,8 @@
 #include <cmath>
 
 #include "coil_winding_sim/core/implicit/one_leg_step.hpp"
-#include "coil_winding_sim/core/rotating_core.hpp"
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace {
 

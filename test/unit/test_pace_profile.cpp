@@ -4,7 +4,7 @@
 // or all there is. The counts are made up, so every figure is known.
 #include <gtest/gtest.h>
 
-#include "coil_winding_sim/core/pace_profile.hpp"
+#include "coil_winding_sim/core/run/pace_profile.hpp"
 
 namespace {
 

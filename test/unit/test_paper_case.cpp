@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 #ifdef CWS_SOURCE_DIR
 namespace {

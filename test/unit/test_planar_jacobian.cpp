@@ -7,7 +7,7 @@
 #include <random>
 
 #include "coil_winding_sim/core/implicit/planar_formulation.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 #ifdef CWS_SOURCE_DIR
 namespace {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;

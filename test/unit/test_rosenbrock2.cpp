@@ -9,8 +9,8 @@
 #include <random>
 
 #include "coil_winding_sim/core/linear_algebra/banded_lu.hpp"
+#include "coil_winding_sim/core/model/wire_model.hpp"
 #include "coil_winding_sim/core/time_steppers/rosenbrock2.hpp"
-#include "coil_winding_sim/core/wire_model.hpp"
 #include "wire_test_support.hpp"
 
 namespace {

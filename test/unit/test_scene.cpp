@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 #include "temp_dir_test.hpp"
 
 namespace {

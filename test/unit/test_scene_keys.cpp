@@ -11,8 +11,8 @@
 #include <variant>
 #include <vector>
 
-#include "coil_winding_sim/core/scene.hpp"
-#include "coil_winding_sim/core/scene_keys.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
+#include "coil_winding_sim/core/scene/scene_keys.hpp"
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 namespace {
 // Steps a simulation to time t (accepted steps, no clipping beyond t).

@@ -13,7 +13,7 @@
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/implicit/spatial_formulation.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 #ifdef CWS_SOURCE_DIR
 namespace {

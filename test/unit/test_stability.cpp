@@ -1,5 +1,5 @@
 // Stiff and extreme cases of the stability study (docs/STABILITY.md), each
-// checked against the stated criteria (core/run_checks.hpp), and the
+// checked against the stated criteria (core/run/run_checks.hpp), and the
 // detections that stop a method that cannot handle a case.
 #include <gtest/gtest.h>
 
@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "coil_winding_sim/core/external_forces/contact.hpp"
-#include "coil_winding_sim/core/quaternion.hpp"
-#include "coil_winding_sim/core/run_checks.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
-#include "coil_winding_sim/core/stability_cases.hpp"
+#include "coil_winding_sim/core/model/quaternion.hpp"
+#include "coil_winding_sim/core/run/run_checks.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
+#include "coil_winding_sim/core/scene/stability_cases.hpp"
 
 namespace {
 

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/error_estimate.hpp"
-#include "coil_winding_sim/core/scene.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/error_estimate.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
 
 namespace {

@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "cli_test_support.hpp"
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/core/text_format.hpp"
 #include "sweep.hpp"
 #include "sweep_plan.hpp"

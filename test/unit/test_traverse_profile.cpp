@@ -7,8 +7,8 @@
 #include <string>
 
 #include "coil_winding_sim/core/external_forces/supply.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
-#include "coil_winding_sim/core/traverse_profile.hpp"
+#include "coil_winding_sim/core/model/traverse_profile.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 namespace {
 constexpr double kTurn = 2.0 * M_PI;  // [rad]

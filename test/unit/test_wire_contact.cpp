@@ -11,7 +11,7 @@
 
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 #ifdef CWS_SOURCE_DIR
 namespace {

@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "coil_winding_sim/core/quaternion.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/model/quaternion.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 namespace cws_test {
 

@@ -23,9 +23,9 @@
 #include "coil_winding_sim/WireState.h"
 #include "coil_winding_sim/WireStateCompact.h"
 #include "coil_winding_sim/WireTension.h"
-#include "coil_winding_sim/core/coil_report.hpp"
-#include "coil_winding_sim/core/error_estimate.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/coil_report.hpp"
+#include "coil_winding_sim/core/run/error_estimate.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 namespace cws_ros {
 

@@ -13,8 +13,8 @@
 #include <string>
 #include <thread>
 
-#include "coil_winding_sim/core/input_log.hpp"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/input_log.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 namespace cws_ros {
 

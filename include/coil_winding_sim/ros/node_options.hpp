@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 
 namespace ros {

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "coil_winding_sim/SimulationSnapshot.h"
-#include "coil_winding_sim/core/simulation.hpp"
+#include "coil_winding_sim/core/run/simulation.hpp"
 
 namespace cws_ros {
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "coil_winding_sim/core/core_geometry.hpp"
 #include "coil_winding_sim/core/external_forces/elastic_slip.hpp"
+#include "coil_winding_sim/core/model/core_geometry.hpp"
 
 namespace cws {
 

@@ -12,7 +12,7 @@
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/external_forces/elastic_slip.hpp"
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
-#include "coil_winding_sim/core/quaternion.hpp"
+#include "coil_winding_sim/core/model/quaternion.hpp"
 
 namespace cws {
 

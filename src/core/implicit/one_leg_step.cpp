@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "coil_winding_sim/core/rotating_core.hpp"
+#include "coil_winding_sim/core/model/rotating_core.hpp"
 
 namespace cws {
 

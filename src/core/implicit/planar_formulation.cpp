@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "coil_winding_sim/core/implicit/newton_iteration.hpp"
-#include "coil_winding_sim/core/quaternion.hpp"
+#include "coil_winding_sim/core/model/quaternion.hpp"
 
 namespace cws {
 

@@ -5,7 +5,7 @@
 
 #include "coil_winding_sim/core/implicit/planar_assembly.hpp"
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
-#include "coil_winding_sim/core/quaternion.hpp"
+#include "coil_winding_sim/core/model/quaternion.hpp"
 
 namespace cws {
 

@@ -9,7 +9,7 @@
 #pragma once
 
 #include "coil_winding_sim/core/external_forces/point_force_effect.hpp"
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {
 

@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "coil_winding_sim/core/external_forces/carried_wire_index.hpp"
-#include "coil_winding_sim/core/rotating_core.hpp"
-#include "coil_winding_sim/core/scene.hpp"
-#include "coil_winding_sim/core/wire_types.hpp"
+#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {
 

@@ -2,8 +2,8 @@
 // translational and rotational, proportional to the length a point stands for.
 #pragma once
 
-#include "coil_winding_sim/core/scene.hpp"
-#include "coil_winding_sim/core/wire_types.hpp"
+#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {
 

@@ -4,8 +4,8 @@
 
 #include <vector>
 
-#include "coil_winding_sim/core/scene.hpp"
-#include "coil_winding_sim/core/wire_types.hpp"
+#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {
 

@@ -39,7 +39,7 @@
 #include <vector>
 
 #include "coil_winding_sim/core/external_forces/contact.hpp"
-#include "coil_winding_sim/core/wire_types.hpp"
+#include "coil_winding_sim/core/model/wire_types.hpp"
 
 namespace cws {
 

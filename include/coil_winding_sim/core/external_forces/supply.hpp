@@ -16,11 +16,11 @@
 
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
 #include "coil_winding_sim/core/external_forces/port_trajectory.hpp"
-#include "coil_winding_sim/core/hysteresis.hpp"
-#include "coil_winding_sim/core/rotating_core.hpp"
-#include "coil_winding_sim/core/scene.hpp"
-#include "coil_winding_sim/core/traverse_profile.hpp"
-#include "coil_winding_sim/core/wire_types.hpp"
+#include "coil_winding_sim/core/model/hysteresis.hpp"
+#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/model/traverse_profile.hpp"
+#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {
 

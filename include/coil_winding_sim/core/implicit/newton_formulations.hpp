@@ -6,8 +6,8 @@
 #include <memory>
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
-#include "coil_winding_sim/core/implicit/newton_model_view.hpp"
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/model/newton_model_view.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {
 

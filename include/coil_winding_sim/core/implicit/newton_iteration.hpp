@@ -24,7 +24,7 @@
 #include <limits>
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {
 

@@ -15,11 +15,11 @@
 
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
 #include "coil_winding_sim/core/implicit/newton_iteration.hpp"
-#include "coil_winding_sim/core/implicit/newton_model_view.hpp"
 #include "coil_winding_sim/core/implicit/pair_coupling_solve.hpp"
 #include "coil_winding_sim/core/implicit/secant_steps.hpp"
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/model/newton_model_view.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {
 

@@ -50,7 +50,7 @@ class OdeSystem {
     return false;
   }
   // What an implicit stepper's Newton formulation reads of the system
-  // (implicit/newton_model_view.hpp); null when it offers none.
+  // (model/newton_model_view.hpp); null when it offers none.
   virtual NewtonModelView* newtonModel() { return nullptr; }
   // Sparsity for integrators that build a banded Jacobian.
   virtual ChainStructure chainStructure() const { return {}; }

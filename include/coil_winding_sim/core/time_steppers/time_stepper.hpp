@@ -4,7 +4,7 @@
 #include <memory>
 #include <string>
 
-#include "coil_winding_sim/core/scene.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/core/time_steppers/ode_system.hpp"
 
 namespace cws {

@@ -1,0 +1,34 @@
+// Plane geometry of the core's cross-section: the convex hull of its
+// cylinders (the winding surface the wire lies on) and distances to it.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "coil_winding_sim/core/scene/scene.hpp"
+
+namespace cws {
+
+// The flat faces of the core: those listed in core.faces plus, with
+// core.hull_faces, the sides of the convex hull between neighbouring
+// cylinders (the outer common tangents), counter-clockwise.
+std::vector<FaceParams> coreFaces(const CoreParams& core);
+
+class CoreSection {
+ public:
+  // The winding surface: the convex hull of the cylinders and the faces.
+  explicit CoreSection(const CoreParams& core);
+
+  // Signed distance [m] of the core-frame point (x, y) from the convex hull
+  // of the cylinders' discs and the faces: positive outside, negative inside. Exact up to
+  // about 1e-9 of the point's distance from the cylinders (the support
+  // function of the hull, maximized over directions).
+  double signedDistance(const Eigen::Vector2d& p_core) const;
+
+ private:
+  double supportGap(const Eigen::Vector2d& p, double angle) const;
+  std::vector<Eigen::Vector2d> centers_;
+  std::vector<double> radii_;
+};
+
+}  // namespace cws

@@ -1,0 +1,299 @@
+// The discrete elastoplastic wire of the paper's section II as an ODE system.
+//
+// State vector y, interleaved per free point (point 0 and frame 0 are held
+// by the clamp):
+//   [ W_ext, E_visc | p_1 q_1 v_1 qdot_1 | p_2 q_2 v_2 qdot_2 | ... ]
+// 14 numbers per point, so that a point drawn in by the supply is appended
+// at the end. W_ext [J] is the work done on the wire by applied loads,
+// gravity, the moving core and the supply (including the energy the drawn-in
+// wire brings), E_visc [J] the energy dissipated by viscous damping and
+// friction; both are integrated with the motion for the energy balance.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "coil_winding_sim/core/constraints/frame_constraints.hpp"
+#include "coil_winding_sim/core/external_forces/contact.hpp"
+#include "coil_winding_sim/core/external_forces/supply.hpp"
+#include "coil_winding_sim/core/inner_forces/bending.hpp"
+#include "coil_winding_sim/core/inner_forces/stretching.hpp"
+#include "coil_winding_sim/core/inner_forces/twisting.hpp"
+#include "coil_winding_sim/core/model/core_geometry.hpp"
+#include "coil_winding_sim/core/model/make_effects.hpp"
+#include "coil_winding_sim/core/model/newton_model_view.hpp"
+#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/scene/scene.hpp"
+#include "coil_winding_sim/core/time_steppers/ode_system.hpp"
+
+namespace cws {
+
+class Damping;
+class FreeWireContact;
+
+struct EnergyReport {
+  double kinetic = 0.0;    // [J]
+  double elastic = 0.0;    // recoverable [J]
+  double plastic = 0.0;    // work into plastic deformation [J]
+  double viscous = 0.0;    // dissipated by damping and friction [J]
+  double work_done = 0.0;  // by applied loads, gravity, core and supply [J]
+  double dissipated() const { return plastic + viscous; }
+  // kinetic + elastic + dissipated - work_done (0 for an exact solution).
+  double imbalance() const { return kinetic + elastic + dissipated() - work_done; }
+};
+
+// Per point values for output (wire.csv); index i is point i.
+struct PointReport {
+  Eigen::Vector3d p_world;
+  double axial_force_N = 0.0;          // segment ending at i (point 0: segment 0)
+  double curvature_1pm = 0.0;          // |bending curvature| at joint i
+  double plastic_curvature_1pm = 0.0;  // |permanent bending curvature| at joint i
+  double twist_rad_per_m = 0.0;        // twist rate at joint i
+  bool in_contact = false;             // touching a core cylinder
+  bool stick = false;                  // held by static friction
+};
+
+// Bulging (wire lifting off the core): the stand-off of the wound wire's
+// centreline from the core's winding surface, the convex hull of the
+// cylinders widened by the wire radius, measured in the core's cross-section.
+// The wound part runs from the fixed end to the last point touching the core.
+struct BulgeReport {
+  bool valid = false;         // false: no core or nothing wound
+  double height_m = 0.0;      // largest stand-off (0 when the wire lies on the core)
+  double build_up_m = 0.0;    // largest stand-off from the core (headlineBulging) [m]
+  int index = -1;             // the point where it occurs
+  double arc_length_m = 0.0;  // its natural arc length from the fixed end
+  Eigen::Vector3d p_core = Eigen::Vector3d::Zero();  // its position, core frame [m]
+  int wound_points = 0;                              // points of the wound part
+};
+// (WireModel::bulging is the stand-off alone; reports use
+// headlineBulging, coil_report.hpp.)
+
+// Everything a model needs besides its scene to continue a run exactly.
+struct ModelState {
+  int points = 0;                 // n
+  std::vector<double> y;          // the state vector's components in use
+  std::vector<double> history;    // all effects' history, in effect order
+  double core[4] = {0, 0, 0, 0};  // RotatingCore reference state (if any)
+  double tension_N = 0.0;         // supply tension (if any)
+  int points_added = 0;
+  double committed_time_s = 0.0;
+  double port_distance0_m = 0.0;
+  int carried = 0;                   // points the core carries (solver.carry_stuck_wire)
+  std::vector<double> carried_pose;  // per carried point: p_core [m] (3), q_core (4)
+  // Commanded port path ahead (PortTrajectory::exportState: t_s, x, y, z
+  // per sample); empty: the port follows process.traverse_pitch.
+  std::vector<double> port_command;
+};
+
+class WireModel : public OdeSystem, public NewtonModelView {
+ public:
+  // The scene must have passed validateScene().
+  explicit WireModel(const Scene& scene);
+  // Whether the prescribed point moves with the core (the clamp on the
+  // core, or carried wire), or stands still (a clamp in the world).
+  bool prescribedOnCore() const override { return clamp_in_core_; }
+
+  // The state vector: kAuxStates energy terms [W_ext, E_visc], then
+  // kStatesPerPoint per free point i >= 1: p (3), q (4), v (3), qdot (4).
+  static constexpr int kAuxStates = 2;
+  static constexpr int kStatesPerPoint = 14;
+  int size() const override { return stateOffset(c_.n); }
+  int capacity() const override { return stateOffset(c_.capacity); }
+  void derivative(double t, ConstRef y, Ref dydt) override;
+  const Eigen::VectorXd& absoluteTolerance() const override { return atol_; }
+  const Eigen::VectorXd& relativeToleranceWeight() const override { return rweight_; }
+  void acceptStep(double t, Eigen::VectorXd& y) override;
+  bool semiImplicitUpdate(double h, ConstRef dydt, Ref y) const override;
+  // [W_ext, E_visc | 14 per point]. A point's acceleration depends on its
+  // neighbours' states and, through bending moments that the rotational
+  // constraints pass on to the segments, on the next ones: radius 2 (further
+  // coupling through the constraint solve falls ~100x per point).
+  ChainStructure chainStructure() const override { return {kAuxStates, kStatesPerPoint, 2}; }
+  NewtonModelView* newtonModel() override { return this; }
+  const NewtonModelSetup& newtonSetup() const override { return newton_setup_; }
+  int stateOffsetOf(int i) const override { return stateOffset(i); }
+  void acceptCoreVelocity(const Eigen::Matrix3d& g_world,
+                          const Eigen::Vector3d& origin_world) override {
+    committed_.core_g_world = g_world;
+    committed_.core_origin_world = origin_world;
+    committed_.scheme_core = true;
+  }
+  double carriedEnergyChange(double t0, double t1) const override;
+  double spanLandingSpeed(int gap) const override {
+    return contact_ ? contact_->spanLandingSpeed(committed_, committed_time_, gap) : 0.0;
+  }
+  // Offset of point i's block (p, q, v, qdot) in the state vector (i >= 1).
+  static int stateOffset(int i) { return kAuxStates + kStatesPerPoint * (i - 1); }
+  // Pose and motion at time t [s] of the prescribed point first-1 (the
+  // clamp, or the last point the core carries) and of its frame.
+  void prescribedPose(double t, Eigen::Vector3d& p_world, Eigen::Vector3d& v_world,
+                      Eigen::Vector4d& q, Eigen::Vector4d& qd) const override;
+  // All effects, in evaluation order (implicit steppers set their flags).
+  const std::vector<ForceEffect*>& effectList() override { return all_; }
+
+  const Eigen::VectorXd& initialState() const { return y0_; }
+  const WireConstants& constants() const override { return c_; }
+
+  // Kinematics of point 0 and of points from..n-1 for a state; returns the
+  // clamp's (point 0's) acceleration [m/s^2].
+  Eigen::Vector3d unpack(double t, ConstRef y, WireKinematics& k, int from = 1) const;
+  // Kinematics at the last accepted step, of the whole wire.
+  const WireKinematics& committed() const {
+    placeCarriedWire();
+    return committed_;
+  }
+  // The same without placing deferred carried wire: valid from the
+  // boundary point first-1 on (for the steppers).
+  const WireKinematics& integratedKinematics() const override { return committed_; }
+
+  EnergyReport energy(const Eigen::VectorXd& y) const;
+  double maxConstraintResidual() const { return constraints_.maxResidual(committed_); }
+  PointReport point(int i) const;
+  double axialForce(int j) const;  // segment j at the last accepted step [N]
+  // The wire's axial force at the supply port [N]: the last segment's, what
+  // a load cell at the nozzle measures (a scene with a supply).
+  double portAxialForce() const { return axialForce(c_.n - 2); }
+  // The last point touching the core at the last accepted step; -1: none,
+  // or a scene without contact.
+  int lastInContact() const;
+
+  // History state of all effects, concatenated (empty without plasticity).
+  std::vector<double> history() const;
+
+  // Effects built for this scene, in evaluation order (for inspection).
+  std::vector<const ForceEffect*> effects() const;
+  const Stretching& stretching() const { return *stretching_; }
+  const Bending& bending() const { return *bending_; }
+  const Twisting* twisting() const { return twisting_; }
+  // Null when the scene needs no core (no contact, supply or core clamp).
+  const RotatingCore* core() const override { return core_.get(); }
+  RotatingCore* core() { return core_.get(); }
+  const Contact* contact() const { return contact_; }
+  // Contact between free segments (physics.wire_contact; else null).
+  const FreeWireContact* freeWireContact() const { return free_wire_contact_; }
+  // Friction and damping coefficients changed mid-run (Simulation::
+  // setFriction, setDamping; validated there).
+  void setFriction(double mu_static, double mu_kinetic);
+  void setDamping(const DampingParams& d);
+  const Supply* supply() const { return supply_; }
+  // Snapshot of the model with its state vector y; restore() checks sizes
+  // and finiteness and throws std::runtime_error naming what is wrong,
+  // leaving nothing half-restored only if the caller discards the model.
+  ModelState saveState(const Eigen::VectorXd& y) const;
+  void restoreState(const ModelState& m, Eigen::VectorXd& y);
+  // Setpoints (between steps): core speed [rad/s], supply tension [N].
+  void setCoreSpeed(double omega);
+  void setSupplyTension(double tension);
+  // Commanded port position p_world [m] at t_s [s] (Supply::commandPort);
+  // throws std::invalid_argument (also without a supply).
+  void setPortCommand(const Eigen::Vector3d& p_world, double t_s);
+
+  // Time of the last accepted step [s].
+  double committedTime() const { return committed_time_; }
+  // Natural length of wire drawn in through the port since the start [m].
+  double fedLength() const;
+  // Bulging of the wound wire at the last accepted step (needs contact).
+  BulgeReport bulging() const;
+  // Stand-off of point i from the winding surface [m] (needs a core).
+  double standOff(int i) const;
+  // Points 1..carriedPoints() move rigidly with the core and are not
+  // integrated (solver.carry_stuck_wire); 0 otherwise.
+  int carriedPoints() const { return c_.first - 1; }
+  // Deferred carried wire (for steppers that read only the integrated
+  // points and the boundary point first-1, as the Newton-step ones do): an
+  // accepted step then places only the boundary point. The other carried
+  // points are placed in committed() when the whole wire is next read
+  // (committed(), bulging(), standOff(), point()), and in a state vector by
+  // placeCarriedWire(y), which energy(y) and saveState(y) require first
+  // (Simulation::state() and Simulation::energy() call it). This keeps a
+  // step's cost independent of the wound wire's length.
+  void setCarriedDeferred(bool deferred) { carried_deferred_ = deferred; }
+  // Places deferred carried wire in the committed kinematics, and in y, the
+  // state of the last accepted step (caches: logically const).
+  void placeCarriedWire() const;
+  void placeCarriedWire(Eigen::VectorXd& y) const;
+
+ private:
+  // Clamp state of point 0 and frame 0 at time t (world frame).
+  void clamp(double t, Eigen::Vector3d& p0_world, Eigen::Vector3d& v0_world,
+             Eigen::Vector3d& a0_world, Eigen::Vector4d& q0, Eigen::Vector4d& qd0) const;
+  // Distance from the last point to the port along its zeta axis [m].
+  double portDistance(double t, const WireKinematics& k) const;
+  // Appends a mass point drawn in through the port (between steps).
+  void appendPoint(double t, Eigen::VectorXd& y);
+  // The reverse: the last point, drawn back out past the port, leaves.
+  void removeLastPoint(double t, Eigen::VectorXd& y);
+  // Carried wire (solver.carry_stuck_wire): the rigid pose of carried point
+  // i at time t, written into y and the committed kinematics; and the
+  // decision, after an accepted step, of how much wire the core carries.
+  void placeCarried(double t, int i, Eigen::VectorXd& y);
+  // The first point, going back from point `from` to `down_to`, where the
+  // wire has turned half a turn about the core axis (-1: it does not).
+  int halfTurnBehind(double t, int from, int down_to) const;
+  void placeCarried(double t, int i);                    // the committed kinematics only
+  void writeCommitted(int i, Eigen::VectorXd& y) const;  // point i's committed state into y
+  // Throws std::logic_error where a reader of y comes before
+  // placeCarriedWire(y) (a programming error, not an input one).
+  void requirePlacedState() const;
+  void updateCarried(double t, Eigen::VectorXd& y);
+  // Committed point i's speed relative to the core material at time t
+  // [m/s]: the material's velocity as the accepted step's scheme gives it
+  // (acceptCoreVelocity), or else its exact one.
+  double relativeSpeed(double t, int i) const;
+
+  WireConstants c_;
+  bool clamp_in_core_;
+  Eigen::Vector3d p0_;  // clamp position, world or core frame [m]
+  Eigen::Vector4d q0_;  // clamp orientation, world or core frame
+  Eigen::Vector3d planar_normal_world_ = Eigen::Vector3d::Zero();  // zero: 3-D
+  std::unique_ptr<RotatingCore> core_;
+  Contact* contact_ = nullptr;
+  FreeWireContact* free_wire_contact_ = nullptr;
+  Damping* damping_ = nullptr;
+  Supply* supply_ = nullptr;
+  std::unique_ptr<CoreSection> section_;  // with a core that has cylinders
+  EffectSet effects_;                     // makeEffects: what the scene switches on
+  Stretching* stretching_ = nullptr;
+  Bending* bending_ = nullptr;
+  Twisting* twisting_ = nullptr;  // null when physics.torsion is off
+  std::vector<ForceEffect*> all_;
+  FrameConstraints constraints_;
+  int points_added_ = 0;
+  double committed_time_ = 0.0;  // [s]
+  double port_distance0_ = 0.0;  // [m] at t = 0
+  bool carry_ = false;
+  // Pose of each carried point in the core frame: position [m] and frame.
+  std::vector<Eigen::Vector3d> carried_p_core_;
+  // The carried points' moment of inertia about the core axis, M r^2 + I
+  // each [kg m^2], summed over points 1..carried_inertia_first_-1 (a cache
+  // for carriedEnergyChange; -1: to be summed anew).
+  mutable int carried_inertia_first_ = -1;
+  mutable double carried_inertia_ = 0.0;
+  std::vector<Eigen::Vector4d> carried_q_core_;
+  // Stand-off of carried points [m] where stand_off_known_ (a cache of
+  // standOff(): fixed while the core carries the point).
+  mutable std::vector<double> carried_stand_off_;
+  mutable std::vector<unsigned char> stand_off_known_;
+  // The core's pose at the time of the last placeCarried() (NaN: none yet).
+  double carry_frame_time_ = std::numeric_limits<double>::quiet_NaN();
+  Eigen::Matrix3d carry_rot_;
+  Eigen::Quaterniond carry_q_;
+  Eigen::Vector3d carry_w_;
+  bool carried_deferred_ = false;
+  // Carried poses at committed_time_ in committed_ and in the state vector.
+  bool carried_kinematics_placed_ = true;
+  mutable bool carried_state_placed_ = true;
+
+  NewtonModelSetup newton_setup_;  // what a Newton formulation reads of the scene
+  Eigen::VectorXd y0_, atol_, rweight_;
+  WireKinematics kin_, committed_;
+  WireForces forces_;
+  Eigen::Matrix3Xd acc_;
+  Eigen::Matrix4Xd qdd_;
+};
+
+}  // namespace cws

@@ -1,0 +1,96 @@
+// A model's snapshot (ModelState): written from the committed state, and
+// read back with every field checked against the scene before anything
+// changes.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "coil_winding_sim/core/model/wire_model.hpp"
+
+namespace cws {
+
+ModelState WireModel::saveState(const Eigen::VectorXd& y) const {
+  requirePlacedState();
+  ModelState m;
+  m.points = c_.n;
+  m.y.assign(y.data(), y.data() + size());
+  m.history = history();
+  if (core_) core_->exportState(m.core);
+  m.tension_N = supply_ ? supply_->tension() : 0.0;
+  m.points_added = points_added_;
+  m.committed_time_s = committed_time_;
+  m.port_distance0_m = port_distance0_;
+  m.carried = c_.first - 1;
+  if (supply_) m.port_command = supply_->portCommand().exportState();
+  for (int i = 1; i < c_.first; ++i) {
+    m.carried_pose.insert(m.carried_pose.end(), carried_p_core_[i].data(),
+                          carried_p_core_[i].data() + 3);
+    m.carried_pose.insert(m.carried_pose.end(), carried_q_core_[i].data(),
+                          carried_q_core_[i].data() + 4);
+  }
+  return m;
+}
+
+void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
+  carried_inertia_first_ = -1;
+  if (m.points < 2 || m.points > c_.capacity) {
+    throw std::runtime_error("snapshot has " + std::to_string(m.points) +
+                             " points; this scene holds 2 to " + std::to_string(c_.capacity));
+  }
+  if (!supply_ && m.points != c_.n) {
+    throw std::runtime_error("snapshot has " + std::to_string(m.points) +
+                             " points, the scene's wire " + std::to_string(c_.n));
+  }
+  if (m.y.size() != static_cast<std::size_t>(stateOffset(m.points))) {
+    throw std::runtime_error("snapshot state vector has the wrong length");
+  }
+  for (double v : m.y) {
+    if (!std::isfinite(v)) throw std::runtime_error("snapshot state is not finite");
+  }
+  if (m.carried < 0 || m.carried > m.points - 2 || (m.carried > 0 && !carry_)) {
+    throw std::runtime_error("snapshot carries " + std::to_string(m.carried) +
+                             " points; this scene carries " +
+                             (carry_ ? "0 to " + std::to_string(m.points - 2) : "none"));
+  }
+  if (m.carried_pose.size() != static_cast<std::size_t>(7 * m.carried)) {
+    throw std::runtime_error("snapshot has " + std::to_string(m.carried_pose.size()) +
+                             " carried-pose values for " + std::to_string(m.carried) +
+                             " carried points (7 each)");
+  }
+  for (double v : m.carried_pose) {
+    if (!std::isfinite(v)) throw std::runtime_error("snapshot carried poses are not finite");
+  }
+  if (!supply_ && !m.port_command.empty()) {
+    throw std::runtime_error("snapshot commands a supply port; this scene has no supply");
+  }
+  if (supply_) {
+    try {
+      supply_->portCommand().restoreState(m.port_command);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(e.what());
+    }
+  }
+  c_.n = m.points;
+  y.head(size()) = Eigen::Map<const Eigen::VectorXd>(m.y.data(), size());
+  HistoryReader in(m.history);
+  for (ForceEffect* e : all_) e->restoreHistory(in);
+  if (!in.atEnd()) throw std::runtime_error("snapshot history is too long for this scene");
+  if (core_) core_->restoreState(m.core);
+  if (supply_) supply_->setTension(m.tension_N);
+  points_added_ = m.points_added;
+  committed_time_ = m.committed_time_s;
+  port_distance0_ = m.port_distance0_m;
+  c_.first = m.carried + 1;
+  carry_frame_time_ = std::numeric_limits<double>::quiet_NaN();  // the core moved
+  unpack(committed_time_, y, committed_);
+  for (int i = 1; i < c_.first; ++i) {
+    const double* pose = m.carried_pose.data() + 7 * (i - 1);
+    carried_p_core_[i] = Eigen::Map<const Eigen::Vector3d>(pose);
+    carried_q_core_[i] = Eigen::Map<const Eigen::Vector4d>(pose + 3);
+  }
+  carried_kinematics_placed_ = carried_state_placed_ = true;  // a snapshot: the whole wire
+  std::fill(stand_off_known_.begin(), stand_off_known_.end(), 0);
+}
+
+}  // namespace cws
