@@ -30,24 +30,27 @@ void stepTo(cws::Simulation& sim, double t_s) {
 
 TEST(InputLog, ReplayIsTheRunThatReceivedTheInputs) {
   const cws::Scene scene = shortCase();
-  // The run driven by hand: a faster core at 5 ms, 45 N at 8 ms, a port
-  // command given at 10 ms for 12 ms; the simulation logs each input it
-  // accepts.
+  // The run driven by hand: a faster core at 5 ms, 45 N at 8 ms, other
+  // friction at 9 ms (a wire batch's), a port command given at 10 ms for
+  // 12 ms; the simulation logs each input it accepts.
   cws::Simulation by_hand(scene);
   const Eigen::Vector3d p_port(-22.5e-3, -5.0e-3, 0.0);
   stepTo(by_hand, 0.005);
   by_hand.apply(cws::Setpoint::coreSpeed(90.0));
   stepTo(by_hand, 0.008);
   by_hand.apply(cws::Setpoint::supplyTension(45.0));
+  stepTo(by_hand, 0.009);
+  by_hand.apply(cws::Setpoint::friction(0.30, 0.22));
   stepTo(by_hand, 0.010);
   by_hand.apply(cws::Setpoint::portPosition(p_port, 0.012));
   // A refused setpoint is not logged (a port position in the past).
   EXPECT_THROW(by_hand.apply(cws::Setpoint::portPosition(p_port, 0.001)), std::invalid_argument);
   stepTo(by_hand, scene.endTime());
   const cws::InputLog& log = by_hand.inputs();
-  ASSERT_EQ(log.size(), 3u);
+  ASSERT_EQ(log.size(), 4u);
   EXPECT_NEAR(log.inputs()[0].t_s, 0.005, 1e-15);
-  EXPECT_EQ(log.inputs()[2].setpoint.kind, cws::Setpoint::Kind::kPortPosition);
+  EXPECT_EQ(log.inputs()[2].setpoint.kind, cws::Setpoint::Kind::kFriction);
+  EXPECT_EQ(log.inputs()[3].setpoint.kind, cws::Setpoint::Kind::kPortPosition);
 
   cws::Simulation replayed(scene);
   ASSERT_TRUE(log.replay(replayed, scene.endTime()));
@@ -55,6 +58,7 @@ TEST(InputLog, ReplayIsTheRunThatReceivedTheInputs) {
   EXPECT_EQ(replayed.model().constants().n, by_hand.model().constants().n);
   EXPECT_EQ((replayed.state() - by_hand.state()).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ(replayed.stepper().counts().accepted, by_hand.stepper().counts().accepted);
+  EXPECT_EQ(replayed.scene().contact.static_friction, 0.30);
 
   // The inputs matter: without them the run ends elsewhere (the port alone
   // moved by 0.5 mm).
