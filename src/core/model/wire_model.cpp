@@ -60,10 +60,7 @@ WireModel::WireModel(const Scene& s)
       // holds the fixed end; elsewhere the option has no effect.
       carry_(s.solver.carry_stuck_wire && s.physics.contact && s.physics.friction &&
              s.start.frame == "core"),
-      carried_p_core_(carry_ ? c_.capacity : 0),
-      carried_q_core_(carry_ ? c_.capacity : 0),
-      carried_stand_off_(carry_ ? c_.capacity : 0),
-      stand_off_known_(carry_ ? c_.capacity : 0, 0) {
+      carried_(c_.capacity, carry_) {
   // The core exists only for scenes that touch it, draw wire onto it or hold
   // the wire on it.
   if (needsCore(s)) {
@@ -75,7 +72,7 @@ WireModel::WireModel(const Scene& s)
     section_ = std::make_unique<CoreSection>(s.core);
   }
 
-  effects_ = makeEffects(s, EffectContext{c_, core_.get(), &carried_p_core_});
+  effects_ = makeEffects(s, EffectContext{c_, core_.get(), &carried_.positionsCore()});
   all_ = effects_.list();
   stretching_ = effects_.find<Stretching>();
   bending_ = effects_.find<Bending>();
@@ -181,10 +178,10 @@ void WireModel::prescribedPose(double t, Eigen::Vector3d& p_world, Eigen::Vector
   }
   // A carried point: its pose in the core frame, turned with the core.
   const Eigen::Vector3d w = core_->omega(t) * core_->axisWorld();
-  p_world = core_->pointWorld(t, carried_p_core_[i]);
+  const Eigen::Vector4d& q_core = carried_.orientationCore(i);
+  p_world = core_->pointWorld(t, carried_.positionCore(i));
   v_world = w.cross(p_world - core_->originWorld());
-  const Eigen::Quaterniond qc(carried_q_core_[i][0], carried_q_core_[i][1], carried_q_core_[i][2],
-                              carried_q_core_[i][3]);
+  const Eigen::Quaterniond qc(q_core[0], q_core[1], q_core[2], q_core[3]);
   const Eigen::Quaterniond qw = core_->quaternionWorldCore(t) * qc;
   q = {qw.w(), qw.x(), qw.y(), qw.z()};
   qd = 0.5 * quat::E(q).transpose() * w;

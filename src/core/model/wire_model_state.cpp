@@ -24,16 +24,16 @@ ModelState WireModel::saveState(const Eigen::VectorXd& y) const {
   m.carried = c_.first - 1;
   if (supply_) m.port_command = supply_->portCommand().exportState();
   for (int i = 1; i < c_.first; ++i) {
-    m.carried_pose.insert(m.carried_pose.end(), carried_p_core_[i].data(),
-                          carried_p_core_[i].data() + 3);
-    m.carried_pose.insert(m.carried_pose.end(), carried_q_core_[i].data(),
-                          carried_q_core_[i].data() + 4);
+    const Eigen::Vector3d& p = carried_.positionCore(i);
+    const Eigen::Vector4d& q = carried_.orientationCore(i);
+    m.carried_pose.insert(m.carried_pose.end(), p.data(), p.data() + 3);
+    m.carried_pose.insert(m.carried_pose.end(), q.data(), q.data() + 4);
   }
   return m;
 }
 
 void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
-  carried_inertia_first_ = -1;
+  carried_.forgetSums();
   if (m.points < 2 || m.points > c_.capacity) {
     throw std::runtime_error("snapshot has " + std::to_string(m.points) +
                              " points; this scene holds 2 to " + std::to_string(c_.capacity));
@@ -82,15 +82,14 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
   committed_time_ = m.committed_time_s;
   port_distance0_ = m.port_distance0_m;
   c_.first = m.carried + 1;
-  carry_frame_time_ = std::numeric_limits<double>::quiet_NaN();  // the core moved
+  carried_.forgetAll();  // the core moved; other points
   unpack(committed_time_, y, committed_);
   for (int i = 1; i < c_.first; ++i) {
     const double* pose = m.carried_pose.data() + 7 * (i - 1);
-    carried_p_core_[i] = Eigen::Map<const Eigen::Vector3d>(pose);
-    carried_q_core_[i] = Eigen::Map<const Eigen::Vector4d>(pose + 3);
+    carried_.setPose(i, Eigen::Map<const Eigen::Vector3d>(pose),
+                     Eigen::Map<const Eigen::Vector4d>(pose + 3));
   }
   carried_kinematics_placed_ = carried_state_placed_ = true;  // a snapshot: the whole wire
-  std::fill(stand_off_known_.begin(), stand_off_known_.end(), 0);
 }
 
 }  // namespace cws

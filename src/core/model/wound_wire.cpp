@@ -1,7 +1,7 @@
-// The wound wire of WireModel: wire the core carries rigidly
-// (solver.carry_stuck_wire) -- its poses on the turning core, when it is
-// taken on and released, its deferred placement for the Newton-step
-// methods -- and the stand-off and bulging reports of the wound wire.
+// The wound wire of WireModel: when wire the core carries rigidly
+// (solver.carry_stuck_wire, kept by CarriedWire) is taken on and released,
+// its deferred placement for the Newton-step methods, and the stand-off and
+// bulging reports of the wound wire.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -15,25 +15,7 @@
 
 namespace cws {
 
-void WireModel::placeCarried(double t, int i) {
-  // The core's pose at t, once per accepted step (a sine and cosine each).
-  if (t != carry_frame_time_) {
-    carry_frame_time_ = t;
-    carry_rot_ = core_->rotationWorldCore(t);
-    carry_q_ = core_->quaternionWorldCore(t);
-    carry_w_ = core_->omega(t) * core_->axisWorld();
-  }
-  const Eigen::Vector3d p = core_->originWorld() + carry_rot_ * carried_p_core_[i];
-  const Eigen::Quaterniond qc(carried_q_core_[i][0], carried_q_core_[i][1], carried_q_core_[i][2],
-                              carried_q_core_[i][3]);
-  const Eigen::Quaterniond qw = carry_q_ * qc;
-  const quat::Vec4 q(qw.w(), qw.x(), qw.y(), qw.z());
-  const Eigen::Vector3d& w = carry_w_;
-  committed_.p_world.col(i) = p;
-  committed_.q.col(i) = q;
-  committed_.v_world.col(i) = w.cross(p - core_->originWorld());
-  committed_.qd.col(i) = 0.5 * quat::E(q).transpose() * w;
-}
+void WireModel::placeCarried(double t, int i) { carried_.place(*core_, t, i, committed_); }
 
 void WireModel::writeCommitted(int i, Eigen::VectorXd& y) const {
   const int o = stateOffset(i);
@@ -83,7 +65,7 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
       // Released points are integrated again from their rigid poses now.
       if (r < c_.first) placeCarriedWire(y);
       c_.first = std::min(c_.first, r);
-      carried_inertia_first_ = -1;  // (summed anew: carriedEnergyChange)
+      carried_.forgetSums();  // (summed anew: carriedEnergyChange)
       return;
     }
   }
@@ -96,13 +78,8 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
   int target = c_.first;
   while (target < limit && relativeSpeed(t, target) < settled) ++target;
   if (target > c_.first) {
-    const Eigen::Quaterniond q_core_world = core_->quaternionWorldCore(t).conjugate();
     for (int i = c_.first; i < target; ++i) {
-      carried_p_core_[i] = core_->pointCore(t, committed_.p_world.col(i));
-      stand_off_known_[i] = 0;
-      const quat::Vec4 q = committed_.q.col(i);
-      const Eigen::Quaterniond qc = q_core_world * Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
-      carried_q_core_[i] = {qc.w(), qc.x(), qc.y(), qc.z()};
+      carried_.takeOn(*core_, t, i, committed_.p_world.col(i), committed_.q.col(i));
       // The kinetic energy of the remaining relative motion (below the
       // re-stick speed) is given up: counted as dissipated.
       const int o = stateOffset(i);
@@ -118,20 +95,7 @@ void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
 
 double WireModel::carriedEnergyChange(double t0, double t1) const {
   if (!carry_ || !core_ || c_.first <= 1) return 0.0;
-  // Points taken on since the last sum are added; after a release or a
-  // restored snapshot, all are summed again.
-  if (carried_inertia_first_ < 1) {
-    carried_inertia_first_ = 1;
-    carried_inertia_ = 0.0;
-  }
-  for (int i = carried_inertia_first_; i < c_.first; ++i) {
-    carried_inertia_ +=
-        c_.point_mass * carried_p_core_[i].head<2>().squaredNorm() + c_.point_inertia;
-  }
-  carried_inertia_first_ = c_.first;
-  // Rigid turning about the core axis: 1/2 (M r^2 + I) omega^2 a point.
-  const double w0 = core_->omega(t0), w1 = core_->omega(t1);
-  return 0.5 * (w1 * w1 - w0 * w0) * carried_inertia_;
+  return carried_.energyChange(*core_, c_, t0, t1);
 }
 
 double WireModel::relativeSpeed(double t, int i) const {
@@ -145,7 +109,7 @@ int WireModel::halfTurnBehind(double t, int from, int down_to) const {
   constexpr double kPi = 3.14159265358979323846;
   // (Carried points by their poses in the core frame.)
   auto pointCore = [&](int i) -> Eigen::Vector3d {
-    return i < c_.first ? carried_p_core_[i] : core_->pointCore(t, committed_.p_world.col(i));
+    return i < c_.first ? carried_.positionCore(i) : core_->pointCore(t, committed_.p_world.col(i));
   };
   Eigen::Vector3d a = pointCore(from);
   double turned = 0.0;
@@ -185,13 +149,7 @@ double WireModel::standOff(int i) const {
   // A carried point's stand-off is fixed while the core carries it: found
   // once (CoreSection::signedDistance is a search over directions), not at
   // every report of the whole wire.
-  if (carry_ && i >= 1 && i < c_.first) {
-    if (!stand_off_known_[i]) {
-      carried_stand_off_[i] = section_->signedDistance(carried_p_core_[i].head<2>()) - c_.radius;
-      stand_off_known_[i] = 1;
-    }
-    return carried_stand_off_[i];
-  }
+  if (carry_ && i >= 1 && i < c_.first) return carried_.standOff(*section_, c_.radius, i);
   placeCarriedWire();
   const Eigen::Vector3d p_core = core_->pointCore(committed_time_, committed_.p_world.col(i));
   return section_->signedDistance(p_core.head<2>()) - c_.radius;

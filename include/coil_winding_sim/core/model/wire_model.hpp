@@ -21,6 +21,7 @@
 #include "coil_winding_sim/core/inner_forces/bending.hpp"
 #include "coil_winding_sim/core/inner_forces/stretching.hpp"
 #include "coil_winding_sim/core/inner_forces/twisting.hpp"
+#include "coil_winding_sim/core/model/carried_wire.hpp"
 #include "coil_winding_sim/core/model/core_geometry.hpp"
 #include "coil_winding_sim/core/model/make_effects.hpp"
 #include "coil_winding_sim/core/model/newton_model_view.hpp"
@@ -266,23 +267,7 @@ class WireModel : public OdeSystem, public NewtonModelView {
   double committed_time_ = 0.0;  // [s]
   double port_distance0_ = 0.0;  // [m] at t = 0
   bool carry_ = false;
-  // Pose of each carried point in the core frame: position [m] and frame.
-  std::vector<Eigen::Vector3d> carried_p_core_;
-  // The carried points' moment of inertia about the core axis, M r^2 + I
-  // each [kg m^2], summed over points 1..carried_inertia_first_-1 (a cache
-  // for carriedEnergyChange; -1: to be summed anew).
-  mutable int carried_inertia_first_ = -1;
-  mutable double carried_inertia_ = 0.0;
-  std::vector<Eigen::Vector4d> carried_q_core_;
-  // Stand-off of carried points [m] where stand_off_known_ (a cache of
-  // standOff(): fixed while the core carries the point).
-  mutable std::vector<double> carried_stand_off_;
-  mutable std::vector<unsigned char> stand_off_known_;
-  // The core's pose at the time of the last placeCarried() (NaN: none yet).
-  double carry_frame_time_ = std::numeric_limits<double>::quiet_NaN();
-  Eigen::Matrix3d carry_rot_;
-  Eigen::Quaterniond carry_q_;
-  Eigen::Vector3d carry_w_;
+  CarriedWire carried_;  // the wound wire the core carries (solver.carry_stuck_wire)
   bool carried_deferred_ = false;
   // Carried poses at committed_time_ in committed_ and in the state vector.
   bool carried_kinematics_placed_ = true;

@@ -1,0 +1,70 @@
+// The wound wire the core carries rigidly (solver.carry_stuck_wire): each
+// carried point's pose in the core frame, placed in the world as the core
+// turns; the kinetic energy the core gives it; its stand-off from the
+// winding surface, fixed while it is carried. WireModel decides what is
+// carried (wound_wire.cpp); this class keeps it.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <limits>
+#include <vector>
+
+#include "coil_winding_sim/core/model/wire_types.hpp"
+
+namespace cws {
+
+class CoreSection;
+class RotatingCore;
+
+class CarriedWire {
+ public:
+  // Storage for `capacity` points when `enabled` (else none).
+  CarriedWire(int capacity, bool enabled);
+  bool enabled() const { return enabled_; }
+
+  // Point i's pose in the core frame: position [m] and frame.
+  const Eigen::Vector3d& positionCore(int i) const { return p_core_[i]; }
+  const Eigen::Vector4d& orientationCore(int i) const { return q_core_[i]; }
+  // All positions (index i: point i), for contact with the wound wire.
+  const std::vector<Eigen::Vector3d>& positionsCore() const { return p_core_; }
+
+  // Takes point i on at time t [s] from its world pose (p_world [m], q).
+  void takeOn(const RotatingCore& core, double t, int i, const Eigen::Vector3d& p_world,
+              const Eigen::Vector4d& q);
+  // Sets point i's pose from a snapshot (core frame).
+  void setPose(int i, const Eigen::Vector3d& p_core, const Eigen::Vector4d& q_core);
+  // Writes point i's pose and rigid motion with the core at time t [s]
+  // into k (the core's pose is found once per t).
+  void place(const RotatingCore& core, double t, int i, WireKinematics& k);
+
+  // The kinetic energy the core gives points 1..first-1, turning rigidly
+  // with it, from t0 to t1 [s] [J].
+  double energyChange(const RotatingCore& core, const WireConstants& c, double t0, double t1) const;
+  // Point i's stand-off from the winding surface [m] (found once while it
+  // is carried; `radius` the wire's [m]).
+  double standOff(const CoreSection& section, double radius, int i) const;
+  // Points changed (a release, a restored snapshot): the energy's sum and
+  // the stand-offs are found anew, the core's pose too.
+  void forgetSums();
+  void forgetAll();
+
+ private:
+  bool enabled_;
+  std::vector<Eigen::Vector3d> p_core_;
+  std::vector<Eigen::Vector4d> q_core_;
+  // Stand-off of carried points [m] where known (a cache).
+  mutable std::vector<double> stand_off_;
+  mutable std::vector<unsigned char> stand_off_known_;
+  // Moment of inertia about the core axis, M r^2 + I each [kg m^2], of
+  // points 1..inertia_first_-1 (a cache for energyChange; -1: sum anew).
+  mutable int inertia_first_ = -1;
+  mutable double inertia_ = 0.0;
+  // The core's pose at the time of the last place() (NaN: none yet).
+  double frame_time_ = std::numeric_limits<double>::quiet_NaN();
+  Eigen::Matrix3d rot_;
+  Eigen::Quaterniond q_;
+  Eigen::Vector3d w_;
+};
+
+}  // namespace cws
