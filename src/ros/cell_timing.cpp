@@ -9,38 +9,6 @@
 
 namespace cws_ros {
 
-SetpointStamps::Verdict SetpointStamps::admit(const std::string& topic, const ros::Time& stamp,
-                                              const ros::Time& clock, bool have_clock,
-                                              std::string& why) {
-  if (stamp.isZero()) return Verdict::kAdmitted;
-  std::lock_guard<std::mutex> lock(mutex_);
-  // The clock went back: stamps of the new time line must not lose against
-  // the old one.
-  if (clock < last_clock_) last_.clear();
-  last_clock_ = clock;
-  if (have_clock && stamp.toSec() > clock.toSec() + tolerance_s_) {
-    why = "refused " + topic + " stamped " + cws::formatNumber(stamp.toSec(), "%.6f") +
-          " s: more than " + cws::formatNumber(tolerance_s_) +
-          " s (~setpoint_stamp_tolerance) ahead of the node's clock " +
-          cws::formatNumber(clock.toSec(), "%.6f") + " s";
-    return Verdict::kAhead;
-  }
-  ros::Time& last = last_[topic];
-  if (stamp < last) {
-    why = "dropped " + topic + " stamped " + cws::formatNumber(stamp.toSec(), "%.6f") +
-          " s: out of order, older than the last applied one (" +
-          cws::formatNumber(last.toSec(), "%.6f") + " s)";
-    return Verdict::kOutOfOrder;
-  }
-  last = stamp;
-  return Verdict::kAdmitted;
-}
-
-void SetpointStamps::clear() {
-  std::lock_guard<std::mutex> lock(mutex_);
-  last_.clear();
-}
-
 double ReplayClock::target(const ros::Time& now, double wall_s) {
   if (now.isZero()) return -1.0;  // no /clock yet
   if (!have_origin_) setOrigin(now);

@@ -32,8 +32,8 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
       pnh_(pnh),
       o_(options),
       this_executable_(std::move(this_executable)),
-      stamps_(options.setpoint_stamp_tolerance_s),
       replay_(options.replay_lag_s, std::nullopt),
+      inbox_(options.setpoint_stamp_tolerance_s),
       grid_(options.spindle_rate_hz, options.state_rate_hz, options.profile_rate_hz),
       diagnostics_(nh, pnh) {
   node_start_s_ = wallNow();
@@ -73,7 +73,7 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
   if (o_.start == "at_rest") {
     at_rest_ = true;
     speed_setpoint_ = 0.0;
-    setpoints_changed_ = true;
+    sim_->apply(cws::Setpoint::coreSpeed(0.0));
   }
   paused_ = o_.start == "paused";
   // A fixed colour range, so that a colour means one force all run long.
@@ -158,8 +158,10 @@ void WindingCell::run() {
         if (wind_.active) wind_.run_wall_s += pass_s;
       }
       takeWindRequests();
-      applySetpoints();
       drainInputs();
+      // Setpoints without a time apply on receipt (with ~follow_clock each
+      // waits for its stamp: advanceReplay).
+      if (!o_.follow_clock) applyDue();
       if (o_.follow_clock) {
         if (!failed_ && !replay_done_) advanceReplay();
       } else if (!paused_ && !failed_ && !holding()) {
@@ -329,7 +331,7 @@ void WindingCell::advanceChunk() {
       }
       // Trajectory points end steps and apply at their times.
       applyDue();
-      limit = std::min(limit, pending_.nextTime());
+      limit = std::min(limit, inbox_.due().nextTime());
       const double step_start = wallNow();
       sim_->step(limit);
       const double step_wall = wallNow() - step_start;
@@ -397,9 +399,9 @@ void WindingCell::advanceReplay() {
       // the pace.
       double limit = grid_.next();
       if (end) limit = std::min(limit, *end);
-      limit = std::min(limit, pending_.nextTime());
+      limit = std::min(limit, inbox_.due().nextTime());
       // Port samples still waiting for room: not past the queued path.
-      if (!port_queue_.empty()) limit = std::min(limit, sim_->portCommandEnd());
+      if (!inbox_.ports().empty()) limit = std::min(limit, sim_->portCommandEnd());
       const double t = sim_->time();
       if (!(limit > t) || std::min(limit, t + sim_->stepper().nextStep()) > target) break;
       sim_->step(limit);

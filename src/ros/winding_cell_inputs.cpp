@@ -4,6 +4,8 @@
 // the services.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <deque>
 #include <limits>
 
 #include "coil_winding_sim/core/external_forces/supply.hpp"
@@ -13,6 +15,16 @@
 #include "coil_winding_sim/ros/winding_cell.hpp"
 
 namespace cws_ros {
+
+namespace {
+// A stamp in nanoseconds and back (the inbox is ROS-free).
+std::int64_t nanoseconds(const ros::Time& t) { return static_cast<std::int64_t>(t.toNSec()); }
+ros::Time rosTime(std::int64_t ns) {
+  ros::Time t;
+  t.fromNSec(static_cast<std::uint64_t>(ns));
+  return t;
+}
+}  // namespace
 
 void WindingCell::onSpeed(const coil_winding_sim::CoreSpeedSetpoint::ConstPtr& msg) {
   speedInput("core_speed_setpoint", msg->angular_velocity, msg->header.stamp);
@@ -60,7 +72,8 @@ void WindingCell::speedInput(const std::string& topic, double w, const ros::Time
                                       cws::formatNumber(speed_setpoint_) + " rad/s");
     return;
   }
-  if (admitStamp(topic, stamp)) deliver(false, w, stamp);
+  if (admitStamp(topic, stamp))
+    inbox_.put({topic, nanoseconds(stamp), cws::Setpoint::coreSpeed(w)});
 }
 
 void WindingCell::tensionInput(const std::string& topic, double f, const ros::Time& stamp) {
@@ -72,7 +85,9 @@ void WindingCell::tensionInput(const std::string& topic, double f, const ros::Ti
                                       " N");
     return;
   }
-  if (admitStamp(topic, stamp)) deliver(true, f, stamp);
+  if (admitStamp(topic, stamp)) {
+    inbox_.put({topic, nanoseconds(stamp), cws::Setpoint::supplyTension(f)});
+  }
 }
 
 // A port position: finite, in the world frame, stamps as for the other
@@ -87,8 +102,9 @@ void WindingCell::portInput(const std::string& topic, const geometry_msgs::Point
     return;
   }
   if (!admitStamp(topic, msg.header.stamp)) return;
-  std::lock_guard<std::mutex> lock(input_mutex_);
-  incoming_port_.push_back({p_world, msg.header.stamp, topic});
+  // (Its simulated time is found by the loop: drainInputs.)
+  inbox_.put({topic, nanoseconds(msg.header.stamp),
+              cws::Setpoint::portPosition(p_world, std::numeric_limits<double>::quiet_NaN())});
 }
 
 // A machine axis's trajectory: checked and read by the bridge here, its
@@ -96,13 +112,13 @@ void WindingCell::portInput(const std::string& topic, const geometry_msgs::Point
 void WindingCell::onTrajectory(const trajectory_msgs::JointTrajectory::ConstPtr& msg) {
   const std::string topic = "joint_trajectory";
   if (refusedWhileHolding(topic, "")) return;
-  IncomingTrajectory in;
+  TrajectorySetpoints setpoints;
   std::string why;
-  if (!fromTrajectory(*msg, in.setpoints, why)) {
+  if (!fromTrajectory(*msg, setpoints, why)) {
     warn(warningsOf(topic).value, "refused " + topic + ": " + why);
     return;
   }
-  for (const auto& [t, w] : in.setpoints.spindle) {
+  for (const auto& [t, w] : setpoints.spindle) {
     why = cws::coreSpeedRefusal(limits(), w);
     if (!why.empty()) {
       warn(warningsOf(topic).value, "refused " + topic + ": spindle velocity " +
@@ -112,9 +128,13 @@ void WindingCell::onTrajectory(const trajectory_msgs::JointTrajectory::ConstPtr&
     }
   }
   if (!admitStamp(topic, msg->header.stamp)) return;
-  in.stamp = msg->header.stamp;
-  std::lock_guard<std::mutex> lock(input_mutex_);
-  incoming_trajectory_.push_back(std::move(in));
+  cws::SetpointInbox::Schedule in{topic, nanoseconds(msg->header.stamp), {}};
+  for (const auto& [t, w] : setpoints.spindle)
+    in.points.emplace_back(t, cws::Setpoint::coreSpeed(w));
+  for (const auto& [t, p] : setpoints.port) {
+    in.points.emplace_back(t, cws::Setpoint::portPosition(p, t));
+  }
+  inbox_.put(std::move(in));
 }
 
 double WindingCell::simTimeOf(const ros::Time& stamp) const {
@@ -143,19 +163,6 @@ bool WindingCell::refusedWhileHolding(const std::string& topic, const std::strin
   warn(warningsOf(topic).value,
        "refused " + topic + (what.empty() ? "" : " " + what) + ": " + why + "; " + todo);
   return true;
-}
-
-// An admitted speed or tension: applied between chunks, or with
-// ~follow_clock queued to be applied at its stamp.
-void WindingCell::deliver(bool tension, double value, const ros::Time& stamp) {
-  if (o_.follow_clock) {
-    std::lock_guard<std::mutex> lock(input_mutex_);
-    incoming_.push_back({tension, value, stamp});
-    return;
-  }
-  (tension ? tension_setpoint_ : speed_setpoint_) = value;
-  if (!tension) at_rest_ = false;  // ~start at_rest: the controller has taken over
-  setpoints_changed_ = true;
 }
 
 // The node's clock: its own /clock with ~publish_clock, else ROS time.
@@ -191,13 +198,13 @@ bool WindingCell::admitStamp(const std::string& topic, const ros::Time& stamp) {
   // there is no clock to compare with yet.
   const bool have_clock = o_.publish_clock || !clock.isZero();
   std::string why;
-  switch (stamps_.admit(topic, stamp, clock, have_clock, why)) {
-    case SetpointStamps::Verdict::kAdmitted:
+  switch (inbox_.admit(topic, nanoseconds(stamp), nanoseconds(clock), have_clock, why)) {
+    case cws::SetpointInbox::Verdict::kAdmitted:
       return true;
-    case SetpointStamps::Verdict::kAhead:
+    case cws::SetpointInbox::Verdict::kAhead:
       warn(warningsOf(topic).ahead, why);
       return false;
-    case SetpointStamps::Verdict::kOutOfOrder:
+    case cws::SetpointInbox::Verdict::kOutOfOrder:
       warn(warningsOf(topic).order, why);
       return false;
   }
@@ -206,94 +213,96 @@ bool WindingCell::admitStamp(const std::string& topic, const ros::Time& stamp) {
 
 // Moves the setpoints the callbacks received into the loop's queues (with
 // ~follow_clock once the origin is known): speed and tension by the
-// simulated time of their stamp (zero: now), port samples in arrival
-// order (stamps only grow: admitStamp drops older ones).
+// simulated time of their stamp with ~follow_clock, else at once; port
+// samples in arrival order (stamps only grow: admitStamp drops older ones);
+// a trajectory's points at their times.
 void WindingCell::drainInputs() {
-  std::lock_guard<std::mutex> lock(input_mutex_);
   if (o_.follow_clock && !replay_.haveOrigin()) return;
-  for (const Incoming& in : incoming_) {
-    const double t_s = in.stamp.isZero() ? -std::numeric_limits<double>::infinity()
-                                         : (in.stamp - replay_.origin()).toSec();
-    // (After equal times: arrival order kept.)
-    pending_.add(t_s, in.tension ? cws::Setpoint::supplyTension(in.value)
-                                 : cws::Setpoint::coreSpeed(in.value));
-  }
-  incoming_.clear();
-  for (const IncomingPort& in : incoming_port_) {
-    double t_s = std::numeric_limits<double>::quiet_NaN();  // reached ~port_move_time from now
-    if (o_.follow_clock && !in.stamp.isZero()) {
-      t_s = (in.stamp - replay_.origin()).toSec();
-    } else if (o_.publish_clock && in.stamp.toSec() > clock_offset_ + sim_->time()) {
-      t_s = in.stamp.toSec() - clock_offset_;
-    }
-    port_queue_.push_back({t_s, in.p_world, in.topic});
-  }
-  incoming_port_.clear();
-  // Trajectories: each replaces what remains of the one before from its
-  // start; points in the past apply at once.
-  for (IncomingTrajectory& in : incoming_trajectory_) {
-    const double t0 = simTimeOf(in.stamp);
-    if (!in.setpoints.spindle.empty()) {
-      pending_.dropFrom(t0, cws::Setpoint::Kind::kCoreSpeed);
-      for (const auto& [t, w] : in.setpoints.spindle) {
-        pending_.add(t0 + t, cws::Setpoint::coreSpeed(w));
-      }
-      at_rest_ = false;  // (~start at_rest: the controller has taken over)
-    }
-    const cws::Supply* supply = sim_->model().supply();
-    if (!in.setpoints.port.empty() && !supply) {
-      warn(warningsOf("joint_trajectory").value,
-           "refused joint_trajectory's port joints: the scene has no supply port");
-      continue;
-    }
-    for (const auto& [t, p] : in.setpoints.port) {
-      // An axis the trajectory leaves out: where the port's path ends now.
-      const Eigen::Vector3d end =
-          supply->port(std::max(sim_->time(), sim_->portCommandEnd())).p_world;
-      Eigen::Vector3d p_world = p;
-      for (int a = 0; a < 3; ++a) {
-        if (std::isnan(p_world[a])) p_world[a] = end[a];
-      }
-      // (A point at or before the present: reached ~port_move_time from now.)
-      const double t_s = t0 + t > sim_->time() ? t0 + t : std::numeric_limits<double>::quiet_NaN();
-      port_queue_.push_back({t_s, p_world, "joint_trajectory"});
-    }
-  }
-  incoming_trajectory_.clear();
+  constexpr double kNow = -std::numeric_limits<double>::infinity();
+  const double kUnset = std::numeric_limits<double>::quiet_NaN();
+  inbox_.take(
+      [&](cws::SetpointInbox::Received& in) {
+        const ros::Time stamp = rosTime(in.stamp_ns);
+        if (in.setpoint.kind != cws::Setpoint::Kind::kPortPosition) {
+          // (After equal times: arrival order kept.)
+          inbox_.due().add(
+              o_.follow_clock && !stamp.isZero() ? (stamp - replay_.origin()).toSec() : kNow,
+              in.setpoint);
+          return;
+        }
+        double t_s = kUnset;  // reached ~port_move_time from now
+        if (o_.follow_clock && !stamp.isZero()) {
+          t_s = (stamp - replay_.origin()).toSec();
+        } else if (o_.publish_clock && stamp.toSec() > clock_offset_ + sim_->time()) {
+          t_s = stamp.toSec() - clock_offset_;
+        }
+        inbox_.ports().push_back({t_s, in.setpoint.p_world, in.topic});
+      },
+      // Trajectories: each replaces what remains of the one before from its
+      // start; points in the past apply at once.
+      [&](cws::SetpointInbox::Schedule& in) {
+        const double t0 = simTimeOf(rosTime(in.stamp_ns));
+        bool speeds = false, ports = false;
+        for (const auto& [t, sp] : in.points) {
+          (sp.kind == cws::Setpoint::Kind::kCoreSpeed ? speeds : ports) = true;
+        }
+        if (speeds) {
+          inbox_.due().dropFrom(t0, cws::Setpoint::Kind::kCoreSpeed);
+          for (const auto& [t, sp] : in.points) {
+            if (sp.kind == cws::Setpoint::Kind::kCoreSpeed) inbox_.due().add(t0 + t, sp);
+          }
+          at_rest_ = false;  // (~start at_rest: the controller has taken over)
+        }
+        if (!ports) return;
+        const cws::Supply* supply = sim_->model().supply();
+        if (!supply) {
+          warn(warningsOf(in.topic).value,
+               "refused " + in.topic + "'s port joints: the scene has no supply port");
+          return;
+        }
+        for (const auto& [t, sp] : in.points) {
+          if (sp.kind != cws::Setpoint::Kind::kPortPosition) continue;
+          // An axis the trajectory leaves out: where the port's path ends now.
+          const Eigen::Vector3d end =
+              supply->port(std::max(sim_->time(), sim_->portCommandEnd())).p_world;
+          Eigen::Vector3d p_world = sp.p_world;
+          for (int a = 0; a < 3; ++a) {
+            if (std::isnan(p_world[a])) p_world[a] = end[a];
+          }
+          // (A point at or before the present: reached ~port_move_time from now.)
+          const double t_s = t0 + t > sim_->time() ? t0 + t : kUnset;
+          inbox_.ports().push_back({t_s, p_world, in.topic});
+        }
+      });
 }
 
 // Applies the queued speed and tension setpoints whose time has come.
 void WindingCell::applyDue() {
-  const double t = sim_->time();
-  pending_.takeDue(t, [&](double, const cws::Setpoint& c) {
+  inbox_.due().takeDue(sim_->time(), [&](double, const cws::Setpoint& c) {
     sim_->apply(c);
     if (c.kind == cws::Setpoint::Kind::kSupplyTension) {
       tension_setpoint_ = c.value;
-    } else {
+    } else if (c.kind == cws::Setpoint::Kind::kCoreSpeed) {
       speed_setpoint_ = c.value;
+      // (~start at_rest: the controller has taken over.)
+      if (!o_.follow_clock) at_rest_ = false;
     }
   });
 }
 
 // Hands queued port samples to the simulation's path while it has room.
 void WindingCell::feedPort() {
-  while (!port_queue_.empty() && sim_->portCommandRoom() > 1) {
-    const PortSample& s = port_queue_.front();
+  std::deque<cws::SetpointInbox::PortSample>& queue = inbox_.ports();
+  while (!queue.empty() && sim_->portCommandRoom() > 1) {
+    const cws::SetpointInbox::PortSample& s = queue.front();
     const double t_s = std::isnan(s.t_s) ? sim_->time() + o_.port_move_time_s : s.t_s;
     try {
       sim_->apply(cws::Setpoint::portPosition(s.p_world, t_s));
     } catch (const std::invalid_argument& e) {
       warn(warningsOf("port_position_setpoint").value, "refused " + s.topic + ": " + e.what());
     }
-    port_queue_.pop_front();
+    queue.pop_front();
   }
-}
-
-void WindingCell::applySetpoints() {
-  if (!setpoints_changed_.exchange(false)) return;
-  const double speed = speed_setpoint_, tension = tension_setpoint_;
-  sim_->apply(cws::Setpoint::coreSpeed(speed));
-  sim_->apply(cws::Setpoint::supplyTension(tension));
 }
 
 // Makes `scene` the scene in use (its limits apply to the setpoints).

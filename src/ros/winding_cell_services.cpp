@@ -143,12 +143,11 @@ void WindingCell::replace(std::unique_ptr<cws::Simulation> next) {
   clock_offset_ += sim_->time() - next->time();
   sim_ = std::move(next);
   clock_s_ = stamp().toSec();
-  stamps_.clear();
+  inbox_.clear();
   run_until_.reset();
   failed_ = false;
   failure_.clear();
   send_delete_all_ = true;
-  port_queue_.clear();
   grid_.restart(sim_->time());
   restartPace();
   compute_s_ = 0.0;

@@ -129,7 +129,7 @@ void WindingCell::startWind(const coil_winding_sim::WindGoal& goal) {
   run_until_.reset();
   if (wind_.time_s.empty() && speed_setpoint_ == 0.0) {
     speed_setpoint_ = cws::rpmToRadPerSec(scene_.process.core_speed_rpm);
-    setpoints_changed_ = true;
+    sim_->apply(cws::Setpoint::coreSpeed(speed_setpoint_));
   }
   if (!wind_.time_s.empty() || speed_setpoint_ != 0.0) at_rest_ = false;
   restartPace();

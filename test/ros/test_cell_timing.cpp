@@ -15,8 +15,6 @@
 #include "coil_winding_sim/ros/node_options.hpp"
 
 using cws_ros::PaceKeeper;
-using cws_ros::SetpointStamps;
-using Verdict = cws_ros::SetpointStamps::Verdict;
 
 TEST(Pace, AheadAndBehindTheTargetFactor) {
   PaceKeeper pace;
@@ -47,49 +45,6 @@ TEST(Pace, MeasuredFactorBetweenReadings) {
   EXPECT_NEAR(meter.read(12.0, 2.0), 0.5, 1e-12);
   EXPECT_NEAR(meter.read(12.0, 3.0), 0.5, 1e-12);  // no wall time: kept
   EXPECT_NEAR(meter.read(13.0, 5.0), 2.0, 1e-12);
-}
-
-TEST(SetpointStamps, ZeroIsAlwaysAdmitted) {
-  SetpointStamps stamps(1.0);
-  std::string why;
-  EXPECT_EQ(stamps.admit("a", ros::Time(50.0), ros::Time(50.0), true, why), Verdict::kAdmitted);
-  EXPECT_EQ(stamps.admit("a", ros::Time(), ros::Time(50.0), true, why), Verdict::kAdmitted);
-}
-
-TEST(SetpointStamps, AheadOfTheClockBeyondTheToleranceIsRefused) {
-  SetpointStamps stamps(1.0);
-  std::string why;
-  EXPECT_EQ(stamps.admit("tension_setpoint", ros::Time(11.0), ros::Time(10.0), true, why),
-            Verdict::kAdmitted);
-  EXPECT_EQ(stamps.admit("tension_setpoint", ros::Time(11.5), ros::Time(10.0), true, why),
-            Verdict::kAhead);
-  EXPECT_NE(why.find("tension_setpoint stamped 11.500000 s"), std::string::npos) << why;
-  EXPECT_NE(why.find("~setpoint_stamp_tolerance"), std::string::npos) << why;
-  // Without a clock yet (ROS time zero before the first /clock) there is
-  // nothing to compare with.
-  EXPECT_EQ(stamps.admit("other", ros::Time(1e6), ros::Time(), false, why), Verdict::kAdmitted);
-}
-
-TEST(SetpointStamps, OlderThanTheTopicsLastIsDroppedPerTopic) {
-  SetpointStamps stamps(1.0);
-  std::string why;
-  EXPECT_EQ(stamps.admit("a", ros::Time(5.0), ros::Time(5.0), true, why), Verdict::kAdmitted);
-  EXPECT_EQ(stamps.admit("a", ros::Time(4.0), ros::Time(5.0), true, why), Verdict::kOutOfOrder);
-  EXPECT_NE(why.find("older than the last applied one (5.000000 s)"), std::string::npos) << why;
-  // Another topic has its own order; an equal stamp is in order.
-  EXPECT_EQ(stamps.admit("b", ros::Time(4.0), ros::Time(5.0), true, why), Verdict::kAdmitted);
-  EXPECT_EQ(stamps.admit("a", ros::Time(5.0), ros::Time(5.0), true, why), Verdict::kAdmitted);
-}
-
-TEST(SetpointStamps, AClockGoingBackOrANewRunForgetsTheLastStamps) {
-  SetpointStamps stamps(1.0);
-  std::string why;
-  EXPECT_EQ(stamps.admit("a", ros::Time(9.0), ros::Time(10.0), true, why), Verdict::kAdmitted);
-  // A looping bag: the clock starts again at 2 s.
-  EXPECT_EQ(stamps.admit("a", ros::Time(1.5), ros::Time(2.0), true, why), Verdict::kAdmitted);
-  EXPECT_EQ(stamps.admit("a", ros::Time(2.5), ros::Time(3.0), true, why), Verdict::kAdmitted);
-  stamps.clear();  // reset or restore
-  EXPECT_EQ(stamps.admit("a", ros::Time(2.0), ros::Time(3.0), true, why), Verdict::kAdmitted);
 }
 
 TEST(ReplayClock, FollowsTheClockLessTheLagFromItsFirstValue) {

@@ -91,29 +91,6 @@ class RateMeter {
   double wall_s_ = 0.0, sim_s_ = 0.0, rtf_ = 0.0;
 };
 
-// Setpoint stamps (README, "Setpoint stamps"), per topic: a zero stamp is
-// always admitted; one more than the tolerance ahead of the node's clock is
-// refused, and so is one older than the topic's last admitted stamp. When
-// the clock goes back (another node's /clock, e.g. a looping bag), every
-// topic forgets its last stamp. Thread-safe.
-class SetpointStamps {
- public:
-  enum class Verdict { kAdmitted, kAhead, kOutOfOrder };
-  explicit SetpointStamps(double tolerance_s) : tolerance_s_(tolerance_s) {}
-  // `have_clock` false: there is no clock to compare with yet (ROS time
-  // before the first /clock). `why` names the refusal.
-  Verdict admit(const std::string& topic, const ros::Time& stamp, const ros::Time& clock,
-                bool have_clock, std::string& why);
-  // Forgets every topic's last stamp (a new run).
-  void clear();
-
- private:
-  double tolerance_s_;
-  std::mutex mutex_;
-  std::map<std::string, ros::Time> last_;
-  ros::Time last_clock_;
-};
-
 // The replay's target (~follow_clock): the simulated time may advance to
 // the clock since the origin less the lag (setpoints stamped up to there
 // have arrived), never beyond the bag's end; to the whole bag once its clock

@@ -54,7 +54,7 @@
 #include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/WindAction.h"
 #include "coil_winding_sim/WindingCellConfig.h"
-#include "coil_winding_sim/core/run/command_schedule.hpp"
+#include "coil_winding_sim/core/run/setpoint_inbox.hpp"
 #include "coil_winding_sim/core/run/setpoint_limits.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
@@ -157,7 +157,6 @@ class WindingCell {
   void speedInput(const std::string& topic, double w, const ros::Time& stamp);
   void tensionInput(const std::string& topic, double f, const ros::Time& stamp);
   void portInput(const std::string& topic, const geometry_msgs::PointStamped& msg);
-  void deliver(bool tension, double value, const ros::Time& stamp);
   // A setpoint that arrives while the cell holds (a finished job, a full
   // storage) is refused with a warning saying why and what to do.
   bool refusedWhileHolding(const std::string& topic, const std::string& what);
@@ -168,7 +167,6 @@ class WindingCell {
   void drainInputs();
   void applyDue();
   void feedPort();
-  void applySetpoints();
   void setScene(const cws::Scene& scene);
   cws::SetpointLimits limits() const;
 
@@ -227,14 +225,13 @@ class WindingCell {
   PaceKeeper pace_;
   PaceWindow pace_window_;
   RateMeter rate_;
+  // The last speed and tension applied (or, holding a snapshot, to apply).
   std::atomic<double> speed_setpoint_{0.0}, tension_setpoint_{0.0};
-  std::atomic<bool> setpoints_changed_{false};
   // Limits of the scene in use: |speed| [rad/s], tension [N].
   std::atomic<double> max_speed_{0.0}, max_tension_{0.0};
   // The node's clock with ~publish_clock [s] (read by the setpoint callbacks).
   std::atomic<double> clock_s_{0.0};
 
-  SetpointStamps stamps_;
   std::mutex warnings_mutex_;  // guards the map (its entries are thread-safe)
   std::map<std::string, TopicWarnings> warnings_;
 
@@ -262,34 +259,9 @@ class WindingCell {
   ReplayClock replay_;
   bool replay_done_ = false, replay_started_ = false;
 
-  // Setpoints from the callbacks (input_mutex_), and the loop's queues
-  // (sim_mutex_): speed/tension by simulated time, port samples in order.
-  struct Incoming {
-    bool tension = false;  // else a core speed
-    double value = 0.0;    // [N] or [rad/s]
-    ros::Time stamp;
-  };
-  struct IncomingPort {
-    Eigen::Vector3d p_world;
-    ros::Time stamp;
-    std::string topic;
-  };
-  struct PortSample {
-    double t_s;  // simulated time [s]; NaN: ~port_move_time after it is applied
-    Eigen::Vector3d p_world;
-    std::string topic;
-  };
-  std::mutex input_mutex_;
-  std::vector<Incoming> incoming_;
-  std::vector<IncomingPort> incoming_port_;
-  // Trajectories (joint_trajectory), read by the bridge, with their stamps.
-  struct IncomingTrajectory {
-    TrajectorySetpoints setpoints;
-    ros::Time stamp;
-  };
-  std::vector<IncomingTrajectory> incoming_trajectory_;
-  cws::CommandSchedule pending_;  // with ~follow_clock: at their stamps
-  std::deque<PortSample> port_queue_;
+  // Setpoints from the callbacks and the loop's queues (ROS-free): their
+  // stamps' admission, by simulated time, port samples in order.
+  cws::SetpointInbox inbox_;
 
   PublishGrid grid_;
   double next_rest_sample_s_ = 0.0;  // the core at rest: the next grid sample [s]
