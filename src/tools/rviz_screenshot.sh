@@ -12,8 +12,9 @@
 set -eu
 out=$1
 shift
-port=${CWS_SCREENSHOT_PORT:-11391}
-display=${CWS_SCREENSHOT_DISPLAY:-:91}
+# A free port for the master and a free display (Xvfb picks it: -displayfd),
+# unless given: a stale lock or another server cannot stand in the way.
+port=${CWS_SCREENSHOT_PORT:-$(/usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')}
 deadline=$((SECONDS + ${CWS_SCREENSHOT_DEADLINE:-150}))
 work=$(mktemp -d)
 # Each background job in its own process group (setsid), so that the
@@ -43,11 +44,24 @@ fail() {
   tail -5 "$work/xvfb.log" >&2 || true
   exit 1
 }
-setsid Xvfb "$display" -screen 0 1200x800x24 -nolisten tcp > "$work/xvfb.log" 2>&1 &
-xvfb=$!
+if [ -n "${CWS_SCREENSHOT_DISPLAY:-}" ]; then
+  setsid Xvfb "$CWS_SCREENSHOT_DISPLAY" -screen 0 1200x800x24 -nolisten tcp \
+    > "$work/xvfb.log" 2>&1 &
+  xvfb=$!
+  display=$CWS_SCREENSHOT_DISPLAY
+  sleep 1
+else
+  setsid Xvfb -displayfd 3 -screen 0 1200x800x24 -nolisten tcp \
+    3> "$work/display" > "$work/xvfb.log" 2>&1 &
+  xvfb=$!
+  for _ in $(seq 50); do
+    [ -s "$work/display" ] && break
+    sleep 0.2
+  done
+  display=:$(head -1 "$work/display" 2>/dev/null)
+fi
+kill -0 "$xvfb" 2>/dev/null && [ "$display" != ":" ] || fail "Xvfb did not start (display $display)"
 export DISPLAY=$display ROS_MASTER_URI=http://127.0.0.1:$port ROS_LOG_DIR=$work/ros_log
-sleep 1
-kill -0 "$xvfb" 2>/dev/null || fail "Xvfb did not start on display $display"
 setsid roslaunch -p "$port" coil_winding_sim winding_cell.launch stop_at_end:=true "$@" \
   > "$work/launch.log" 2>&1 &
 launch=$!
