@@ -68,6 +68,8 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
       estimator_->startJob(*sim_);
     }
   }
+  // The simulation logs its inputs only for the error estimate's rerun.
+  sim_->keepInputs(estimator_ != nullptr);
   speed_setpoint_ = cws::rpmToRadPerSec(scene_.process.core_speed_rpm);
   tension_setpoint_ = scene_.process.tension;
   if (o_.start == "at_rest") {

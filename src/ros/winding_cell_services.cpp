@@ -142,6 +142,7 @@ void WindingCell::replace(std::unique_ptr<cws::Simulation> next) {
   abortWind("the run was replaced (reset or restore)");
   clock_offset_ += sim_->time() - next->time();
   sim_ = std::move(next);
+  sim_->keepInputs(estimator_ != nullptr);
   clock_s_ = stamp().toSec();
   inbox_.clear();
   run_until_.reset();

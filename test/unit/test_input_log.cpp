@@ -71,6 +71,17 @@ TEST(InputLog, ReplayIsTheRunThatReceivedTheInputs) {
   EXPECT_GT(moved, 1e-4);
 }
 
+TEST(InputLog, ASimulationThatKeepsNoInputsLogsNone) {
+  cws::Simulation sim(shortCase());
+  sim.keepInputs(false);
+  sim.apply(cws::Setpoint::supplyTension(45.0));
+  EXPECT_EQ(sim.inputs().size(), 0u);
+  EXPECT_EQ(sim.model().supply()->tension(), 45.0);  // applied all the same
+  sim.keepInputs(true);
+  sim.apply(cws::Setpoint::supplyTension(46.0));
+  EXPECT_EQ(sim.inputs().size(), 1u);
+}
+
 TEST(InputLog, StopEndsTheReplayBeforeTheEnd) {
   const cws::Scene scene = shortCase();
   cws::Simulation sim(scene);

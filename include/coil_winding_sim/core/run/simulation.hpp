@@ -44,10 +44,14 @@ class Simulation {
   // does and is not logged.
   void apply(const Setpoint& setpoint) {
     setpoint.applyTo(*this);
-    inputs_.record(t_, setpoint);
+    if (keep_inputs_) inputs_.record(t_, setpoint);
   }
   // The setpoints this run accepted through apply(), in order.
   const InputLog& inputs() const { return inputs_; }
+  // Whether apply() logs (from now on; default true). A cell that runs for
+  // a shift and repeats nothing keeps none: the log would grow with every
+  // setpoint (64 bytes each).
+  void keepInputs(bool keep) { keep_inputs_ = keep; }
 
   // The setters behind the setpoints (not logged; apply() logs).
   // Setpoints, effective from the present time on: core angular velocity
@@ -169,6 +173,7 @@ class Simulation {
   double wall_s_ = 0.0;
   PaceProfile pace_;
   InputLog inputs_;
+  bool keep_inputs_ = true;
   double max_residual_ = 0.0;
   double max_axial_force_ = 0.0;
   double max_penetration_ = 0.0;
