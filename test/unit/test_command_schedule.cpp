@@ -10,17 +10,17 @@
 #include "coil_winding_sim/core/run/command_schedule.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 
-using Command = cws::Setpoint;
+using cws::Setpoint;
 
 TEST(CommandSchedule, TakesDueCommandsInTimeOrder) {
   cws::CommandSchedule s;
   EXPECT_TRUE(std::isinf(s.nextTime()));
-  s.add(0.2, {Command::Kind::kSupplyTension, 40.0});
-  s.add(0.1, {Command::Kind::kCoreSpeed, 10.0});
-  s.add(0.1, {Command::Kind::kCoreSpeed, 20.0});       // same time: after the first
-  s.add(-INFINITY, {Command::Kind::kCoreSpeed, 5.0});  // at once
+  s.add(0.2, Setpoint::supplyTension(40.0));
+  s.add(0.1, Setpoint::coreSpeed(10.0));
+  s.add(0.1, Setpoint::coreSpeed(20.0));       // same time: after the first
+  s.add(-INFINITY, Setpoint::coreSpeed(5.0));  // at once
   std::vector<double> values;
-  auto take = [&](double, const Command& c) { values.push_back(c.value); };
+  auto take = [&](double, const Setpoint& c) { values.push_back(c.value); };
   EXPECT_EQ(s.takeDue(0.0, take), 1);
   EXPECT_EQ(s.nextTime(), 0.1);
   EXPECT_EQ(s.takeDue(0.05, take), 0);
@@ -39,11 +39,11 @@ TEST(CommandSchedule, ASpeedCommandTakesEffectAtItsTime) {
   cws::Simulation sim(scene);
   cws::CommandSchedule s;
   const double t_cmd = 0.0043, w_cmd = 50.0;  // [s], [rad/s]
-  s.add(t_cmd, {Command::Kind::kCoreSpeed, w_cmd});
+  s.add(t_cmd, Setpoint::coreSpeed(w_cmd));
   const double w0 = sim.model().core()->omega(0.001);
   bool checked = false;
   while (sim.time() < sim.endTime()) {
-    s.takeDue(sim.time(), [&](double t, const Command& c) {
+    s.takeDue(sim.time(), [&](double t, const Setpoint& c) {
       EXPECT_NEAR(sim.time(), t, 1e-12);  // a step ended at the command
       sim.apply(c);
       checked = true;
