@@ -61,7 +61,11 @@ else
   display=:$(head -1 "$work/display" 2>/dev/null)
 fi
 kill -0 "$xvfb" 2>/dev/null && [ "$display" != ":" ] || fail "Xvfb did not start (display $display)"
+# Every node of its own master on the loopback, by a name that always
+# resolves (a machine's host name need not).
 export DISPLAY=$display ROS_MASTER_URI=http://127.0.0.1:$port ROS_LOG_DIR=$work/ros_log
+unset ROS_IP
+export ROS_HOSTNAME=localhost
 setsid roslaunch -p "$port" coil_winding_sim winding_cell.launch stop_at_end:=true "$@" \
   > "$work/launch.log" 2>&1 &
 launch=$!
