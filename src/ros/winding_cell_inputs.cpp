@@ -279,7 +279,15 @@ void WindingCell::drainInputs() {
 // Applies the queued speed and tension setpoints whose time has come.
 void WindingCell::applyDue() {
   inbox_.due().takeDue(sim_->time(), [&](double, const cws::Setpoint& c) {
-    sim_->apply(c);
+    // (Checked on receipt against the limits then in force; a restore may
+    // have changed them since.)
+    try {
+      sim_->apply(c);
+    } catch (const std::exception& e) {
+      warn(warningsOf(c.name()).value, std::string("refused a ") + c.name() +
+                                           " setpoint: " + e.what() + "; keeping the value in use");
+      return;
+    }
     if (c.kind == cws::Setpoint::Kind::kSupplyTension) {
       tension_setpoint_ = c.value;
     } else if (c.kind == cws::Setpoint::Kind::kCoreSpeed) {
