@@ -5,7 +5,6 @@
 #include <cstdio>
 
 #include "coil_winding_sim/core/external_forces/port_trajectory.hpp"
-#include "coil_winding_sim/core/text_format.hpp"
 
 namespace cws_ros {
 

@@ -9,7 +9,6 @@
 
 #include <ros/time.h>
 
-#include <map>
 #include <mutex>
 #include <optional>
 #include <string>

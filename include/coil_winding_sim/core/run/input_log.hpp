@@ -5,7 +5,6 @@
 // quarter of the step and compares the two. Simulation::apply keeps one.
 #pragma once
 
-#include <Eigen/Core>
 #include <cstddef>
 #include <functional>
 #include <vector>
