@@ -222,6 +222,8 @@ test: build format-check
 	    | sed -E 's/ \([0-9]+ ms\)$$//' | sort -u >&2 || true; \
 	  last_run="$$(grep -h '^\[ RUN      \]' Testing/Temporary/LastTest*.log 2>/dev/null | tail -n 1 || true)"; \
 	  [ -z "$$last_run" ] || echo "test: last gtest case started (check it if the binary crashed or timed out): $$last_run" >&2; \
+	  echo "test: what the failed cases said:" >&2; \
+	  $(PYTHON) $(ROOT)/src/tools/test_failures.py "$(TEST_RESULTS)" >&2 || true; \
 	  exit 1; \
 	fi; \
 	echo "test: all tests passed"

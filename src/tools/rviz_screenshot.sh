@@ -37,11 +37,15 @@ cleanup() {
 trap cleanup EXIT
 trap "exit 143" TERM INT
 fail() {
+  # The reason last too: a log that keeps only its end still says it.
   echo "rviz_screenshot: $*" >&2
   echo "--- the launch's last lines:" >&2
   tail -30 "$work/launch.log" >&2 || true
   echo "--- Xvfb:" >&2
   tail -5 "$work/xvfb.log" >&2 || true
+  echo "--- the launch's processes:" >&2
+  pgrep -a -f "roslaunch|rosmaster|rviz|winding_cell_node" >&2 || true
+  echo "rviz_screenshot: $*" >&2
   exit 1
 }
 if [ -n "${CWS_SCREENSHOT_DISPLAY:-}" ]; then
@@ -60,26 +64,40 @@ else
   done
   display=:$(head -1 "$work/display" 2>/dev/null)
 fi
-kill -0 "$xvfb" 2>/dev/null && [ "$display" != ":" ] || fail "Xvfb did not start (display $display)"
-# Every node of its own master on the loopback, by a name that always
-# resolves (a machine's host name need not).
+{ kill -0 "$xvfb" 2>/dev/null && [ "$display" != ":" ]; } || fail "Xvfb did not start (display $display)"
+# Every node of its own master on the loopback, by address: no name has
+# to resolve (a machine's host name need not).
 export DISPLAY=$display ROS_MASTER_URI=http://127.0.0.1:$port ROS_LOG_DIR=$work/ros_log
-unset ROS_IP
-export ROS_HOSTNAME=localhost
+unset ROS_HOSTNAME
+export ROS_IP=127.0.0.1
+# The node's console lines reach launch.log as they are written.
+export ROSCONSOLE_STDOUT_LINE_BUFFERED=1
 setsid roslaunch -p "$port" coil_winding_sim winding_cell.launch stop_at_end:=true "$@" \
   > "$work/launch.log" 2>&1 &
 launch=$!
-# The job's end on cell_status, then time for rviz to draw it.
-done_seen=false
-while [ $SECONDS -lt $deadline ]; do
-  if timeout -k 2 5 rostopic echo -n 1 /cell_status/job_done 2>/dev/null | grep -q True; then
-    done_seen=true
-    break
-  fi
+# The job's end, from the node's own console line in the launch's output:
+# no subscriber has to start and connect (a Python tool can take seconds
+# to start on a loaded machine, which once kept a bounded wait from ever
+# seeing the message).
+while ! grep -q "job done: " "$work/launch.log" 2>/dev/null; do
   kill -0 "$launch" 2>/dev/null || fail "the launch ended before the job did"
+  [ $SECONDS -lt $deadline ] || fail "no 'job done' from the node within ${CWS_SCREENSHOT_DEADLINE:-150} s"
   sleep 0.5
 done
-$done_seen || fail "no job_done on /cell_status within ${CWS_SCREENSHOT_DEADLINE:-150} s"
-sleep "${CWS_SCREENSHOT_SETTLE:-6}"
-timeout -k 2 30 import -window root "$out" || fail "import could not take the picture"
+# Then pictures until rviz has drawn the scene (more distinct colours than
+# its empty window's 1,155), each taken after a pause; the last is kept.
+min_colours=${CWS_SCREENSHOT_MIN_COLOURS:-2000}
+colours=0
+while :; do
+  sleep "${CWS_SCREENSHOT_SETTLE:-6}"
+  kill -0 "$launch" 2>/dev/null || fail "the launch ended before rviz drew the job"
+  timeout -k 2 30 import -window root "$work/shot.png" || fail "import could not take the picture"
+  colours=$(identify -format %k "$work/shot.png" 2>/dev/null || echo 0)
+  [ "$colours" -gt "$min_colours" ] && break
+  if [ $SECONDS -ge $deadline ]; then
+    cp "$work/shot.png" "$out"
+    fail "rviz drew little within ${CWS_SCREENSHOT_DEADLINE:-150} s: $colours colours in $out"
+  fi
+done
+cp "$work/shot.png" "$out"
 echo "rviz_screenshot: $out"
