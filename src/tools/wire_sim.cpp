@@ -33,6 +33,7 @@
 #include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/core/time_steppers/integrators.hpp"
+#include "coil_winding_sim/ros/offline_replay.hpp"
 #include "stability.hpp"
 #include "study.hpp"
 #include "sweep.hpp"
@@ -261,6 +262,7 @@ int main(int argc, char** argv) {
   Args a;
   a.command = args[0];
   if (a.command == "urdf") return cws_tools::urdfMain(args, defaultScene());
+  if (a.command == "replay") return cws_ros::replayMain(args, defaultScene());
   // sweep-run DIR INDEX and sweep-gather DIR: a sweep's case, its table.
   if (a.command == "sweep-run" || a.command == "sweep-gather") {
     const std::size_t want = a.command == "sweep-run" ? 3 : 2;

@@ -45,8 +45,8 @@
 #include "coil_winding_sim/WireTension.h"
 #include "ros_test_support.hpp"
 
-#if !defined(CWS_SOURCE_DIR) || !defined(CWS_PYTHON)
-#error "CWS_SOURCE_DIR and CWS_PYTHON must be defined"
+#if !defined(CWS_SOURCE_DIR) || !defined(CWS_PYTHON) || !defined(CWS_WIRE_SIM_EXE)
+#error "CWS_SOURCE_DIR, CWS_PYTHON and CWS_WIRE_SIM_EXE must be defined"
 #endif
 
 namespace fs = std::filesystem;
@@ -109,6 +109,11 @@ void writeMachineBag(const fs::path& path) {
     spindle.name = {"spindle"};
     spindle.velocity = {speedCommand(t)};
     bag.write("machine/spindle/command", stamp, spindle);
+    // The measured state: the closed-form angle of the commands so far
+    // (compare_bags.py needs the angle).
+    std::vector<std::pair<double, double>> so_far;
+    for (int i = 0; i <= k; ++i) so_far.emplace_back(i * kPeriod, speedCommand(i * kPeriod));
+    spindle.position = {angleAt(so_far, t)};
     bag.write("machine/spindle/state", stamp, spindle);
     coil_winding_sim::TensionSetpoint tension;
     tension.header.stamp = stamp;
@@ -385,6 +390,133 @@ TEST_F(ReplayMachine, ComparisonRecoversAPerturbationOfTheReplay) {
   // A radial offset of the points: at most the chord sag (l^2 / (8 r) =
   // 0.1 mm for 2 mm points on r = 5.5 mm) off the offset.
   EXPECT_NEAR(profile_mm, 0.1, 0.02);
+}
+
+// Runs a shell command, its output into `log`; its exit status (-1: not run).
+int shell(const std::string& cmd, const fs::path& log) {
+  const int rc = std::system((cmd + " > " + log.string() + " 2>&1").c_str());
+  return rc == -1 ? -1 : WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+// `wire_sim replay` of the same machine bag, with the launch's scene and
+// rates, gives the launch's sim/ series: the same stamps, the same values.
+TEST_F(ReplayMachine, TheOfflineReplayGivesTheLaunchsSeries) {
+  const auto& launch = replay(dir_, 1.0);
+  const fs::path out = dir_ / "offline";
+  const int rc =
+      shell(std::string(CWS_WIRE_SIM_EXE) + " replay " + (dir_ / "machine.bag").string() +
+                " --out " + out.string() + " --scene " + CWS_SOURCE_DIR +
+                "/test/scenes/replay_drum.yaml --profile-rate 50",
+            dir_ / "offline.log");
+  ASSERT_EQ(rc, 0) << readFile(dir_ / "offline.log");
+  ASSERT_TRUE(fs::exists(out / "replay.bag"));
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+  const auto offline = readOutput(out / "replay.bag");
+  for (const char* topic : {"sim/spindle/state", "sim/spindle/command", "sim/port/position",
+                            "sim/port/command", "sim/tension/command", "sim/tension/measured",
+                            "sim/profile"}) {
+    ASSERT_TRUE(launch.count(topic)) << topic << " missing from the launch's replay";
+    ASSERT_TRUE(offline.count(topic)) << topic << " missing from the offline replay";
+    const Series& a = launch.at(topic);
+    const Series& b = offline.at(topic);
+    ASSERT_EQ(a.t.size(), b.t.size()) << topic;
+    double worst = 0.0;
+    for (std::size_t i = 0; i < a.t.size(); ++i) {
+      EXPECT_NEAR(a.t[i], b.t[i], 1e-9) << topic << " sample " << i;
+      ASSERT_EQ(a.v[i].size(), b.v[i].size()) << topic << " sample " << i;
+      for (std::size_t k = 0; k < a.v[i].size(); ++k) {
+        worst = std::max(worst, std::abs(a.v[i][k] - b.v[i][k]));
+      }
+    }
+    std::printf("offline replay against the launch: %s, %zu samples, largest difference %.3g\n",
+                topic, a.t.size(), worst);
+    // The same steps in the same order: equal to rounding.
+    EXPECT_LT(worst, 1e-9) << topic;
+  }
+  // The machine's topics copied whole (the launch's recorder may miss the
+  // first messages of a fast play).
+  for (const char* topic : {"machine/spindle/command", "machine/spindle/state",
+                            "machine/tension/measured", "machine/port/command"}) {
+    ASSERT_TRUE(offline.count(topic)) << topic;
+    EXPECT_EQ(offline.at(topic).t.size(), 11u) << topic;
+  }
+}
+
+// A machine bag that compare_bags.py refuses is refused by `wire_sim
+// replay` in the same words (after each tool's "error: ").
+TEST_F(ReplayMachine, BadBagsAreRefusedAsTheComparisonRefusesThem) {
+  const auto& launch = replay(dir_, 1.0);
+  ASSERT_FALSE(launch.empty());
+  const fs::path sim_bag = dir_ / "replay_1000.bag";
+  const std::string python = CWS_PYTHON;
+  const std::string tools = std::string(CWS_SOURCE_DIR) + "/src/tools/";
+  // Bad bags: perturbations of the replay's own sim/ topics as a machine's.
+  const std::vector<std::pair<std::string, std::string>> perturbed = {
+      {"no_tension", "--drop-topic tension/measured"},
+      {"no_state", "--drop-topic spindle/state"},
+      {"non_monotonic", "--non-monotonic spindle/state"},
+      {"renamed_joint", "--rename-joint drum"},
+  };
+  std::vector<std::pair<std::string, fs::path>> bags;
+  for (const auto& [name, args] : perturbed) {
+    const fs::path bag = dir_ / ("bad_" + name + ".bag");
+    ASSERT_EQ(shell(python + " " + tools + "make_synthetic_bags.py --from-sim-bag " +
+                        sim_bag.string() + " --machine-bag " + bag.string() + " " + args,
+                    dir_ / "perturb.log"),
+              0)
+        << readFile(dir_ / "perturb.log");
+    bags.emplace_back(name, bag);
+  }
+  {
+    // Measured tension of the command's type.
+    const fs::path bag = dir_ / "bad_type.bag";
+    rosbag::Bag out(bag.string(), rosbag::bagmode::Write);
+    rosbag::Bag in((dir_ / "machine.bag").string(), rosbag::bagmode::Read);
+    for (const rosbag::MessageInstance& m : rosbag::View(in)) {
+      if (m.getTopic() == "machine/tension/measured") {
+        auto w = m.instantiate<coil_winding_sim::WireTension>();
+        coil_winding_sim::TensionSetpoint c;
+        c.header = w->header;
+        c.tension = w->tension;
+        out.write(m.getTopic(), m.getTime(), c);
+      } else {
+        out.write(m.getTopic(), m.getTime(), m);
+      }
+    }
+    bags.emplace_back("wrong_type", bag);
+  }
+  bags.emplace_back("missing", dir_ / "no_such.bag");
+  std::ofstream(dir_ / "not_a_bag.bag") << "a text file\n";
+  bags.emplace_back("not_a_bag", dir_ / "not_a_bag.bag");
+
+  auto errorOf = [](const std::string& log) {
+    const std::size_t at = log.find("error: ");
+    std::string e = at == std::string::npos ? log : log.substr(at + 7);
+    return e.substr(0, e.find('\n'));
+  };
+  for (const auto& [name, bag] : bags) {
+    const int rc_replay = shell(std::string(CWS_WIRE_SIM_EXE) + " replay " + bag.string() +
+                                    " --out " + (dir_ / "bad_out").string(),
+                                dir_ / "bad_replay.log");
+    const int rc_compare =
+        shell(python + " " + tools + "compare_bags.py --machine " + bag.string() + " --sim " +
+                  sim_bag.string() + " --out " + (dir_ / "bad_cmp").string() + " --no-plots",
+              dir_ / "bad_cmp.log");
+    const std::string replay_error = errorOf(readFile(dir_ / "bad_replay.log"));
+    const std::string compare_error = errorOf(readFile(dir_ / "bad_cmp.log"));
+    std::printf("%s: replay %d '%s'\n", name.c_str(), rc_replay, replay_error.c_str());
+    EXPECT_EQ(rc_compare, 2) << name;
+    EXPECT_EQ(rc_replay, 2) << name;
+    EXPECT_FALSE(fs::exists(dir_ / "bad_out" / "replay.bag")) << name;
+    if (name == "not_a_bag") {
+      // The readers' own words differ; the start is the tools'.
+      const std::string start = "cannot read bag " + bag.string() + ": ";
+      EXPECT_EQ(replay_error.rfind(start, 0), 0u) << replay_error;
+      EXPECT_EQ(compare_error.rfind(start, 0), 0u) << compare_error;
+    } else {
+      EXPECT_EQ(replay_error, compare_error) << name;
+    }
+  }
 }
 
 int main(int argc, char** argv) {
