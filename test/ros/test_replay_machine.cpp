@@ -412,9 +412,9 @@ TEST_F(ReplayMachine, TheOfflineReplayGivesTheLaunchsSeries) {
   ASSERT_TRUE(fs::exists(out / "replay.bag"));
   EXPECT_TRUE(fs::exists(out / "summary.json"));
   const auto offline = readOutput(out / "replay.bag");
-  for (const char* topic : {"sim/spindle/state", "sim/spindle/command", "sim/port/position",
-                            "sim/port/command", "sim/tension/command", "sim/tension/measured",
-                            "sim/profile"}) {
+  for (const char* topic :
+       {"sim/spindle/state", "sim/spindle/command", "sim/port/position", "sim/port/command",
+        "sim/tension/command", "sim/tension/measured", "sim/profile"}) {
     ASSERT_TRUE(launch.count(topic)) << topic << " missing from the launch's replay";
     ASSERT_TRUE(offline.count(topic)) << topic << " missing from the offline replay";
     const Series& a = launch.at(topic);
