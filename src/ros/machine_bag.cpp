@@ -127,8 +127,10 @@ double fieldValue(const std::uint8_t* p, std::uint8_t datatype, bool big_endian)
   }
 }
 
+}  // namespace
+
 // A cloud's finite points and stand-off (compare_bags.py's cloud_points).
-ProfileCloud cloudOf(const sensor_msgs::PointCloud2& msg, double t_s) {
+cws::ProfileCloud profileCloud(const sensor_msgs::PointCloud2& msg, double t_s) {
   std::map<std::string, const sensor_msgs::PointField*> fields;
   for (const auto& f : msg.fields) fields[f.name] = &f;
   for (const char* name : {"x", "y", "z"}) {
@@ -140,7 +142,7 @@ ProfileCloud cloudOf(const sensor_msgs::PointCloud2& msg, double t_s) {
     }
   }
   const sensor_msgs::PointField* so = fields.count("stand_off") ? fields["stand_off"] : nullptr;
-  ProfileCloud c;
+  cws::ProfileCloud c;
   c.t_s = t_s;
   for (std::uint32_t r = 0; r < msg.height; ++r) {
     for (std::uint32_t i = 0; i < msg.width; ++i) {
@@ -158,8 +160,6 @@ ProfileCloud cloudOf(const sensor_msgs::PointCloud2& msg, double t_s) {
   }
   return c;
 }
-
-}  // namespace
 
 MachineRecording readMachineBag(const std::string& path, const cws::SetpointLimits& limits,
                                 const Frames& frames) {
@@ -252,8 +252,8 @@ MachineRecording readMachineBag(const std::string& path, const cws::SetpointLimi
       refuse(format("topic %s: message %zu has no position for joint '%s'", state_topic.c_str(), k,
                     kJoint));
     }
-    rec.spindle_t_s.push_back((j.header.stamp - rec.start).toSec());
-    rec.spindle_angle_rad.push_back(j.position[i]);
+    rec.measured.spindle_t_s.push_back((j.header.stamp - rec.start).toSec());
+    rec.measured.spindle_angle_rad.push_back(j.position[i]);
   }
   if (states.size() < kMinSamples) {
     refuse(format("too few samples to align: %s has %zu (need %d)", state_topic.c_str(),
@@ -264,11 +264,11 @@ MachineRecording readMachineBag(const std::string& path, const cws::SetpointLimi
                   measured.size(), kMinSamples));
   }
   for (const auto& m : measured) {
-    rec.tension_t_s.push_back((m->header.stamp - rec.start).toSec());
-    rec.tension_measured_N.push_back(m->tension);
+    rec.measured.tension_t_s.push_back((m->header.stamp - rec.start).toSec());
+    rec.measured.tension_N.push_back(m->tension);
   }
   for (const auto& c : clouds)
-    rec.profiles.push_back(cloudOf(*c, (c->header.stamp - rec.start).toSec()));
+    rec.measured.profiles.push_back(profileCloud(*c, (c->header.stamp - rec.start).toSec()));
 
   // Commands, refused one by one as the node refuses them.
   for (const auto& c : commands) {

@@ -98,6 +98,21 @@ void BagSink::profile(const cws::Simulation& sim, const ros::Time& stamp) {
   bag_.write("sim/profile", stamp, toProfile(sim, stamp, rates_.frames, rates_.profile_turns));
 }
 
+void SeriesSink::fast(const cws::Simulation& sim, const ros::Time& stamp) {
+  const double t = (stamp - start_).toSec();
+  out_.spindle_t_s.push_back(t);
+  out_.spindle_angle_rad.push_back(toSpindleState(sim, stamp).position[0]);
+  if (sim.model().supply()) {
+    out_.tension_t_s.push_back(t);
+    out_.tension_N.push_back(toTensionMeasured(sim, stamp).tension);
+  }
+}
+
+void SeriesSink::profile(const cws::Simulation& sim, const ros::Time& stamp) {
+  out_.profiles.push_back(profileCloud(toProfile(sim, stamp, rates_.frames, rates_.profile_turns),
+                                       (stamp - start_).toSec()));
+}
+
 namespace {
 
 int usage(const std::string& why) {

@@ -176,7 +176,7 @@ def profile_points(theta, turns, spacing, phase):
     return helix(phi)
 
 
-def synthetic_sim_messages(duration, rate_hz, profile_rate_hz, profile_turns):
+def synthetic_sim_messages(duration, rate_hz, profile_rate_hz, profile_turns, record_delay):
     """[(topic, msg, bag_time)] of every sim/* topic, in time order."""
     WireTension = custom_message_class("WireTension")
     TensionSetpoint = custom_message_class("TensionSetpoint")
@@ -197,7 +197,7 @@ def synthetic_sim_messages(duration, rate_hz, profile_rate_hz, profile_turns):
         port.point.x, port.point.y = PORT_X, 0.0
         port.point.z = PITCH * float(theta[k]) / (2 * math.pi)
         port_meas = copy.deepcopy(port)
-        bag_t = st + 0.002          # written 2 ms after it held
+        bag_t = st + record_delay   # written after it held
         out += [("sim/spindle/command", cmd, bag_t), ("sim/spindle/state", state, bag_t),
                 ("sim/tension/command", tc, bag_t), ("sim/tension/measured", tm, bag_t),
                 ("sim/port/command", port, bag_t), ("sim/port/position", port_meas, bag_t)]
@@ -207,7 +207,7 @@ def synthetic_sim_messages(duration, rate_hz, profile_rate_hz, profile_turns):
         th, _ = spindle(t)
         x, y, z, so = profile_points(float(th), profile_turns, SIM_SPACING, 0.0)
         msg = make_cloud(T0 + t, "core", [("x", x), ("y", y), ("z", z), ("stand_off", so)])
-        out.append(("sim/profile", msg, T0 + t + 0.002))
+        out.append(("sim/profile", msg, T0 + t + record_delay))
     out.sort(key=lambda item: item[2])
     return out
 
@@ -229,6 +229,7 @@ def strip(topic):
 def perturb(messages, args, synthetic):
     """machine/* messages from sim/* messages: [(topic, msg, bag_time)]."""
     rng = np.random.default_rng(args.seed)
+    args.rng = rng   # the profile's noise draws from the same stream
     shift = genpy.Duration.from_sec(args.time_shift)
     drop = {strip(d).split("/", 1)[1] if strip(d).startswith(("sim/", "machine/")) else strip(d)
             for d in args.drop_topic}
@@ -268,9 +269,10 @@ def perturb(messages, args, synthetic):
 def perturb_cloud(msg, args):
     """Profile perturbation in frame core: scale about the origin, then move
     every point radially (away from the core axis z) by the profile offset plus
-    (bulge_scale - 1) stand_off; stand_off changes by the same radial amount."""
+    (bulge_scale - 1) stand_off plus its noise; stand_off changes by the same
+    radial amount."""
     if (args.profile_scale == 1.0 and args.profile_offset_mm == 0.0 and args.bulge_scale == 1.0
-            and not args.drop_stand_off):
+            and args.profile_noise_mm == 0.0 and not args.drop_stand_off):
         return msg
     arr = cloud_array(msg)
     names = arr.dtype.names
@@ -279,6 +281,8 @@ def perturb_cloud(msg, args):
     z = arr["z"].astype(float) * args.profile_scale
     so = arr["stand_off"].astype(float) if "stand_off" in names else np.zeros(len(arr))
     dr = args.profile_offset_mm * 1e-3 + (args.bulge_scale - 1.0) * so
+    if args.profile_noise_mm > 0:
+        dr = dr + args.rng.normal(0.0, args.profile_noise_mm * 1e-3, len(arr))
     r = np.hypot(x, y)
     with np.errstate(invalid="ignore", divide="ignore"):
         ux, uy = np.where(r > 0, x / r, 0.0), np.where(r > 0, y / r, 0.0)
@@ -337,6 +341,9 @@ def main(argv=None):
     p.add_argument("--rate", type=float, default=250.0, help="[Hz] spindle, tension and port (synthetic)")
     p.add_argument("--profile-rate", type=float, default=10.0, help="[Hz] (synthetic)")
     p.add_argument("--profile-turns", type=float, default=2.0, help="turns of wire in a profile (synthetic)")
+    p.add_argument("--record-delay", type=float, default=0.002,
+                   help="[s] each message written this long after its stamp (synthetic); 0 puts the "
+                        "commands on the replay's grid")
     g = p.add_argument_group("perturbation of the machine bag")
     g.add_argument("--tension-offset", type=float, default=0.0, help="[N] added to machine/tension/measured")
     g.add_argument("--tension-noise", type=float, default=0.0, help="[N] sigma of Gaussian noise added to it")
@@ -345,6 +352,8 @@ def main(argv=None):
                    help="[s] added to every machine stamp (positive: the machine lags)")
     g.add_argument("--profile-offset-mm", type=float, default=0.0,
                    help="[mm] radial offset of the machine profile (outward)")
+    g.add_argument("--profile-noise-mm", type=float, default=0.0,
+                   help="[mm] sigma of Gaussian radial noise on each machine profile point (and its stand_off)")
     g.add_argument("--profile-scale", type=float, default=1.0, help="scale of the machine profile about the origin")
     g.add_argument("--bulge-scale", type=float, default=1.0,
                    help="machine stand-off = this x the simulated one (points move radially)")
@@ -361,7 +370,8 @@ def main(argv=None):
     if args.from_sim_bag:
         sim = read_sim_messages(args.from_sim_bag)
     else:
-        sim = synthetic_sim_messages(args.duration, args.rate, args.profile_rate, args.profile_turns)
+        sim = synthetic_sim_messages(args.duration, args.rate, args.profile_rate, args.profile_turns,
+                                     args.record_delay)
     machine = perturb(sim, args, synthetic=not args.from_sim_bag)
     if args.sim_bag:
         write_bag(args.sim_bag, sim)

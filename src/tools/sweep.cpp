@@ -245,9 +245,12 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const
   const std::size_t n = plan.cases.size();
   std::size_t kept = 0;
   const std::vector<std::size_t> todo = casesToRun(plan, dir, kept);
-  std::cerr << "sweep: " << n << " cases in " << dir << ", " << kept
-            << " kept from an earlier sweep, " << todo.size() << " to run, " << jobs
-            << " at once\n";
+  const PlanKind* kind = findPlanKind(plan.kind);
+  const bool quiet = kind && kind->quiet;
+  if (!quiet)
+    std::cerr << "sweep: " << n << " cases in " << dir << ", " << kept
+              << " kept from an earlier sweep, " << todo.size() << " to run, " << jobs
+              << " at once\n";
   std::map<pid_t, std::size_t> running;
   std::size_t next = 0, finished = 0;
   auto start = [&](std::size_t i) {
@@ -280,8 +283,9 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const
     if (stop && stop()) {
       for (const auto& r : running) kill(r.first, SIGINT);
       for (const auto& r : running) waitpid(r.first, nullptr, 0);
-      std::cerr << "sweep: stopped; " << finished << " of " << todo.size()
-                << " cases had finished, the others are pending (the same command goes on)\n";
+      if (!quiet)
+        std::cerr << "sweep: stopped; " << finished << " of " << todo.size()
+                  << " cases had finished, the others are pending (the same command goes on)\n";
       return -1;
     }
     while (next < todo.size() && static_cast<int>(running.size()) < jobs) start(todo[next++]);
@@ -310,6 +314,7 @@ int runSweepLocal(const SweepPlan& plan, const std::string& dir, int jobs, const
                           std::to_string(WEXITSTATUS(wstatus)) + " and no result";
       writeStatus(case_dir, s);
     }
+    if (quiet) continue;
     char wall[32];
     std::snprintf(wall, sizeof wall, "%.3g", s.wall_s);
     std::cerr << "sweep: [" << finished << "/" << todo.size() << "] " << plan.caseDir(i) << " ("

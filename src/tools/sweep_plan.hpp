@@ -69,6 +69,8 @@ struct PlanKind {
   // Whether checkPlan loads every case's scene (false: a refused scene is
   // one of the kind's results).
   bool check_scenes = true;
+  // The kind reports its own progress: runSweepLocal prints none.
+  bool quiet = false;
 };
 // Registers a kind under `name`; returns true (for a static initializer).
 bool registerPlanKind(const std::string& name, PlanKind kind);

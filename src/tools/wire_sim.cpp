@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "calibrate.hpp"
 #include "cell_urdf.hpp"
 #include "coil_winding_sim/core/run/output.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
@@ -263,6 +264,12 @@ int main(int argc, char** argv) {
   a.command = args[0];
   if (a.command == "urdf") return cws_tools::urdfMain(args, defaultScene());
   if (a.command == "replay") return cws_ros::replayMain(args, defaultScene());
+  if (a.command == "calibrate") {
+    // Ctrl-C: the running replays stop, the best so far is written.
+    installStopHandlers();
+    const int rc = cws_tools::calibrateMain(args, defaultScene(), selfExe(), stopRequested);
+    return rc < 0 ? 128 + (g_stop_signal ? g_stop_signal : SIGINT) : rc;
+  }
   // sweep-run DIR INDEX and sweep-gather DIR: a sweep's case, its table.
   if (a.command == "sweep-run" || a.command == "sweep-gather") {
     const std::size_t want = a.command == "sweep-run" ? 3 : 2;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <ros/time.h>
+#include <sensor_msgs/PointCloud2.h>
 
 #include <Eigen/Core>
 #include <stdexcept>
@@ -13,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "coil_winding_sim/core/run/recording_misfit.hpp"
 #include "coil_winding_sim/core/run/setpoint_limits.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 
@@ -23,14 +25,6 @@ namespace cws_ros {
 class MachineBagError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
-};
-
-// One profile cloud: points [m] in the core frame and, when the cloud has
-// the field, their stand-off [m] from the winding surface.
-struct ProfileCloud {
-  double t_s = 0.0;  // from the bag's start [s]
-  std::vector<Eigen::Vector3d> p_core;
-  std::vector<double> stand_off_m;  // empty without the field
 };
 
 // A recording's series, times from the bag's start (its first message's
@@ -47,11 +41,14 @@ struct MachineRecording {
   std::vector<std::pair<double, Eigen::Vector3d>> port_world;  // machine/port/command [m]
   std::vector<std::string> refused;
 
-  // Measurements.
-  std::vector<double> spindle_t_s, spindle_angle_rad;   // machine/spindle/state
-  std::vector<double> tension_t_s, tension_measured_N;  // machine/tension/measured
-  std::vector<ProfileCloud> profiles;                   // machine/profile
+  // Measurements: machine/spindle/state, machine/tension/measured,
+  // machine/profile.
+  cws::RecordedSeries measured;
 };
+
+// A profile cloud's finite points and stand-off, any field type; throws
+// MachineBagError for a cloud without x, y or z.
+cws::ProfileCloud profileCloud(const sensor_msgs::PointCloud2& msg, double t_s);
 
 // Reads and checks `path`. Throws MachineBagError, as compare_bags.py
 // refuses a machine bag: no such bag, an unreadable one, a topic of the

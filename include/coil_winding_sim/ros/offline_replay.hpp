@@ -58,6 +58,21 @@ class BagSink : public ReplaySink {
   ReplayRates rates_;
 };
 
+// The series a cell measures (spindle angle, tension at the port, profile),
+// from the replay, as the bag would hold them; times from the bag's start.
+class SeriesSink : public ReplaySink {
+ public:
+  SeriesSink(const ReplayRates& rates, cws::RecordedSeries& out) : rates_(rates), out_(out) {}
+  void fast(const cws::Simulation& sim, const ros::Time& stamp) override;
+  void profile(const cws::Simulation& sim, const ros::Time& stamp) override;
+  void setStart(const ros::Time& start) { start_ = start; }
+
+ private:
+  ReplayRates rates_;
+  cws::RecordedSeries& out_;
+  ros::Time start_;
+};
+
 // wire_sim replay MACHINE.bag --out DIR [--scene FILE] [--set key=value ...]
 // [--spindle-rate HZ] [--profile-rate HZ] [--profile-turns N]: DIR/replay.bag
 // (the machine's topics and the sim/ series) and DIR/summary.json. Returns

@@ -1,0 +1,343 @@
+// The calibration's evaluations, fit and verdicts (calibration_solver.hpp).
+#include "calibration_solver.hpp"
+
+#include <ceres/ceres.h>
+#include <unistd.h>
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+
+#include "sweep.hpp"
+#include "sweep_slurm.hpp"
+
+namespace cws_tools {
+
+namespace fs = std::filesystem;
+
+Evaluator::Evaluator(const CalibrationOptions& o, std::string exe, std::function<bool()> stop)
+    : o_(o), exe_(std::move(exe)), stop_(std::move(stop)) {}
+
+Eigen::VectorXd Evaluator::values(const Eigen::VectorXd& u) const {
+  Eigen::VectorXd x(u.size());
+  for (Eigen::Index k = 0; k < u.size(); ++k) {
+    const FitParameter& f = o_.fit[k];
+    x[k] = f.lo + std::clamp(u[k], 0.0, 1.0) * (f.hi - f.lo);
+  }
+  return x;
+}
+
+std::string Evaluator::describe(const Eigen::VectorXd& u) const {
+  const Eigen::VectorXd x = values(u);
+  std::string s;
+  for (Eigen::Index k = 0; k < x.size(); ++k) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.5g", x[k]);
+    s += (k ? ", " : "") + o_.fit[k].key + "=" + buf;
+  }
+  return s;
+}
+
+std::vector<Evaluation> Evaluator::run(const std::vector<Eigen::VectorXd>& points) {
+  // Points evaluated before (within this run) are not run again.
+  std::vector<Evaluation> out(points.size());
+  std::vector<Eigen::VectorXd> todo;
+  std::vector<std::size_t> where;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::vector<double> key(points[i].data(), points[i].data() + points[i].size());
+    const auto it = cache_.find(key);
+    if (it != cache_.end()) {
+      out[i] = it->second;
+    } else {
+      todo.push_back(points[i]);
+      where.push_back(i);
+    }
+  }
+  if (todo.empty()) return out;
+  std::vector<Eigen::VectorXd> x;
+  for (const Eigen::VectorXd& u : todo) x.push_back(values(u));
+  const SweepPlan plan = calibrationPlan(o_, x);
+  char name[16];
+  std::snprintf(name, sizeof name, "%04d", batch_++);
+  const std::string dir = (fs::path(o_.out) / "evaluations" / name).string();
+  fs::create_directories(dir);
+  std::size_t kept = 0;
+  writePlan(plan, dir);
+  casesToRun(plan, dir, kept);
+  int rc = 0;
+  if (o_.slurm) {
+    rc = runSweepSlurm(plan, dir, o_.slurm_options, exe_);
+    if (rc != 0) throw std::runtime_error("the batch " + dir + " could not be submitted to Slurm");
+    // Waits for every case's status (the gather job writes nothing).
+    for (;;) {
+      bool all = true;
+      for (std::size_t i = 0; i < plan.cases.size() && all; ++i) {
+        all = readCaseStatus(plan, dir, i).present;
+      }
+      if (all) break;
+      if (stop_ && stop_()) throw CalibrationStopped{};
+      sleep(2);
+    }
+  } else {
+    rc = runSweepLocal(plan, dir, o_.jobs, exe_, stop_);
+    if (rc < 0) throw CalibrationStopped{};
+  }
+  kept_ += static_cast<int>(kept);
+  for (std::size_t j = 0; j < todo.size(); ++j) {
+    Evaluation e = readEvaluation(plan, dir, j);
+    ++evaluations_;
+    history_.emplace_back(todo[j], e);
+    const std::vector<double> key(todo[j].data(), todo[j].data() + todo[j].size());
+    cache_[key] = e;
+    if (e.ok && (!best_.ok || e.misfit < best_.misfit)) {
+      best_ = e;
+      best_u_ = todo[j];
+    }
+    out[where[j]] = e;
+  }
+  std::fprintf(stderr,
+               "calibrate: %d evaluations (%d kept from an earlier run), best misfit %.6g at %s\n",
+               evaluations_, kept_, best_.ok ? best_.misfit : std::nan(""),
+               best_.ok ? describe(best_u_).c_str() : "(none yet)");
+  return out;
+}
+
+namespace {
+
+// The misfit's residuals as Ceres's one block over the scaled keys; a
+// Jacobian by forward differences (backward at an upper bound), the
+// points of one Jacobian run as one batch.
+class ReplayCost : public ceres::CostFunction {
+ public:
+  ReplayCost(Evaluator& ev, int residuals, int n, double step) : ev_(ev), n_(n), step_(step) {
+    set_num_residuals(residuals);
+    mutable_parameter_block_sizes()->push_back(n);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const Eigen::Map<const Eigen::VectorXd> u(parameters[0], n_);
+    std::vector<Eigen::VectorXd> points = {u};
+    std::vector<double> h(n_);
+    const bool jacobian = jacobians && jacobians[0];
+    if (jacobian) {
+      for (int k = 0; k < n_; ++k) {
+        h[k] = u[k] + step_ <= 1.0 ? step_ : -step_;
+        Eigen::VectorXd p = u;
+        p[k] += h[k];
+        points.push_back(p);
+      }
+    }
+    std::vector<Evaluation> e;
+    try {
+      e = ev_.run(points);
+    } catch (const CalibrationStopped&) {
+      stopped = true;
+      return false;
+    }
+    for (const Evaluation& x : e) {
+      if (!x.ok || x.residuals.size() != num_residuals()) return false;
+    }
+    Eigen::Map<Eigen::VectorXd>(residuals, num_residuals()) = e[0].residuals;
+    if (jacobian) {
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> j(
+          jacobians[0], num_residuals(), n_);
+      for (int k = 0; k < n_; ++k) j.col(k) = (e[k + 1].residuals - e[0].residuals) / h[k];
+    }
+    return true;
+  }
+  mutable bool stopped = false;
+
+ private:
+  Evaluator& ev_;
+  int n_;
+  double step_;
+};
+
+// Ends the solve when Ctrl-C came.
+class StopCallback : public ceres::IterationCallback {
+ public:
+  explicit StopCallback(const ReplayCost& cost) : cost_(cost) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+    return cost_.stopped ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const ReplayCost& cost_;
+};
+
+}  // namespace
+
+namespace {
+
+// Point i (from 1) of the Halton sequence in n dimensions: a deterministic
+// design that fills the box evenly, so the fit starts in the best basin
+// the design finds (the misfit of a replay has many small local minima).
+Eigen::VectorXd halton(int i, int n) {
+  static const int kPrimes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53};
+  Eigen::VectorXd u(n);
+  for (int k = 0; k < n; ++k) {
+    const int b = kPrimes[k % 16];
+    double f = 1.0, r = 0.0;
+    for (int j = i; j > 0; j /= b) {
+      f /= b;
+      r += f * (j % b);
+    }
+    u[k] = r;
+  }
+  return u;
+}
+
+}  // namespace
+
+FitOutcome fitLeastSquares(Evaluator& ev, const Eigen::VectorXd& u0) {
+  FitOutcome out;
+  out.u = u0;
+  const int n = static_cast<int>(u0.size());
+  // The start and the design, as one batch; the best is the fit's start.
+  std::vector<Eigen::VectorXd> design = {u0};
+  for (int i = 1; i <= ev.options().design_points; ++i) design.push_back(halton(i, n));
+  std::vector<Evaluation> start;
+  try {
+    start = ev.run(design);
+  } catch (const CalibrationStopped&) {
+    out.stopped = true;
+    return out;
+  }
+  if (!start[0].ok) throw std::runtime_error("the replay at the start failed: " + start[0].error);
+  std::size_t first = 0;
+  for (std::size_t i = 1; i < start.size(); ++i) {
+    if (start[i].ok && start[i].residuals.size() == start[0].residuals.size() &&
+        start[i].misfit < start[first].misfit)
+      first = i;
+  }
+  std::vector<double> u(design[first].data(), design[first].data() + n);
+  auto* cost = new ReplayCost(ev, static_cast<int>(start[0].residuals.size()), n, ev.step());
+  ceres::Problem problem;
+  problem.AddResidualBlock(cost, nullptr, u.data());
+  for (int k = 0; k < n; ++k) {
+    problem.SetParameterLowerBound(u.data(), k, 0.0);
+    problem.SetParameterUpperBound(u.data(), k, 1.0);
+  }
+  ceres::Solver::Options options;
+  options.minimizer_type = ceres::TRUST_REGION;
+  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = ev.maxIterations();
+  // A relative decrease of the misfit below 1e-6, or a step below 1e-4 of
+  // the ranges: converged (the replays are deterministic, not smoother).
+  options.function_tolerance = 1e-6;
+  options.parameter_tolerance = 1e-4;
+  options.gradient_tolerance = 1e-12;
+  options.logging_type = ceres::SILENT;
+  options.num_threads = 1;
+  StopCallback callback(*cost);
+  options.callbacks.push_back(&callback);
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  out.stopped = cost->stopped;
+  out.termination = summary.BriefReport();
+  out.u = ev.haveBest() ? ev.bestU() : u0;
+  return out;
+}
+
+std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::VectorXd& u) {
+  const int n = static_cast<int>(u.size());
+  const double step = ev.step();
+  // Central differences about the optimum (one-sided at a bound).
+  std::vector<Eigen::VectorXd> points = {u};
+  std::vector<double> lo(n), hi(n);
+  for (int k = 0; k < n; ++k) {
+    lo[k] = std::max(0.0, u[k] - step);
+    hi[k] = std::min(1.0, u[k] + step);
+    Eigen::VectorXd a = u, b = u;
+    a[k] = lo[k];
+    b[k] = hi[k];
+    points.push_back(a);
+    points.push_back(b);
+  }
+  const std::vector<Evaluation> e = ev.run(points);
+  const Evaluation& c = e[0];
+  if (!c.ok) throw std::runtime_error("the replay at the optimum failed: " + c.error);
+  const Eigen::Index m = c.residuals.size();
+  Eigen::MatrixXd j(m, n);
+  for (int k = 0; k < n; ++k) {
+    const Evaluation& a = e[1 + 2 * k];
+    const Evaluation& b = e[2 + 2 * k];
+    if (!a.ok || !b.ok || a.residuals.size() != m || b.residuals.size() != m) {
+      throw std::runtime_error("a replay beside the optimum failed: " + (a.ok ? b.error : a.error));
+    }
+    j.col(k) = (b.residuals - a.residuals) / (hi[k] - lo[k]);
+  }
+  // Each measurement's noise from its own residuals at the optimum: the
+  // variance of a weighted residual is its group's mean square.
+  Eigen::VectorXd d(m);
+  const int groups[3] = {c.tension_samples, c.profile_points,
+                         static_cast<int>(m) - c.tension_samples - c.profile_points};
+  Eigen::Index at = 0;
+  for (int g : groups) {
+    if (g <= 0) continue;
+    const double ms = c.residuals.segment(at, g).squaredNorm() / g;
+    d.segment(at, g).setConstant(ms);
+    at += g;
+  }
+  // Cov = H+ J^T D J H+, H = J^T J (the sandwich: right for any weights).
+  const Eigen::MatrixXd h = j.transpose() * j;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::VectorXd s = svd.singularValues();
+  Eigen::VectorXd s_inv = Eigen::VectorXd::Zero(n);
+  for (int k = 0; k < n; ++k) {
+    if (s[k] > 1e-12 * s[0]) s_inv[k] = 1.0 / s[k];
+  }
+  const Eigen::MatrixXd h_plus = svd.matrixV() * s_inv.asDiagonal() * svd.matrixU().transpose();
+  const Eigen::MatrixXd cov = h_plus * (j.transpose() * d.asDiagonal() * j) * h_plus;
+
+  std::vector<ParameterVerdict> out(n);
+  const CalibrationOptions& o = ev.options();
+  for (int k = 0; k < n; ++k) {
+    const double range = o.fit[k].hi - o.fit[k].lo;
+    ParameterVerdict& v = out[k];
+    if (j.col(k).squaredNorm() == 0.0) {
+      v.identifiable = false;
+      v.sigma = std::nan("");
+      v.note =
+          "the replay does not depend on it: every residual is the same to the last bit over " +
+          std::to_string(static_cast<int>(std::lround(100 * (hi[k] - lo[k])))) +
+          " % of its range about the optimum";
+      if (o.fit[k].key == "contact.kinetic_friction")
+        v.note +=
+            " (kinetic friction acts only where the wire slides on the core: it did not slide)";
+      continue;
+    }
+    const double sigma_u = std::sqrt(std::max(0.0, cov(k, k)));
+    // The direction the data cannot see: a singular value dropped.
+    bool null_direction = false;
+    for (int q = 0; q < n; ++q) {
+      if (s_inv[q] == 0.0 && std::abs(svd.matrixV()(k, q)) > 0.1) null_direction = true;
+    }
+    v.sigma = sigma_u * range;
+    if (null_direction || sigma_u > 0.25) {
+      v.identifiable = false;
+      v.note = null_direction ? "the data cannot tell it apart from another key's change"
+                              : "the data pin it down only to +-" +
+                                    std::to_string(static_cast<int>(std::lround(100 * sigma_u))) +
+                                    " % of its range (1 sigma)";
+      v.sigma = std::nan("");
+      continue;
+    }
+    for (int q = 0; q < n; ++q) {
+      const double rho = cov(k, q) / std::sqrt(std::max(1e-300, cov(k, k) * cov(q, q)));
+      if (q != k && std::abs(rho) > 0.9) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "correlated with %s (%+.2f)", o.fit[q].key.c_str(), rho);
+        v.note += (v.note.empty() ? "" : "; ") + std::string(buf);
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace cws_tools
