@@ -22,6 +22,25 @@
 
 namespace cws_ros {
 
+void loadReplay(const std::string& scene_path, const std::vector<std::string>& overrides,
+                const std::string& bag_path, const Frames& frames, cws::Scene& scene,
+                MachineRecording& rec) {
+  scene = cws::loadScene(scene_path, overrides);
+  rec = readMachineBag(bag_path, cws::SetpointLimits::of(scene.process), frames);
+  if (!scene.physics.supply) return;
+  for (const std::string& o : overrides) {
+    if (o.rfind("supply.max_points=", 0) == 0) return;
+  }
+  double omega = std::abs(cws::rpmToRadPerSec(scene.process.core_speed_rpm));
+  for (const auto& [t, w] : rec.spindle_speed_rad_s) omega = std::max(omega, std::abs(w));
+  const double needed = scene.pointCapacityForAngle(omega * rec.duration_s());
+  if (needed <= scene.pointCapacity()) return;
+  std::vector<std::string> more = overrides;
+  more.push_back("supply.max_points=" +
+                 std::to_string(static_cast<long>(std::min<double>(needed, cws::kMaxScenePoints))));
+  scene = cws::loadScene(scene_path, more);
+}
+
 bool replayRecording(cws::Simulation& sim, const MachineRecording& rec, const ReplayRates& rates,
                      ReplaySink& sink, std::vector<std::string>& refused,
                      const std::function<bool()>& stop) {
@@ -180,9 +199,8 @@ int replayMain(const std::vector<std::string>& args, const std::string& default_
   cws::Scene scene;
   MachineRecording rec;
   try {
-    scene = cws::loadScene(scene_path, overrides);
+    loadReplay(scene_path, overrides, bag_path, rates.frames, scene, rec);
     rates.frames_hz = frameRateHz(node, scene);
-    rec = readMachineBag(bag_path, cws::SetpointLimits::of(scene.process), rates.frames);
     cws::checkOutputDir(out);
   } catch (const MachineBagError& e) {
     std::cerr << "wire_sim replay: error: " << e.what() << "\n";

@@ -67,14 +67,15 @@ int runCase(const SweepPlan& plan, const std::string& dir, std::size_t i,
   const auto start = std::chrono::steady_clock::now();
   try {
     s.identity = identity(plan, i);
-    const cws::Scene scene = cws::loadScene(plan.scene, plan.caseOverrides(i));
+    cws::Scene scene;
+    cws_ros::MachineRecording rec;
     cws_ros::ReplayRates rates;
+    cws_ros::loadReplay(plan.scene, plan.caseOverrides(i), plan.option("machine_bag", ""),
+                        rates.frames, scene, rec);
     rates.spindle_hz = optionNumber(plan, "spindle_rate_hz");
     rates.profile_hz = optionNumber(plan, "profile_rate_hz");
     rates.profile_turns = optionNumber(plan, "profile_turns");
     rates.frames_hz = cws_ros::frameRateHz(cws_ros::NodeOptions(), scene);
-    const cws_ros::MachineRecording rec = cws_ros::readMachineBag(
-        plan.option("machine_bag", ""), cws::SetpointLimits::of(scene.process), rates.frames);
     cws::Simulation sim(scene);
     cws::RecordedSeries series;
     cws_ros::SeriesSink sink(rates, series);

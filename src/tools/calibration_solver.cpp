@@ -259,7 +259,19 @@ std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::Vector
     points.push_back(a);
     points.push_back(b);
   }
-  const std::vector<Evaluation> e = ev.run(points);
+  // And a line through the optimum along each key (the other keys held):
+  // where the misfit stays as low far away, the key is not pinned down.
+  std::vector<Eigen::VectorXd> lines;
+  for (int k = 0; k < n; ++k) {
+    for (double f : {-0.5, -0.3, -0.2, -0.1, 0.1, 0.2, 0.3, 0.5}) {
+      Eigen::VectorXd p = u;
+      p[k] = std::clamp(u[k] + f, 0.0, 1.0);
+      if (std::abs(p[k] - u[k]) > step) lines.push_back(p);
+    }
+  }
+  std::vector<Eigen::VectorXd> all = points;
+  all.insert(all.end(), lines.begin(), lines.end());
+  const std::vector<Evaluation> e = ev.run(all);
   const Evaluation& c = e[0];
   if (!c.ok) throw std::runtime_error("the replay at the optimum failed: " + c.error);
   const Eigen::Index m = c.residuals.size();
@@ -267,8 +279,13 @@ std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::Vector
   for (int k = 0; k < n; ++k) {
     const Evaluation& a = e[1 + 2 * k];
     const Evaluation& b = e[2 + 2 * k];
-    if (!a.ok || !b.ok || a.residuals.size() != m || b.residuals.size() != m) {
-      throw std::runtime_error("a replay beside the optimum failed: " + (a.ok ? b.error : a.error));
+    for (const Evaluation* x : {&a, &b}) {
+      if (!x->ok) throw std::runtime_error("a replay beside the optimum failed: " + x->error);
+      if (x->residuals.size() != m) {
+        throw std::runtime_error("a replay beside the optimum compares " +
+                                 std::to_string(x->residuals.size()) + " samples, the optimum " +
+                                 std::to_string(m) + " (the profiles paired changed)");
+      }
     }
     j.col(k) = (b.residuals - a.residuals) / (hi[k] - lo[k]);
   }
@@ -295,6 +312,26 @@ std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::Vector
   const Eigen::MatrixXd h_plus = svd.matrixV() * s_inv.asDiagonal() * svd.matrixU().transpose();
   const Eigen::MatrixXd cov = h_plus * (j.transpose() * d.asDiagonal() * j) * h_plus;
 
+  // The band: every evaluation whose chi-square is within 1 of the
+  // optimum's (each measurement's noise its residuals' RMS there) fits the
+  // data as well, within one sigma; the farthest sets a floor under each
+  // key's uncertainty (the curvature alone misses a misfit with many small
+  // minima).
+  const double rms_opt[3] = {c.tension_rms_N, c.profile_rms_mm, c.bulging_rms_mm};
+  std::vector<double> band(n, 0.0);
+  for (const auto& [uh, eh] : ev.history()) {
+    if (!eh.ok || eh.residuals.size() != m) continue;
+    const double rms_h[3] = {eh.tension_rms_N, eh.profile_rms_mm, eh.bulging_rms_mm};
+    double dchi = 0.0;
+    for (int g = 0; g < 3; ++g) {
+      if (groups[g] > 0 && rms_opt[g] > 0.0)
+        dchi +=
+            groups[g] * (rms_h[g] * rms_h[g] - rms_opt[g] * rms_opt[g]) / (rms_opt[g] * rms_opt[g]);
+    }
+    if (dchi > 1.0) continue;
+    for (int k = 0; k < n; ++k) band[k] = std::max(band[k], std::abs(uh[k] - u[k]));
+  }
+
   std::vector<ParameterVerdict> out(n);
   const CalibrationOptions& o = ev.options();
   for (int k = 0; k < n; ++k) {
@@ -312,7 +349,12 @@ std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::Vector
             " (kinetic friction acts only where the wire slides on the core: it did not slide)";
       continue;
     }
-    const double sigma_u = std::sqrt(std::max(0.0, cov(k, k)));
+    const double sigma_curvature = std::sqrt(std::max(0.0, cov(k, k)));
+    const double sigma_u = std::max(sigma_curvature, band[k]);
+    if (band[k] > sigma_curvature) {
+      v.note = "an evaluation " + std::to_string(static_cast<int>(std::lround(100 * band[k]))) +
+               " % of its range away fits as well (chi-square within 1)";
+    }
     // The direction the data cannot see: a singular value dropped.
     bool null_direction = false;
     for (int q = 0; q < n; ++q) {
@@ -321,10 +363,12 @@ std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::Vector
     v.sigma = sigma_u * range;
     if (null_direction || sigma_u > 0.25) {
       v.identifiable = false;
-      v.note = null_direction ? "the data cannot tell it apart from another key's change"
-                              : "the data pin it down only to +-" +
-                                    std::to_string(static_cast<int>(std::lround(100 * sigma_u))) +
-                                    " % of its range (1 sigma)";
+      v.note =
+          (null_direction ? std::string("the data cannot tell it apart from another key's change")
+                          : "the data pin it down only to +-" +
+                                std::to_string(static_cast<int>(std::lround(100 * sigma_u))) +
+                                " % of its range (1 sigma)") +
+          (v.note.empty() ? "" : ": " + v.note);
       v.sigma = std::nan("");
       continue;
     }

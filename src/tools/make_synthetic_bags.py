@@ -97,7 +97,10 @@ def custom_message_class(name):
 
 
 def stamp(t):
-    return genpy.Time.from_sec(t)
+    # To the nearest nanosecond (from_sec truncates: 100.02 became
+    # 100.019999999, a stamp 1 ns off the replay's grid).
+    ns = int(round(t * 1e9))
+    return genpy.Time(ns // 1000000000, ns % 1000000000)
 
 
 def make_cloud(t, frame, fields):
@@ -230,7 +233,7 @@ def perturb(messages, args, synthetic):
     """machine/* messages from sim/* messages: [(topic, msg, bag_time)]."""
     rng = np.random.default_rng(args.seed)
     args.rng = rng   # the profile's noise draws from the same stream
-    shift = genpy.Duration.from_sec(args.time_shift)
+    shift = genpy.Duration(0, int(round(args.time_shift * 1e9)))
     drop = {strip(d).split("/", 1)[1] if strip(d).startswith(("sim/", "machine/")) else strip(d)
             for d in args.drop_topic}
     out = []
@@ -326,7 +329,7 @@ def write_bag(path, messages):
     tmp = path + ".tmp"
     with rosbag.Bag(tmp, "w") as bag:
         for topic, msg, t in sorted(messages, key=lambda item: item[2]):
-            bag.write(topic, msg, genpy.Time.from_sec(t))
+            bag.write(topic, msg, stamp(t))
     os.replace(tmp, path)   # never a half-written bag under the final name
 
 

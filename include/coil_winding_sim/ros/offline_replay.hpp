@@ -37,6 +37,16 @@ class ReplaySink {
   virtual void profile(const cws::Simulation& sim, const ros::Time& stamp) = 0;
 };
 
+// The scene and the recording of a replay: the scene's file with its
+// overrides, the bag read against the scene's limits, and the wire's
+// storage sized for the recording (its fastest speed, the scene's or a
+// command's, over its whole length) unless the overrides set
+// supply.max_points. Throws MachineBagError for a bad bag, cws::SceneError
+// for a bad scene.
+void loadReplay(const std::string& scene_path, const std::vector<std::string>& overrides,
+                const std::string& bag_path, const Frames& frames, cws::Scene& scene,
+                MachineRecording& rec);
+
 // Runs `rec`'s commands through `sim` (in its initial state) to the bag's
 // end, handing the grid's samples to `sink`. Commands the simulation
 // refuses are left out with a line in `refused`. Returns false when `stop`

@@ -97,16 +97,13 @@ double signedDistanceToPolyline(const Eigen::Vector3d& p,
 
 double Misfit::rms(const std::vector<double>& r) const { return rmsOf(r); }
 
-double Misfit::value(const MisfitWeights& w) const {
-  const double t = tensionRms(), p = profileRms(), b = bulgingRms();
-  return w.tension * t * t + w.profile * p * p + w.bulging * b * b;
-}
+double Misfit::value(const MisfitWeights& w) const { return weighted(w).squaredNorm(); }
 
 Eigen::VectorXd Misfit::weighted(const MisfitWeights& w) const {
   Eigen::VectorXd r(tension_N.size() + profile_mm.size() + bulging_mm.size());
   Eigen::Index k = 0;
   auto put = [&](const std::vector<double>& v, double weight) {
-    const double s = v.empty() ? 0.0 : std::sqrt(weight / v.size());
+    const double s = std::sqrt(weight);
     for (double x : v) r[k++] = s * x;
   };
   put(tension_N, w.tension);
@@ -166,8 +163,11 @@ Misfit recordingMisfit(const RecordedSeries& m, const RecordedSeries& s,
                "tension samples (need 10)",
                static_cast<double>(um_k.size()), static_cast<double>(us_k.size())));
   }
-  const double ulo = std::max(um_k.front(), us_k.front());
-  const double uhi = std::min(um_k.back(), us_k.back());
+  // The common range, less a micro-radian at each end: a sample at an end
+  // must not come and go with the last bits of the simulated angle (a fit
+  // needs the same samples at every evaluation).
+  const double ulo = std::max(um_k.front(), us_k.front()) + 1e-6;
+  const double uhi = std::min(um_k.back(), us_k.back()) - 1e-6;
   std::vector<double> at, measured;
   for (std::size_t i = 0; i < um.size(); ++i) {
     if (keep_m[i] && um[i] >= ulo && um[i] <= uhi && m.tension_t_s[i] >= lo &&

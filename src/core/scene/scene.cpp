@@ -63,6 +63,12 @@ double Scene::pointCapacity() const {
   const double n = initialPoints();
   if (!physics.supply) return n;
   if (supply.max_points > 0) return std::max(n, static_cast<double>(supply.max_points));
+  return pointCapacityForAngle(std::abs(rpmToRadPerSec(process.core_speed_rpm)) * endTime());
+}
+
+double Scene::pointCapacityForAngle(double core_angle_rad) const {
+  const double n = initialPoints();
+  if (!physics.supply) return n;
   // Wound length <= core angle x largest radius of the core, plus the free
   // span; 20 % margin.
   const double wire_radius = 0.5 * wire.diameter;
@@ -74,7 +80,7 @@ double Scene::pointCapacity() const {
     r_max = std::max({r_max, f.from_core.norm() + wire_radius, f.to_core.norm() + wire_radius});
   }
   const Eigen::Vector3d axis = core.axis_world.normalized();
-  const double angle = std::abs(rpmToRadPerSec(process.core_speed_rpm)) * endTime();
+  const double angle = core_angle_rad;
   Eigen::Vector3d port_rel = supply.port_position_world - core.position_world;
   port_rel -= port_rel.dot(axis) * axis;
   const double fed = angle * r_max + 2.0 * port_rel.norm();

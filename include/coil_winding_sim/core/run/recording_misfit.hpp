@@ -29,13 +29,14 @@ struct RecordedSeries {
   std::vector<ProfileCloud> profiles;                  // profile
 };
 
-// The misfit's weights: misfit = tension * RMS_T^2 + profile * RMS_p^2 +
-// bulging * RMS_b^2. A weight is best 1 / sigma^2 of the measurement's
-// noise; the defaults take 0.1 N for the load cell and 0.01 mm for the
-// profile sensor.
+// The misfit's weights, per sample: misfit = tension N_T RMS_T^2 +
+// profile N_p RMS_p^2 + bulging N_b RMS_b^2 (N: the samples compared), a
+// chi-square when each weight is 1 / sigma^2 of its measurement's noise.
+// The defaults take 0.1 N for the load cell, 5 um for the profile sensor
+// and 10 um for the bulging (the largest stand-off of a noisy profile).
 struct MisfitWeights {
   double tension = 100.0;  // [1/N^2]
-  double profile = 1.0e4;  // [1/mm^2]
+  double profile = 4.0e4;  // [1/mm^2]
   double bulging = 1.0e4;  // [1/mm^2]
   // Remove the profile's mean radial offset (a line sensor's zero) before
   // the profile and bulging terms.
@@ -44,10 +45,10 @@ struct MisfitWeights {
 
 struct Misfit {
   // Residuals: tension [N] (sim - machine at the machine's samples in the
-  // common angle range), profile [mm] (each measured point's signed
-  // distance to the simulated wire, outward positive, less the offset;
-  // without offset removal its plain distance, as compare_bags.py), bulging
-  // [mm] (per profile pair: the largest stand-off, sim - machine).
+  // common angle range, less 1 micro-radian at each end), profile [mm] (each measured point's
+  // signed distance to the simulated wire, outward positive, less the offset; without offset
+  // removal its plain distance, as compare_bags.py), bulging [mm] (per profile pair: the largest
+  // stand-off, sim - machine).
   std::vector<double> tension_N, profile_mm, bulging_mm;
   double profile_offset_mm = 0.0;  // the mean signed distance removed [mm]
   int profile_pairs = 0;
@@ -57,10 +58,10 @@ struct Misfit {
   double tensionRms() const { return rms(tension_N); }
   double profileRms() const { return rms(profile_mm); }
   double bulgingRms() const { return rms(bulging_mm); }
-  // The weighted sum of the squared RMS errors [-].
+  // The weighted sum of squares [-].
   double value(const MisfitWeights& w) const;
-  // The residuals scaled so that their sum of squares is value(w), in the
-  // order tension, profile, bulging.
+  // The residuals times the square roots of their weights (their sum of
+  // squares is value(w)), in the order tension, profile, bulging.
   Eigen::VectorXd weighted(const MisfitWeights& w) const;
 };
 

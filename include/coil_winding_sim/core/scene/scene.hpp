@@ -269,6 +269,9 @@ struct Scene {
   // endTime().
   double initialPoints() const;
   double pointCapacity() const;
+  // The points a run that turns the core by core_angle_rad [rad] needs
+  // (supply.max_points aside): a replay's commands set the angle.
+  double pointCapacityForAngle(double core_angle_rad) const;
 };
 
 // Checks every value; throws SceneError naming the first bad key.
