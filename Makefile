@@ -62,7 +62,7 @@ DEB_PACKAGES := \
   ros-robot-state-publisher liburdf-dev \
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure python3-roslib \
   libactionlib-dev libactionlib-msgs-dev python3-actionlib python3-actionlib-msgs ros-actionlib-msgs \
-  libtrajectory-msgs-dev python3-trajectory-msgs libceres-dev
+  libtrajectory-msgs-dev python3-trajectory-msgs libdlib-dev
 
 CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \

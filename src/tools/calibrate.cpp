@@ -32,7 +32,8 @@ const char* const kUsage =
     "         [--scene FILE] [--set key=value ...] [--jobs N | --slurm [Slurm options]]\n"
     "         [--weight-tension W] [--weight-profile W] [--weight-bulging W]\n"
     "         [--keep-profile-offset] [--spindle-rate HZ] [--profile-rate HZ]\n"
-    "         [--profile-turns N] [--max-iterations N] [--design N] [--step FRACTION]\n";
+    "         [--profile-turns N] [--evaluations N] [--design N] [--batch N]\n"
+    "         [--step FRACTION]\n";
 
 struct BadInput : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -163,11 +164,10 @@ CalibrationOptions parseArgs(const std::vector<std::string>& args, const std::st
     } else if (a == "--profile-turns") {
       o.profile_turns = parseNumber(a, value());
       if (o.profile_turns < 0) throw BadInput("--profile-turns must be 0 or more");
-    } else if (a == "--max-iterations") {
+    } else if (a == "--evaluations" || a == "--batch") {
       const double n = parseNumber(a, value());
-      if (n < 1 || n != std::floor(n))
-        throw BadInput("--max-iterations must be a whole number of 1 or more");
-      o.max_iterations = static_cast<int>(n);
+      if (n < 1 || n != std::floor(n)) throw BadInput(a + " must be a whole number of 1 or more");
+      (a == "--evaluations" ? o.max_evaluations : o.batch) = static_cast<int>(n);
     } else if (a == "--step") {
       o.step = parseNumber(a, value());
       if (!(o.step > 0 && o.step <= 0.25))
@@ -243,6 +243,8 @@ int calibrateMain(const std::vector<std::string>& args, const std::string& defau
     }
     checkCorners(o);
     if (o.design_points < 0) o.design_points = 8 * static_cast<int>(o.fit.size());
+    if (o.max_evaluations < 0) o.max_evaluations = 40 * static_cast<int>(o.fit.size());
+    o.max_evaluations = std::max(o.max_evaluations, o.design_points + 1);
     // The bag checked once here, with compare_bags.py's messages.
     cws_ros::readMachineBag(o.machine_bag, cws::SetpointLimits::of(scene.process),
                             cws_ros::Frames());
@@ -272,7 +274,7 @@ int calibrateMain(const std::vector<std::string>& args, const std::string& defau
   std::vector<ParameterVerdict> verdicts(o.fit.size());
   Evaluation start;
   try {
-    fit = fitLeastSquares(ev, u0);
+    fit = fitGlobal(ev, u0);
     if (!ev.history().empty()) start = ev.history().front().second;
     if (!fit.stopped && ev.haveBest()) verdicts = judgeParameters(ev, fit.u);
   } catch (const CalibrationStopped&) {

@@ -1,8 +1,9 @@
 // Calibration of scene keys to a machine's recording (wire_sim calibrate):
-// Levenberg-Marquardt (Ceres) on the misfit of recording_misfit.hpp, every
-// evaluation a replay of the machine bag run as a case of a sweep (locally
-// N at once, or on Slurm), so that Jacobians are evaluated in parallel and
-// a second run of the same command takes the evaluations it already has.
+// a global search (dlib) for the least misfit of recording_misfit.hpp,
+// every evaluation a replay of the machine bag run as a case of a sweep
+// (locally N at once, or on Slurm), so that a batch of evaluations runs in
+// parallel and a second run of the same command takes the evaluations it
+// already has.
 #pragma once
 
 #include <Eigen/Core>
@@ -35,7 +36,10 @@ struct CalibrationOptions {
   int jobs = 2;
   bool slurm = false;
   SlurmOptions slurm_options;
-  int max_iterations = 30;
+  // Evaluations in all (the search's budget); -1: 40 per fitted key.
+  int max_evaluations = -1;
+  // Evaluations per batch on Slurm (locally: --jobs).
+  int batch = 8;
   // Points of the start design (Halton) over the box, evaluated at once;
   // -1: 8 per fitted key.
   int design_points = -1;

@@ -1,7 +1,7 @@
 // The calibration's evaluations, fit and verdicts (calibration_solver.hpp).
 #include "calibration_solver.hpp"
 
-#include <ceres/ceres.h>
+#include <dlib/global_optimization.h>
 #include <unistd.h>
 
 #include <Eigen/SVD>
@@ -108,71 +108,6 @@ std::vector<Evaluation> Evaluator::run(const std::vector<Eigen::VectorXd>& point
 
 namespace {
 
-// The misfit's residuals as Ceres's one block over the scaled keys; a
-// Jacobian by forward differences (backward at an upper bound), the
-// points of one Jacobian run as one batch.
-class ReplayCost : public ceres::CostFunction {
- public:
-  ReplayCost(Evaluator& ev, int residuals, int n, double step) : ev_(ev), n_(n), step_(step) {
-    set_num_residuals(residuals);
-    mutable_parameter_block_sizes()->push_back(n);
-  }
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override {
-    const Eigen::Map<const Eigen::VectorXd> u(parameters[0], n_);
-    std::vector<Eigen::VectorXd> points = {u};
-    std::vector<double> h(n_);
-    const bool jacobian = jacobians && jacobians[0];
-    if (jacobian) {
-      for (int k = 0; k < n_; ++k) {
-        h[k] = u[k] + step_ <= 1.0 ? step_ : -step_;
-        Eigen::VectorXd p = u;
-        p[k] += h[k];
-        points.push_back(p);
-      }
-    }
-    std::vector<Evaluation> e;
-    try {
-      e = ev_.run(points);
-    } catch (const CalibrationStopped&) {
-      stopped = true;
-      return false;
-    }
-    for (const Evaluation& x : e) {
-      if (!x.ok || x.residuals.size() != num_residuals()) return false;
-    }
-    Eigen::Map<Eigen::VectorXd>(residuals, num_residuals()) = e[0].residuals;
-    if (jacobian) {
-      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> j(
-          jacobians[0], num_residuals(), n_);
-      for (int k = 0; k < n_; ++k) j.col(k) = (e[k + 1].residuals - e[0].residuals) / h[k];
-    }
-    return true;
-  }
-  mutable bool stopped = false;
-
- private:
-  Evaluator& ev_;
-  int n_;
-  double step_;
-};
-
-// Ends the solve when Ctrl-C came.
-class StopCallback : public ceres::IterationCallback {
- public:
-  explicit StopCallback(const ReplayCost& cost) : cost_(cost) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
-    return cost_.stopped ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  const ReplayCost& cost_;
-};
-
-}  // namespace
-
-namespace {
-
 // Point i (from 1) of the Halton sequence in n dimensions: a deterministic
 // design that fills the box evenly, so the fit starts in the best basin
 // the design finds (the misfit of a replay has many small local minima).
@@ -193,57 +128,70 @@ Eigen::VectorXd halton(int i, int n) {
 
 }  // namespace
 
-FitOutcome fitLeastSquares(Evaluator& ev, const Eigen::VectorXd& u0) {
+FitOutcome fitGlobal(Evaluator& ev, const Eigen::VectorXd& u0) {
   FitOutcome out;
   out.u = u0;
   const int n = static_cast<int>(u0.size());
-  // The start and the design, as one batch; the best is the fit's start.
+  const CalibrationOptions& o = ev.options();
+  // The start and the design, as one batch: dlib's first model.
   std::vector<Eigen::VectorXd> design = {u0};
-  for (int i = 1; i <= ev.options().design_points; ++i) design.push_back(halton(i, n));
-  std::vector<Evaluation> start;
+  for (int i = 1; i <= o.design_points; ++i) design.push_back(halton(i, n));
+  auto toDlib = [n](const Eigen::VectorXd& u) {
+    dlib::matrix<double, 0, 1> x(n);
+    for (int k = 0; k < n; ++k) x(k) = u[k];
+    return x;
+  };
+  // dlib maximizes: -misfit; a failed replay counts as twice the worst.
+  double worst = 0.0;
+  auto score = [&](const Evaluation& e) { return e.ok ? -e.misfit : -2.0 * std::max(worst, 1.0); };
+  std::vector<dlib::function_evaluation> initial;
   try {
-    start = ev.run(design);
+    const std::vector<Evaluation> first = ev.run(design);
+    if (!first[0].ok) throw std::runtime_error("the replay at the start failed: " + first[0].error);
+    for (const Evaluation& e : first) {
+      if (e.ok) worst = std::max(worst, e.misfit);
+    }
+    for (std::size_t i = 0; i < design.size(); ++i) {
+      initial.emplace_back(toDlib(design[i]), score(first[i]));
+    }
   } catch (const CalibrationStopped&) {
     out.stopped = true;
     return out;
   }
-  if (!start[0].ok) throw std::runtime_error("the replay at the start failed: " + start[0].error);
-  std::size_t first = 0;
-  for (std::size_t i = 1; i < start.size(); ++i) {
-    if (start[i].ok && start[i].residuals.size() == start[0].residuals.size() &&
-        start[i].misfit < start[first].misfit)
-      first = i;
+  dlib::global_function_search search(
+      {dlib::function_spec(toDlib(Eigen::VectorXd::Zero(n)), toDlib(Eigen::VectorXd::Ones(n)))},
+      {initial});
+  // Batches of the requests dlib has outstanding at once: one refines the
+  // best point's local model, the others explore the global one.
+  const int batch = std::max(2, o.slurm ? o.batch : o.jobs);
+  while (ev.evaluations() < o.max_evaluations) {
+    std::vector<dlib::function_evaluation_request> requests;
+    std::vector<Eigen::VectorXd> points;
+    for (int i = 0; i < batch && ev.evaluations() + i < o.max_evaluations; ++i) {
+      requests.push_back(search.get_next_x());
+      Eigen::VectorXd u(n);
+      for (int k = 0; k < n; ++k) u[k] = requests.back().x()(k);
+      points.push_back(u);
+    }
+    std::vector<Evaluation> e;
+    try {
+      e = ev.run(points);
+    } catch (const CalibrationStopped&) {
+      out.stopped = true;
+      break;
+    }
+    for (std::size_t i = 0; i < e.size(); ++i) {
+      if (e[i].ok) worst = std::max(worst, e[i].misfit);
+      requests[i].set(score(e[i]));
+    }
   }
-  std::vector<double> u(design[first].data(), design[first].data() + n);
-  auto* cost = new ReplayCost(ev, static_cast<int>(start[0].residuals.size()), n, ev.step());
-  ceres::Problem problem;
-  problem.AddResidualBlock(cost, nullptr, u.data());
-  for (int k = 0; k < n; ++k) {
-    problem.SetParameterLowerBound(u.data(), k, 0.0);
-    problem.SetParameterUpperBound(u.data(), k, 1.0);
-  }
-  ceres::Solver::Options options;
-  options.minimizer_type = ceres::TRUST_REGION;
-  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = ev.maxIterations();
-  // A relative decrease of the misfit below 1e-6, or a step below 1e-4 of
-  // the ranges: converged (the replays are deterministic, not smoother).
-  options.function_tolerance = 1e-6;
-  options.parameter_tolerance = 1e-4;
-  options.gradient_tolerance = 1e-12;
-  options.logging_type = ceres::SILENT;
-  options.num_threads = 1;
-  StopCallback callback(*cost);
-  options.callbacks.push_back(&callback);
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
-  out.stopped = cost->stopped;
-  out.termination = summary.BriefReport();
   out.u = ev.haveBest() ? ev.bestU() : u0;
+  char line[160];
+  std::snprintf(line, sizeof line, "dlib global_function_search: %d evaluations (budget %d).",
+                ev.evaluations(), o.max_evaluations);
+  out.termination = line;
   return out;
 }
-
 std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::VectorXd& u) {
   const int n = static_cast<int>(u.size());
   const double step = ev.step();

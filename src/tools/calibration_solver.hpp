@@ -1,6 +1,7 @@
 // The calibration's numerics: evaluations run in batches through the sweep
-// mechanism, the Levenberg-Marquardt fit (Ceres) over the fitted keys
-// scaled to [0, 1], and the uncertainty and identifiability at the optimum.
+// mechanism, the global search (dlib's global_function_search) over the
+// fitted keys scaled to [0, 1], and the uncertainty and identifiability at
+// the optimum.
 #pragma once
 
 #include <Eigen/Core>
@@ -27,7 +28,6 @@ class Evaluator {
 
   const CalibrationOptions& options() const { return o_; }
   double step() const { return o_.step; }
-  int maxIterations() const { return o_.max_iterations; }
   int evaluations() const { return evaluations_; }
   int kept() const { return kept_; }
   bool haveBest() const { return best_.ok; }
@@ -50,12 +50,14 @@ class Evaluator {
 
 struct FitOutcome {
   Eigen::VectorXd u;        // the best point, scaled
-  std::string termination;  // Ceres's report, one line
+  std::string termination;  // how the search ended, one line
   bool stopped = false;     // Ctrl-C: the best so far
 };
-// Levenberg-Marquardt from the scaled start u0, each Jacobian by forward
-// differences of o.step of the ranges, evaluated as one batch.
-FitOutcome fitLeastSquares(Evaluator& ev, const Eigen::VectorXd& u0);
+// The global search from the scaled start u0 and a Halton design over the
+// box, then dlib's alternation of global exploration (its Lipschitz upper
+// bound) and local refinement (a quadratic model about the best point), a
+// batch of requests at a time, until o.max_evaluations.
+FitOutcome fitGlobal(Evaluator& ev, const Eigen::VectorXd& u0);
 
 // Each fitted key at the optimum: its 1-sigma uncertainty from the
 // curvature (the Gauss-Newton Hessian J^T J of central differences) with

@@ -179,7 +179,8 @@ def profile_points(theta, turns, spacing, phase):
     return helix(phi)
 
 
-def synthetic_sim_messages(duration, rate_hz, profile_rate_hz, profile_turns, record_delay):
+def synthetic_sim_messages(duration, rate_hz, profile_rate_hz, profile_turns, record_delay,
+                           tension_command=TENSION_CMD):
     """[(topic, msg, bag_time)] of every sim/* topic, in time order."""
     WireTension = custom_message_class("WireTension")
     TensionSetpoint = custom_message_class("TensionSetpoint")
@@ -194,7 +195,7 @@ def synthetic_sim_messages(duration, rate_hz, profile_rate_hz, profile_turns, re
                          position=[], velocity=[float(omega[k])], effort=[])
         state = JointState(header=Header(stamp=stamp(st)), name=["spindle"],
                            position=[float(theta[k])], velocity=[float(omega[k])], effort=[])
-        tc = TensionSetpoint(header=Header(stamp=stamp(st)), tension=TENSION_CMD)
+        tc = TensionSetpoint(header=Header(stamp=stamp(st)), tension=tension_command)
         tm = WireTension(header=Header(stamp=stamp(st)), tension=float(tens[k]))
         port = PointStamped(header=Header(stamp=stamp(st), frame_id="world"))
         port.point.x, port.point.y = PORT_X, 0.0
@@ -344,6 +345,8 @@ def main(argv=None):
     p.add_argument("--rate", type=float, default=250.0, help="[Hz] spindle, tension and port (synthetic)")
     p.add_argument("--profile-rate", type=float, default=10.0, help="[Hz] (synthetic)")
     p.add_argument("--profile-turns", type=float, default=2.0, help="turns of wire in a profile (synthetic)")
+    p.add_argument("--tension-command", type=float, default=TENSION_CMD,
+                   help="[N] the commanded tension (synthetic)")
     p.add_argument("--record-delay", type=float, default=0.002,
                    help="[s] each message written this long after its stamp (synthetic); 0 puts the "
                         "commands on the replay's grid")
@@ -374,7 +377,7 @@ def main(argv=None):
         sim = read_sim_messages(args.from_sim_bag)
     else:
         sim = synthetic_sim_messages(args.duration, args.rate, args.profile_rate, args.profile_turns,
-                                     args.record_delay)
+                                     args.record_delay, args.tension_command)
     machine = perturb(sim, args, synthetic=not args.from_sim_bag)
     if args.sim_bag:
         write_bag(args.sim_bag, sim)

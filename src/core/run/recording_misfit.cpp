@@ -202,7 +202,9 @@ Misfit recordingMisfit(const RecordedSeries& m, const RecordedSeries& s,
   };
   std::vector<double> sim_key;
   for (const ProfileCloud* c : sim_clouds) sim_key.push_back(angleAt(c->t_s, s));
-  std::vector<double> signed_mm, plain_mm, sim_bulge, machine_bulge;
+  // The pairs: each machine cloud with the sim cloud nearest in angle.
+  std::vector<std::pair<const ProfileCloud*, const ProfileCloud*>> pairs;
+  std::vector<double> sim_bulge, machine_bulge;
   bool bulging = true;
   for (const ProfileCloud& c : m.profiles) {
     if (!(c.t_s >= lo && c.t_s <= hi) || c.p_core.empty()) continue;
@@ -212,12 +214,7 @@ Misfit recordingMisfit(const RecordedSeries& m, const RecordedSeries& s,
       if (std::abs(sim_key[j] - a) < std::abs(sim_key[k] - a)) k = j;
     }
     const ProfileCloud& sc = *sim_clouds[k];
-    for (const Eigen::Vector3d& p : c.p_core) {
-      const double d = signedDistanceToPolyline(p, sc.p_core);
-      signed_mm.push_back(1e3 * d);
-      plain_mm.push_back(1e3 * std::abs(d));
-    }
-    ++out.profile_pairs;
+    pairs.emplace_back(&c, &sc);
     if (c.stand_off_m.empty() || sc.stand_off_m.empty()) {
       bulging = false;
     } else {
@@ -225,18 +222,49 @@ Misfit recordingMisfit(const RecordedSeries& m, const RecordedSeries& s,
       machine_bulge.push_back(1e3 * *std::max_element(c.stand_off_m.begin(), c.stand_off_m.end()));
     }
   }
-  if (out.profile_pairs == 0) {
+  out.profile_pairs = static_cast<int>(pairs.size());
+  if (pairs.empty()) {
     out.notes.push_back("profile not compared: no machine profile in the overlap");
     return out;
   }
+  // Each measured point's distance [mm] to the simulated wire, the points
+  // first moved towards the axis by offset_mm.
+  auto distances = [&](double offset_mm, std::vector<double>* d_mm) {
+    double sum = 0.0;
+    for (const auto& [mc, sc] : pairs) {
+      for (const Eigen::Vector3d& p : mc->p_core) {
+        const double r = p.head<2>().norm();
+        Eigen::Vector3d q = p;
+        if (r > 0.0) q.head<2>() *= (r - 1e-3 * offset_mm) / r;
+        const double d = 1e3 * std::abs(signedDistanceToPolyline(q, sc->p_core));
+        sum += d * d;
+        if (d_mm) d_mm->push_back(d);
+      }
+    }
+    return sum;
+  };
+  // A line sensor's radial zero offset: the one shift that brings the
+  // points closest to the wire (golden section over +-0.1 mm, less than
+  // half a wire's pitch, where the sum is unimodal).
   if (weights.remove_profile_offset) {
-    double mean = 0.0;
-    for (double d : signed_mm) mean += d;
-    out.profile_offset_mm = mean / signed_mm.size();
-    for (double d : signed_mm) out.profile_mm.push_back(d - out.profile_offset_mm);
-  } else {
-    out.profile_mm = plain_mm;
+    const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+    double a = -0.1, b = 0.1;
+    double c = b - g * (b - a), d = a + g * (b - a);
+    double fc = distances(c, nullptr), fd = distances(d, nullptr);
+    while (b - a > 1e-7) {
+      if (fc < fd) {
+        b = d, d = c, fd = fc;
+        c = b - g * (b - a);
+        fc = distances(c, nullptr);
+      } else {
+        a = c, c = d, fc = fd;
+        d = a + g * (b - a);
+        fd = distances(d, nullptr);
+      }
+    }
+    out.profile_offset_mm = 0.5 * (a + b);
   }
+  distances(out.profile_offset_mm, &out.profile_mm);
   if (!bulging) {
     out.notes.push_back("bulging not compared: a profile has no stand_off field");
     return out;

@@ -45,12 +45,13 @@ struct MisfitWeights {
 
 struct Misfit {
   // Residuals: tension [N] (sim - machine at the machine's samples in the
-  // common angle range, less 1 micro-radian at each end), profile [mm] (each measured point's
-  // signed distance to the simulated wire, outward positive, less the offset; without offset
-  // removal its plain distance, as compare_bags.py), bulging [mm] (per profile pair: the largest
-  // stand-off, sim - machine).
+  // common angle range, less 1 micro-radian at each end), profile [mm]
+  // (each measured point's distance to the simulated wire, as
+  // compare_bags.py measures it, after the points are moved radially by the
+  // offset), bulging [mm] (per profile pair: the largest stand-off, sim -
+  // machine less the offset).
   std::vector<double> tension_N, profile_mm, bulging_mm;
-  double profile_offset_mm = 0.0;  // the mean signed distance removed [mm]
+  double profile_offset_mm = 0.0;  // the radial offset removed, outward positive [mm]
   int profile_pairs = 0;
   std::vector<std::string> notes;  // what was not compared, and why
 
