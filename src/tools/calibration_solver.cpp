@@ -192,6 +192,10 @@ FitOutcome fitGlobal(Evaluator& ev, const Eigen::VectorXd& u0) {
   out.termination = line;
   return out;
 }
+// A key is pinned down when its 1-sigma uncertainty is at most this
+// fraction of its range.
+constexpr double kPinnedDown = 0.1;
+
 std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::VectorXd& u) {
   const int n = static_cast<int>(u.size());
   const double step = ev.step();
@@ -260,11 +264,11 @@ std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::Vector
   const Eigen::MatrixXd h_plus = svd.matrixV() * s_inv.asDiagonal() * svd.matrixU().transpose();
   const Eigen::MatrixXd cov = h_plus * (j.transpose() * d.asDiagonal() * j) * h_plus;
 
-  // The band: every evaluation whose chi-square is within 1 of the
+  // The band: every evaluation whose chi-square is within 4 of the
   // optimum's (each measurement's noise its residuals' RMS there) fits the
-  // data as well, within one sigma; the farthest sets a floor under each
-  // key's uncertainty (the curvature alone misses a misfit with many small
-  // minima).
+  // data as well, within two sigma; half the farthest one's distance sets a
+  // floor under each key's uncertainty (the curvature alone misses a misfit
+  // with many small minima).
   const double rms_opt[3] = {c.tension_rms_N, c.profile_rms_mm, c.bulging_rms_mm};
   std::vector<double> band(n, 0.0);
   for (const auto& [uh, eh] : ev.history()) {
@@ -276,8 +280,9 @@ std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::Vector
         dchi +=
             groups[g] * (rms_h[g] * rms_h[g] - rms_opt[g] * rms_opt[g]) / (rms_opt[g] * rms_opt[g]);
     }
-    if (dchi > 1.0) continue;
-    for (int k = 0; k < n; ++k) band[k] = std::max(band[k], std::abs(uh[k] - u[k]));
+    if (dchi > 4.0) continue;
+    // Within 2 sigma: half its distance is a 1-sigma floor.
+    for (int k = 0; k < n; ++k) band[k] = std::max(band[k], 0.5 * std::abs(uh[k] - u[k]));
   }
 
   std::vector<ParameterVerdict> out(n);
@@ -300,8 +305,8 @@ std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::Vector
     const double sigma_curvature = std::sqrt(std::max(0.0, cov(k, k)));
     const double sigma_u = std::max(sigma_curvature, band[k]);
     if (band[k] > sigma_curvature) {
-      v.note = "an evaluation " + std::to_string(static_cast<int>(std::lround(100 * band[k]))) +
-               " % of its range away fits as well (chi-square within 1)";
+      v.note = "an evaluation " + std::to_string(static_cast<int>(std::lround(200 * band[k]))) +
+               " % of its range away fits as well (chi-square within 4)";
     }
     // The direction the data cannot see: a singular value dropped.
     bool null_direction = false;
@@ -309,7 +314,7 @@ std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::Vector
       if (s_inv[q] == 0.0 && std::abs(svd.matrixV()(k, q)) > 0.1) null_direction = true;
     }
     v.sigma = sigma_u * range;
-    if (null_direction || sigma_u > 0.25) {
+    if (null_direction || sigma_u > kPinnedDown) {
       v.identifiable = false;
       v.note =
           (null_direction ? std::string("the data cannot tell it apart from another key's change")

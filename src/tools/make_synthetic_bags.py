@@ -345,6 +345,8 @@ def main(argv=None):
     p.add_argument("--rate", type=float, default=250.0, help="[Hz] spindle, tension and port (synthetic)")
     p.add_argument("--profile-rate", type=float, default=10.0, help="[Hz] (synthetic)")
     p.add_argument("--profile-turns", type=float, default=2.0, help="turns of wire in a profile (synthetic)")
+    p.add_argument("--max-speed-rpm", type=float, default=1200.0,
+                   help="[rpm] the spindle's speed after its 0.5 s ramp (synthetic); 0: at rest")
     p.add_argument("--tension-command", type=float, default=TENSION_CMD,
                    help="[N] the commanded tension (synthetic)")
     p.add_argument("--record-delay", type=float, default=0.002,
@@ -373,6 +375,8 @@ def main(argv=None):
     if not (args.sim_bag or args.machine_bag or args.combined_bag):
         p.error("give --sim-bag, --machine-bag and/or --combined-bag")
 
+    global OMEGA_MAX
+    OMEGA_MAX = args.max_speed_rpm * RAD_S_PER_RPM
     if args.from_sim_bag:
         sim = read_sim_messages(args.from_sim_bag)
     else:
