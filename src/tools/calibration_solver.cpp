@@ -84,11 +84,13 @@ std::vector<Evaluation> Evaluator::run(const std::vector<Eigen::VectorXd>& point
     }
   } else {
     rc = runSweepLocal(plan, dir, o_.jobs, exe_, stop_);
-    if (rc < 0) throw CalibrationStopped{};
   }
+  const bool stopped = o_.slurm ? false : rc < 0;
   kept_ += static_cast<int>(kept);
   for (std::size_t j = 0; j < todo.size(); ++j) {
     Evaluation e = readEvaluation(plan, dir, j);
+    // Stopped: the cases that finished count (the best so far among them).
+    if (stopped && !readCaseStatus(plan, dir, j).present) continue;
     ++evaluations_;
     history_.emplace_back(todo[j], e);
     const std::vector<double> key(todo[j].data(), todo[j].data() + todo[j].size());
@@ -99,6 +101,7 @@ std::vector<Evaluation> Evaluator::run(const std::vector<Eigen::VectorXd>& point
     }
     out[where[j]] = e;
   }
+  if (stopped) throw CalibrationStopped{};
   std::fprintf(stderr,
                "calibrate: %d evaluations (%d kept from an earlier run), best misfit %.6g at %s\n",
                evaluations_, kept_, best_.ok ? best_.misfit : std::nan(""),

@@ -163,11 +163,12 @@ Misfit recordingMisfit(const RecordedSeries& m, const RecordedSeries& s,
                "tension samples (need 10)",
                static_cast<double>(um_k.size()), static_cast<double>(us_k.size())));
   }
-  // The common range, less a micro-radian at each end: a sample at an end
-  // must not come and go with the last bits of the simulated angle (a fit
-  // needs the same samples at every evaluation).
-  const double ulo = std::max(um_k.front(), us_k.front()) + 1e-6;
-  const double uhi = std::min(um_k.back(), us_k.back()) - 1e-6;
+  // The common range, reaching a micro-radian beyond the simulation's end:
+  // a last sample at the same angle must not come and go with the last
+  // bits of the simulated angle (the curvature at the optimum needs the
+  // same samples at every evaluation; both angles start at exactly 0).
+  const double ulo = std::max(um_k.front(), us_k.front());
+  const double uhi = std::min(um_k.back(), us_k.back() + 1e-6);
   std::vector<double> at, measured;
   for (std::size_t i = 0; i < um.size(); ++i) {
     if (keep_m[i] && um[i] >= ulo && um[i] <= uhi && m.tension_t_s[i] >= lo &&

@@ -45,7 +45,7 @@ struct MisfitWeights {
 
 struct Misfit {
   // Residuals: tension [N] (sim - machine at the machine's samples in the
-  // common angle range, less 1 micro-radian at each end), profile [mm]
+  // common angle range, to 1 micro-radian beyond the sim's end), profile [mm]
   // (each measured point's distance to the simulated wire, as
   // compare_bags.py measures it, after the points are moved radially by the
   // offset), bulging [mm] (per profile pair: the largest stand-off, sim -

@@ -1,0 +1,63 @@
+#!/bin/bash
+# Calibration against synthetic machine recordings whose true parameters
+# are known (make calibrate-demo; test_calibrate runs it with --short).
+#
+#   src/tools/calibrate_demo.sh OUT [--short]
+#
+# 1. A machine's commands: the spindle ramped to 1200 rpm in 0.5 s, 70 N.
+# 2. The truth: that bag replayed on the cell's scene (elastic slip) with
+#    contact.static_friction 0.28, contact.kinetic_friction 0.2 and
+#    wire.bend.yield_curvature 2.0 1/m.
+# 3. The machine's recording: the truth's sim/ topics as machine/ topics,
+#    with 0.1 N of load-cell noise, 2 um of profile noise, stamps 3 ms late
+#    and the profile sensor 0.02 mm off radially.
+# 4. wire_sim calibrate from the scene's own values: OUT/calibration
+#    (--short: four keys, one of them without effect in this scene;
+#    otherwise the usual five and that one, with more evaluations).
+# 5. A recording at 60 rpm, where the wire hardly slides: OUT/slow (kinetic
+#    friction is not identifiable from it).
+# Also OUT/at_truth: the misfit at the true values (the fit must reach it),
+# and OUT/plain: the start's misfit without the profile's offset removed,
+# the terms compare_bags.py computes.
+set -euo pipefail
+out=$1
+short=${2:-}
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(cd "$here/../.." && pwd)
+wire_sim=${WIRE_SIM:-$root/.ws/devel/lib/coil_winding_sim/wire_sim}
+python=/usr/bin/python3
+scene=$root/config/scenes/winding_cell.yaml
+law=(--set contact.friction_law=elastic_slip)
+truth=(--set contact.static_friction=0.28 --set contact.kinetic_friction=0.2
+       --set wire.bend.yield_curvature=2.0)
+mkdir -p "$out"
+bags() {  # NAME RPM: commands, truth replay, perturbed machine bag
+  "$python" "$here/make_synthetic_bags.py" --machine-bag "$out/$1_commands.bag" --duration 0.5 \
+    --rate 100 --record-delay 0 --tension-command 70 --max-speed-rpm "$2" \
+    --drop-topic port/command --drop-topic port/position --drop-topic profile
+  "$wire_sim" replay "$out/$1_commands.bag" --scene "$scene" "${law[@]}" "${truth[@]}" \
+    --profile-rate 20 --out "$out/$1_truth"
+  "$python" "$here/make_synthetic_bags.py" --from-sim-bag "$out/$1_truth/replay.bag" \
+    --machine-bag "$out/$1.bag" --tension-noise 0.1 --profile-noise-mm 0.002 \
+    --time-shift 0.003 --profile-offset-mm 0.02 --seed 3
+}
+bags machine 1200
+bags machine_slow 60
+
+fit=(--fit contact.static_friction=0.22:0.4 --fit contact.kinetic_friction=0.1:0.22
+     --fit wire.bend.yield_curvature=1:3 --fit wire.torsion.yield_twist)
+[ "$short" = --short ] || fit+=(--fit wire.stretch.yield_strain --fit contact.damping_ratio=0.5:1)
+start=$SECONDS
+"$wire_sim" calibrate "$out/machine.bag" --scene "$scene" "${law[@]}" "${fit[@]}" \
+  --profile-rate 20 --out "$out/calibration"
+echo "calibrate_demo: the calibration took $((SECONDS - start)) s"
+"$wire_sim" calibrate "$out/machine_slow.bag" --scene "$scene" "${law[@]}" \
+  --fit contact.kinetic_friction=0.1:0.22 --fit wire.bend.yield_curvature=1:3 \
+  --design 4 --evaluations 12 --profile-rate 20 --out "$out/slow"
+# One evaluation each: at the true values, and the start without offset removal.
+"$wire_sim" calibrate "$out/machine.bag" --scene "$scene" "${law[@]}" "${truth[@]}" \
+  --fit wire.bend.yield_curvature=1:3 --design 0 --evaluations 1 --profile-rate 20 \
+  --out "$out/at_truth" > /dev/null
+"$wire_sim" calibrate "$out/machine.bag" --scene "$scene" "${law[@]}" \
+  --fit wire.bend.yield_curvature=1:3 --design 0 --evaluations 1 --profile-rate 20 \
+  --keep-profile-offset --out "$out/plain" > /dev/null
