@@ -14,6 +14,8 @@
 #   make compare  machine run vs simulation:  make compare BAG=run.bag [OUT=out/compare] [ARGS="--align angle"]
 #                 or MACHINE=a.bag SIM=b.bag instead of BAG (src/tools/compare_bags.py)
 #   make compare-demo   the same on synthetic bags with a known perturbation
+#   make calibrate-demo wire_sim calibrate on synthetic recordings with known values
+#                 (CALIBRATE_OUT, default out/calibrate_demo)
 #   make screenshots    the README's rviz pictures, taken as its commands run (Xvfb)
 #   make test     build and run all tests; non-zero exit if any test fails
 #   make format   clang-format -i all C++ sources
@@ -71,7 +73,7 @@ CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCATKIN_ENABLE_TESTING=ON \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON
 
-.PHONY: deps build run study coil-study bench work-precision stability robustness compare compare-demo screenshots test format format-check clean
+.PHONY: deps build run study coil-study bench work-precision stability robustness compare compare-demo calibrate-demo screenshots test format format-check clean
 
 deps:
 ifeq ($(SKIP_DEPS),1)
@@ -172,6 +174,13 @@ compare-demo: deps
 	$(PYTHON) src/tools/make_synthetic_bags.py --combined-bag out/compare_demo/synthetic.bag \
 	  --tension-offset 2 --tension-noise 0.2 --time-shift 0.005 --profile-offset-mm 0.1
 	$(PYTHON) src/tools/compare_bags.py out/compare_demo/synthetic.bag --out out/compare_demo $(ARGS)
+
+# Calibration against synthetic machine recordings with known values
+# (src/tools/calibrate_demo.sh: the usual five keys and one without effect),
+# into CALIBRATE_OUT (default out/calibrate_demo).
+CALIBRATE_OUT ?= out/calibrate_demo
+calibrate-demo: build
+	WIRE_SIM=$(WIRE_SIM) src/tools/calibrate_demo.sh $(CALIBRATE_OUT)
 
 # The README's rviz pictures, each taken as the command beside it runs
 # (src/tools/rviz_screenshot.sh; test_screenshots takes them too).

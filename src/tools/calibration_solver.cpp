@@ -217,11 +217,15 @@ std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::Vector
   // And a line through the optimum along each key (the other keys held):
   // where the misfit stays as low far away, the key is not pinned down.
   std::vector<Eigen::VectorXd> lines;
+  std::vector<int> line_key;
   for (int k = 0; k < n; ++k) {
     for (double f : {-0.5, -0.3, -0.2, -0.1, 0.1, 0.2, 0.3, 0.5}) {
       Eigen::VectorXd p = u;
       p[k] = std::clamp(u[k] + f, 0.0, 1.0);
-      if (std::abs(p[k] - u[k]) > step) lines.push_back(p);
+      if (std::abs(p[k] - u[k]) > step) {
+        lines.push_back(p);
+        line_key.push_back(k);
+      }
     }
   }
   std::vector<Eigen::VectorXd> all = points;
@@ -305,7 +309,36 @@ std::vector<ParameterVerdict> judgeParameters(Evaluator& ev, const Eigen::Vector
             " (kinetic friction acts only where the wire slides on the core: it did not slide)";
       continue;
     }
-    const double sigma_curvature = std::sqrt(std::max(0.0, cov(k, k)));
+    // The curvature over +-20 % of the range as well: a parabola through
+    // the misfit along the key's line (least squares), which sees the
+    // trend through the small jumps of the replay's discrete events that a
+    // 5 % stencil takes for curvature; 1 sigma where it rises by the
+    // misfit per degree of freedom.
+    double secant = std::numeric_limits<double>::infinity();
+    {
+      Eigen::MatrixXd a(0, 2);
+      Eigen::VectorXd y(0);
+      auto add = [&](double d, const Evaluation& x) {
+        if (!x.ok || std::abs(d) > 0.2 + 1e-12 || d == 0.0) return;
+        a.conservativeResize(a.rows() + 1, 2);
+        y.conservativeResize(y.size() + 1);
+        a.row(a.rows() - 1) << d * d, d;
+        y[y.size() - 1] = x.misfit - c.misfit;
+      };
+      add(lo[k] - u[k], e[1 + 2 * k]);
+      add(hi[k] - u[k], e[2 + 2 * k]);
+      for (std::size_t i = 0; i < lines.size(); ++i) {
+        if (line_key[i] == k) add(lines[i][k] - u[k], e[points.size() + i]);
+      }
+      const double dof = std::max(1.0, static_cast<double>(m - n));
+      if (a.rows() >= 2) {
+        const Eigen::Vector2d q = a.colPivHouseholderQr().solve(y);
+        secant =
+            q[0] > 0.0 ? std::sqrt(c.misfit / dof / q[0]) : std::numeric_limits<double>::infinity();
+      }
+    }
+    const double sigma_curvature =
+        std::max(std::sqrt(std::max(0.0, cov(k, k))), std::isfinite(secant) ? secant : 1.0);
     const double sigma_u = std::max(sigma_curvature, band[k]);
     if (band[k] > sigma_curvature) {
       v.note = "an evaluation " + std::to_string(static_cast<int>(std::lround(200 * band[k]))) +
