@@ -276,7 +276,13 @@ int calibrateMain(const std::vector<std::string>& args, const std::string& defau
   try {
     fit = fitGlobal(ev, u0);
     if (!ev.history().empty()) start = ev.history().front().second;
-    if (!fit.stopped && ev.haveBest()) verdicts = judgeParameters(ev, fit.u);
+    // The verdicts at the best point; the lines they scan may find a better
+    // one, where they are taken again (at most three times).
+    for (int round = 0; round < 3 && !fit.stopped && ev.haveBest(); ++round) {
+      fit.u = ev.bestU();
+      verdicts = judgeParameters(ev, fit.u);
+      if (ev.bestU() == fit.u) break;
+    }
   } catch (const CalibrationStopped&) {
     fit.stopped = true;
   } catch (const std::exception& e) {
@@ -288,7 +294,12 @@ int calibrateMain(const std::vector<std::string>& args, const std::string& defau
     return -1;
   }
   if (fit.stopped) fit.u = ev.bestU();
-  const Evaluation& best = ev.best();
+  // The evaluation at the point reported (the best, unless a third round
+  // of verdicts found a better one still: then the point judged).
+  Evaluation best = ev.best();
+  for (const auto& [uh, eh] : ev.history()) {
+    if (uh == fit.u && eh.ok) best = eh;
+  }
   const Eigen::VectorXd x = ev.values(fit.u);
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

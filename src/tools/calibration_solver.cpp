@@ -136,9 +136,21 @@ FitOutcome fitGlobal(Evaluator& ev, const Eigen::VectorXd& u0) {
   out.u = u0;
   const int n = static_cast<int>(u0.size());
   const CalibrationOptions& o = ev.options();
-  // The start and the design, as one batch: dlib's first model.
+  // The start, the design and a line through the start along each key,
+  // as one batch: dlib's first model. Then the point that takes each
+  // key's best value on its line (most keys act apart: a yield point and a
+  // friction coefficient find their valleys each on its own).
   std::vector<Eigen::VectorXd> design = {u0};
   for (int i = 1; i <= o.design_points; ++i) design.push_back(halton(i, n));
+  const std::size_t lines_from = design.size();
+  constexpr int kLine = 10;
+  for (int k = 0; k < n; ++k) {
+    for (int i = 0; i < kLine; ++i) {
+      Eigen::VectorXd p = u0;
+      p[k] = (i + 0.5) / kLine;
+      design.push_back(p);
+    }
+  }
   auto toDlib = [n](const Eigen::VectorXd& u) {
     dlib::matrix<double, 0, 1> x(n);
     for (int k = 0; k < n; ++k) x(k) = u[k];
@@ -157,6 +169,20 @@ FitOutcome fitGlobal(Evaluator& ev, const Eigen::VectorXd& u0) {
     for (std::size_t i = 0; i < design.size(); ++i) {
       initial.emplace_back(toDlib(design[i]), score(first[i]));
     }
+    Eigen::VectorXd separable = u0;
+    for (int k = 0; k < n; ++k) {
+      double best = first[0].misfit;
+      for (int i = 0; i < kLine; ++i) {
+        const Evaluation& e = first[lines_from + k * kLine + i];
+        if (e.ok && e.misfit < best) {
+          best = e.misfit;
+          separable[k] = design[lines_from + k * kLine + i][k];
+        }
+      }
+    }
+    const Evaluation sep = ev.run({separable})[0];
+    if (sep.ok) worst = std::max(worst, sep.misfit);
+    initial.emplace_back(toDlib(separable), score(sep));
   } catch (const CalibrationStopped&) {
     out.stopped = true;
     return out;
