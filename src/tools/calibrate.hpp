@@ -36,7 +36,7 @@ struct CalibrationOptions {
   int jobs = 2;
   bool slurm = false;
   SlurmOptions slurm_options;
-  // Evaluations in all (the search's budget); -1: 40 per fitted key.
+  // Evaluations in all (the search's budget); -1: 80 per fitted key.
   int max_evaluations = -1;
   // Evaluations per batch on Slurm (locally: --jobs).
   int batch = 8;

@@ -7,10 +7,10 @@
 //
 // The tolerance: the reported 1-sigma comes from the recording's noise
 // (each measurement's residual RMS at the optimum) through the curvature
-// of the misfit; a value within 4 sigma of the truth is accepted: 3 for
-// the noise, 1 for the jumps of the replay's discrete events (contact and
-// stick decisions), which the curvature sees only in part. Over four noise
-// seeds the keys pinned down came out 0.4 to 3.2 sigma off (README).
+// of the misfit, with floors for the misfit's small minima and for other
+// basins that fit almost as well; a key pinned down must lie within 3
+// sigma of the truth (99.7 % for Gaussian noise; over four noise seeds the
+// keys pinned down came out 0.1 to 2.1 sigma off, README).
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -86,15 +86,17 @@ TEST_F(Calibrate, RecoversWhatTheDataPinDownAndFlagsTheRest) {
       cal["wall_time_s"].as<double>());
   // The search found the true values' basin: as low a misfit as they give.
   EXPECT_LE(fitted, 1.02 * at_truth);
+  // Pinned down here (seed 3 of the noise): all three.
   for (const auto& [key, value] :
        {std::pair<std::string, double>{"contact.static_friction", 0.28},
+        std::pair<std::string, double>{"contact.kinetic_friction", 0.2},
         std::pair<std::string, double>{"wire.bend.yield_curvature", 2.0}}) {
     const YAML::Node p = parameter(cal, key);
     ASSERT_TRUE(p["identifiable"].as<bool>()) << key << ": " << p["note"].as<std::string>();
     const double v = p["value"].as<double>(), sigma = p["sigma"].as<double>();
     std::printf("%s: %.4g +- %.2g (true %.4g, %.1f sigma off)\n", key.c_str(), v, sigma, value,
                 std::abs(v - value) / sigma);
-    EXPECT_LE(std::abs(v - value), 4.0 * sigma) << key;
+    EXPECT_LE(std::abs(v - value), 3.0 * sigma) << key;
     EXPECT_LE(sigma, 0.1 * (p["hi"].as<double>() - p["lo"].as<double>())) << key;
   }
   // Torsion is off in this scene: its yield point changes nothing.
@@ -103,12 +105,6 @@ TEST_F(Calibrate, RecoversWhatTheDataPinDownAndFlagsTheRest) {
   EXPECT_TRUE(twist["value"].IsNull()) << "a number reported as if it were known";
   EXPECT_NE(twist["note"].as<std::string>().find("does not depend on it"), std::string::npos)
       << twist["note"].as<std::string>();
-  // Kinetic friction at 70 N: printed for the record, whatever its verdict.
-  const YAML::Node mu_k = parameter(cal, "contact.kinetic_friction");
-  std::printf("contact.kinetic_friction: %s (%s)\n",
-              mu_k["identifiable"].as<bool>() ? mu_k["value"].as<std::string>().c_str()
-                                              : "not identifiable",
-              mu_k["note"].as<std::string>().c_str());
   // The outputs a user takes away.
   for (const char* f : {"calibration.md", "fitted_scene.yaml", "calibration.png"}) {
     EXPECT_TRUE(fs::exists(dir / "demo/calibration" / f)) << f;
