@@ -241,13 +241,13 @@ int calibrateMain(const std::vector<std::string>& args, const std::string& defau
           throw BadInput("--fit " + f + ": the key is fitted twice");
       }
     }
+    // The bag checked once here, with compare_bags.py's messages.
+    cws_ros::readMachineBag(o.machine_bag, cws::SetpointLimits::of(scene.process),
+                            cws_ros::Frames());
     checkCorners(o);
     if (o.design_points < 0) o.design_points = 8 * static_cast<int>(o.fit.size());
     if (o.max_evaluations < 0) o.max_evaluations = 80 * static_cast<int>(o.fit.size());
     o.max_evaluations = std::max(o.max_evaluations, o.design_points + 1);
-    // The bag checked once here, with compare_bags.py's messages.
-    cws_ros::readMachineBag(o.machine_bag, cws::SetpointLimits::of(scene.process),
-                            cws_ros::Frames());
     if (o.slurm) checkSlurmOptions(o.slurm_options);
     cws::checkOutputDir(o.out);
     o.out = fs::absolute(o.out).string();
