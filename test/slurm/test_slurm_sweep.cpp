@@ -2,8 +2,8 @@
 // localhost, started by test/slurm/local_slurm.sh as root and stopped
 // after the test): a 2 x 3 sweep goes through `wire_sim sweep --slurm` as a
 // job array with a gather job, and its table equals that of the same sweep
-// run locally. If the daemons cannot start, the test fails with the
-// script's message naming why.
+// run locally; so does a calibration's result. If the daemons cannot start,
+// the test fails with the script's message naming why.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -183,6 +183,63 @@ TEST_F(OneNodeSlurm, JobArraySweepEqualsTheLocalSweep) {
   const cli_test::RunResult again = run(with({"--slurm", "--out", on_slurm.string()}));
   ASSERT_EQ(again.status, 0) << again.err;
   EXPECT_TRUE(contains(again.err, "6 kept from an earlier sweep, 0 to run")) << again.err;
+}
+
+// A calibration's evaluations as job arrays (wire_sim calibrate --slurm):
+// the same search as on this machine with as many at once (--batch 4 on
+// Slurm, --jobs 4 here), so the same evaluations and the same result.
+TEST_F(OneNodeSlurm, CalibrationOnSlurmEqualsTheLocalOne) {
+  // A machine bag: commands (1200 rpm, 70 N) replayed with known values.
+  const std::string tools = std::string(CWS_SOURCE_DIR) + "/src/tools/";
+  const fs::path commands = dir_ / "commands.bag", machine = dir_ / "machine.bag";
+  std::string out, err;
+  ASSERT_EQ(shell("/usr/bin/python3 " + tools + "make_synthetic_bags.py --machine-bag " +
+                      commands.string() +
+                      " --duration 0.3 --rate 100 --record-delay 0 --tension-command 70"
+                      " --drop-topic port/command --drop-topic port/position --drop-topic profile",
+                  dir_, out, err),
+            0)
+      << err;
+  const std::string scene = std::string(CWS_SOURCE_DIR) + "/config/scenes/winding_cell.yaml";
+  const cli_test::RunResult truth =
+      run({"replay", commands.string(), "--scene", scene, "--set", "wire.bend.yield_curvature=2",
+           "--profile-rate", "20", "--out", (dir_ / "truth").string()});
+  ASSERT_EQ(truth.status, 0) << truth.err;
+  ASSERT_EQ(shell("/usr/bin/python3 " + tools + "make_synthetic_bags.py --from-sim-bag " +
+                      (dir_ / "truth" / "replay.bag").string() + " --machine-bag " +
+                      machine.string() + " --profile-noise-mm 0.002 --seed 2",
+                  dir_, out, err),
+            0)
+      << err;
+  const std::vector<std::string> calibrate{"calibrate",      machine.string(),
+                                           "--scene",        scene,
+                                           "--fit",          "wire.bend.yield_curvature=1:3",
+                                           "--design",       "2",
+                                           "--evaluations",  "8",
+                                           "--profile-rate", "20"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a = calibrate;
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+  };
+  const fs::path on_slurm = dir_ / "cal_slurm", local = dir_ / "cal_local";
+  const cli_test::RunResult a =
+      run(with({"--slurm", "--batch", "4", "--time", "5", "--out", on_slurm.string()}));
+  ASSERT_EQ(a.status, 0) << a.err << logs();
+  EXPECT_TRUE(contains(a.err, "to run on Slurm")) << a.err;
+  const cli_test::RunResult b = run(with({"--jobs", "4", "--out", local.string()}));
+  ASSERT_EQ(b.status, 0) << b.err;
+  // The same numbers, but for the wall time.
+  auto figures = [](const std::string& json) {
+    std::string kept;
+    for (const std::string& line : splitLines(json)) {
+      if (!contains(line, "wall_time_s") && !contains(line, "machine_bag")) kept += line + "\n";
+    }
+    return kept;
+  };
+  EXPECT_EQ(figures(readAll(on_slurm / "calibration.json")),
+            figures(readAll(local / "calibration.json")));
+  EXPECT_TRUE(contains(readAll(local / "calibration.json"), "\"identifiable\": true"));
 }
 
 // sbatch refusing the job (an unknown partition) is reported with Slurm's
