@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <limits>
 
@@ -191,29 +192,37 @@ FitOutcome fitGlobal(Evaluator& ev, const Eigen::VectorXd& u0) {
       {dlib::function_spec(toDlib(Eigen::VectorXd::Zero(n)), toDlib(Eigen::VectorXd::Ones(n)))},
       {initial});
   // Batches of the requests dlib has outstanding at once: one refines the
-  // best point's local model, the others explore the global one.
+  // best point's local model, the others explore the global one. A batch
+  // takes an i-th point while room(points done, i) says so; false when
+  // stopped.
   const int batch = std::max(2, o.slurm ? o.batch : o.jobs);
-  while (ev.evaluations() < o.max_evaluations) {
-    std::vector<dlib::function_evaluation_request> requests;
-    std::vector<Eigen::VectorXd> points;
-    for (int i = 0; i < batch && ev.evaluations() + i < o.max_evaluations; ++i) {
-      requests.push_back(search.get_next_x());
-      Eigen::VectorXd u(n);
-      for (int k = 0; k < n; ++k) u[k] = requests.back().x()(k);
-      points.push_back(u);
+  auto searchInBatches = [&](dlib::global_function_search& s,
+                             const std::function<bool(int, int)>& room) {
+    for (int done = 0; room(done, 0);) {
+      std::vector<dlib::function_evaluation_request> requests;
+      std::vector<Eigen::VectorXd> points;
+      for (int i = 0; i < batch && room(done, i); ++i) {
+        requests.push_back(s.get_next_x());
+        Eigen::VectorXd u(n);
+        for (int k = 0; k < n; ++k) u[k] = requests.back().x()(k);
+        points.push_back(u);
+      }
+      std::vector<Evaluation> e;
+      try {
+        e = ev.run(points);
+      } catch (const CalibrationStopped&) {
+        return false;
+      }
+      for (std::size_t i = 0; i < e.size(); ++i) {
+        if (e[i].ok) worst = std::max(worst, e[i].misfit);
+        requests[i].set(score(e[i]));
+      }
+      done += static_cast<int>(points.size());
     }
-    std::vector<Evaluation> e;
-    try {
-      e = ev.run(points);
-    } catch (const CalibrationStopped&) {
-      out.stopped = true;
-      break;
-    }
-    for (std::size_t i = 0; i < e.size(); ++i) {
-      if (e[i].ok) worst = std::max(worst, e[i].misfit);
-      requests[i].set(score(e[i]));
-    }
-  }
+    return true;
+  };
+  out.stopped = !searchInBatches(
+      search, [&](int, int i) { return ev.evaluations() + i < o.max_evaluations; });
   // Every other basin the search found, refined before the verdicts: the
   // best evaluation of each region more than 15 % of a range from the best
   // and from each other (up to three), searched again within +-15 % of it.
@@ -243,28 +252,7 @@ FitOutcome fitGlobal(Evaluator& ev, const Eigen::VectorXd& u0) {
           seen.emplace_back(toDlib(uh), -eh.misfit);
       }
       dlib::global_function_search local({dlib::function_spec(toDlib(lo), toDlib(hi))}, {seen});
-      for (int done = 0; done < 10 * n;) {
-        std::vector<dlib::function_evaluation_request> requests;
-        std::vector<Eigen::VectorXd> points;
-        for (int i = 0; i < batch && done + i < 10 * n; ++i) {
-          requests.push_back(local.get_next_x());
-          Eigen::VectorXd u(n);
-          for (int k = 0; k < n; ++k) u[k] = requests.back().x()(k);
-          points.push_back(u);
-        }
-        std::vector<Evaluation> e;
-        try {
-          e = ev.run(points);
-        } catch (const CalibrationStopped&) {
-          out.stopped = true;
-          break;
-        }
-        for (std::size_t i = 0; i < e.size(); ++i) {
-          if (e[i].ok) worst = std::max(worst, e[i].misfit);
-          requests[i].set(score(e[i]));
-        }
-        done += static_cast<int>(points.size());
-      }
+      out.stopped = !searchInBatches(local, [&](int done, int i) { return done + i < 10 * n; });
     }
   }
   out.u = ev.haveBest() ? ev.bestU() : u0;
