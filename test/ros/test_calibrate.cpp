@@ -164,7 +164,7 @@ TEST_F(Calibrate, ResumesAndKeepsTheBestOnCtrlC) {
   EXPECT_EQ(again["kept"].as<int>(), again["evaluations"].as<int>())
       << cws_ros_test::readFile(dir / "again.log");
 
-  // Stopped after two seconds of a fresh calibration.
+  // A fresh calibration, stopped.
   const fs::path out = dir / "stopped";
   const std::string fresh = std::string(CWS_WIRE_SIM_EXE) + " calibrate " +
                             (dir / "demo/machine.bag").string() + " --scene " + CWS_SOURCE_DIR +
@@ -181,7 +181,18 @@ TEST_F(Calibrate, ResumesAndKeepsTheBestOnCtrlC) {
           static_cast<char*>(nullptr));
     _exit(127);
   }
-  std::this_thread::sleep_for(std::chrono::seconds(2));
+  // Ctrl-C once a few evaluations have finished (at most a minute on).
+  auto finished = [&] {
+    int n = 0;
+    std::error_code ec;
+    for (const auto& e : fs::recursive_directory_iterator(out / "evaluations", ec)) {
+      n += e.path().filename() == "status.txt";
+    }
+    return n;
+  };
+  for (int i = 0; i < 600 && finished() < 4; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
   kill(-pid, SIGINT);
   int status = 0;
   waitpid(pid, &status, 0);
