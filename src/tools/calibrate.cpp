@@ -378,10 +378,11 @@ int calibrateMain(const std::vector<std::string>& args, const std::string& defau
       for (const FitParameter& f : o.fit) before.push_back(f.key + "=" + num(f.start, "%.17g"));
       replayTo(o, before, (fs::path(o.out) / "before").string());
       replayTo(o, fitted, (fs::path(o.out) / "after").string());
-      const std::string cmd = "/usr/bin/python3 " + std::string(CWS_TOOLS_DIR) +
-                              "/plot_calibration.py " + o.machine_bag + " " + o.out +
-                              "/before/replay.bag " + o.out + "/after/replay.bag " + o.out + " > " +
-                              o.out + "/plot.log 2>&1";
+      const std::string cmd =
+          "/usr/bin/python3 " + std::string(CWS_TOOLS_DIR) + "/plot_calibration.py " +
+          o.machine_bag + " " + o.out + "/before/replay.bag " + o.out + "/after/replay.bag " +
+          o.out + " " + num(start.profile_offset_mm, "%.9g") + " " +
+          num(best.profile_offset_mm, "%.9g") + " > " + o.out + "/plot.log 2>&1";
       if (std::system(cmd.c_str()) != 0) {
         md << "\nThe plots failed: see plot.log.\n";
       } else {
