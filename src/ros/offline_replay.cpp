@@ -27,10 +27,8 @@ void loadReplay(const std::string& scene_path, const std::vector<std::string>& o
                 MachineRecording& rec) {
   scene = cws::loadScene(scene_path, overrides);
   rec = readMachineBag(bag_path, cws::SetpointLimits::of(scene.process), frames);
-  if (!scene.physics.supply) return;
-  for (const std::string& o : overrides) {
-    if (o.rfind("supply.max_points=", 0) == 0) return;
-  }
+  // (A scene or override that sets supply.max_points keeps it.)
+  if (!scene.physics.supply || scene.supply.max_points > 0) return;
   double omega = std::abs(cws::rpmToRadPerSec(scene.process.core_speed_rpm));
   for (const auto& [t, w] : rec.spindle_speed_rad_s) omega = std::max(omega, std::abs(w));
   const double needed = scene.pointCapacityForAngle(omega * rec.duration_s());

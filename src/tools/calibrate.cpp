@@ -3,9 +3,11 @@
 #include "calibrate.hpp"
 
 #include <chrono>
+#include <cinttypes>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -13,8 +15,10 @@
 #include "coil_winding_sim/core/run/output.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/core/scene/scene_keys.hpp"
+#include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/ros/machine_bag.hpp"
 #include "coil_winding_sim/ros/offline_replay.hpp"
+#include "run_store.hpp"
 #include "sweep.hpp"
 
 #ifndef CWS_TOOLS_DIR
@@ -47,12 +51,6 @@ double parseNumber(const std::string& opt, const std::string& text) {
   } catch (const std::exception&) {
   }
   throw BadInput(opt + ": '" + text + "' is not a number");
-}
-
-std::string num(double v, const char* fmt = "%.6g") {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, v);
-  return buf;
 }
 
 // --fit KEY[=LO:HI]: a number key of the table; without bounds, half to
@@ -91,8 +89,9 @@ FitParameter parseFit(const std::string& arg, const cws::Scene& scene) {
   if (kind == cws::KeyRange::kNonNegative && f.lo < 0.0)
     throw BadInput("--fit " + f.key + ": the key cannot be negative, so LO must be 0 or more");
   if (f.start < f.lo || f.start > f.hi) {
-    std::cerr << "calibrate: " << f.key << " = " << num(f.start) << " lies outside " << num(f.lo)
-              << ":" << num(f.hi) << "; starting from the nearer bound\n";
+    std::cerr << "calibrate: " << f.key << " = " << cws::formatNumber(f.start) << " lies outside "
+              << cws::formatNumber(f.lo) << ":" << cws::formatNumber(f.hi)
+              << "; starting from the nearer bound\n";
     f.start = std::clamp(f.start, f.lo, f.hi);
   }
   return f;
@@ -108,8 +107,8 @@ void checkCorners(const CalibrationOptions& o) {
     std::string label;
     for (std::size_t k = 0; k < n; ++k) {
       const double v = (c >> k) & 1 ? o.fit[k].hi : o.fit[k].lo;
-      ov.push_back(o.fit[k].key + "=" + num(v, "%.17g"));
-      label += (k ? ", " : "") + o.fit[k].key + "=" + num(v);
+      ov.push_back(o.fit[k].key + "=" + cws::formatNumber(v, "%.17g"));
+      label += (k ? ", " : "") + o.fit[k].key + "=" + cws::formatNumber(v);
     }
     try {
       cws::loadScene(o.scene, ov);
@@ -196,11 +195,21 @@ void replayTo(const CalibrationOptions& o, const std::vector<std::string>& overr
   std::vector<std::string> args = {"replay", o.machine_bag, "--out", dir};
   if (!o.scene.empty()) args.insert(args.end(), {"--scene", o.scene});
   for (const std::string& s : overrides) args.insert(args.end(), {"--set", s});
-  args.insert(args.end(),
-              {"--spindle-rate", num(o.spindle_rate_hz, "%.17g"), "--profile-rate",
-               num(o.profile_rate_hz, "%.17g"), "--profile-turns", num(o.profile_turns, "%.17g")});
+  args.insert(args.end(), {"--spindle-rate", cws::formatNumber(o.spindle_rate_hz, "%.17g"),
+                           "--profile-rate", cws::formatNumber(o.profile_rate_hz, "%.17g"),
+                           "--profile-turns", cws::formatNumber(o.profile_turns, "%.17g")});
   if (cws_ros::replayMain(args, o.scene) != 0)
     throw std::runtime_error("the replay into " + dir + " failed");
+}
+
+// A file's bytes, hashed.
+std::string fileHash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%016" PRIx64, fnv1a(bytes.str()));
+  return buf;
 }
 
 std::string jsonString(const std::string& s) {
@@ -212,7 +221,9 @@ std::string jsonString(const std::string& s) {
   return out + "\"";
 }
 
-std::string jsonNumber(double v) { return std::isfinite(v) ? num(v, "%.10g") : "null"; }
+std::string jsonNumber(double v) {
+  return std::isfinite(v) ? cws::formatNumber(v, "%.10g") : "null";
+}
 
 std::string misfitJson(const Evaluation& e) {
   return "{\"misfit\": " + jsonNumber(e.misfit) +
@@ -248,6 +259,7 @@ int calibrateMain(const std::vector<std::string>& args, const std::string& defau
     if (o.design_points < 0) o.design_points = 8 * static_cast<int>(o.fit.size());
     if (o.max_evaluations < 0) o.max_evaluations = 80 * static_cast<int>(o.fit.size());
     o.max_evaluations = std::max(o.max_evaluations, o.design_points + 1);
+    o.machine_bag_hash = fileHash(o.machine_bag);
     if (o.slurm) checkSlurmOptions(o.slurm_options);
     cws::checkOutputDir(o.out);
     o.out = fs::absolute(o.out).string();
@@ -307,7 +319,7 @@ int calibrateMain(const std::vector<std::string>& args, const std::string& defau
   // The fitted scene: every fitted key at its best value.
   std::vector<std::string> fitted = o.overrides;
   for (std::size_t k = 0; k < o.fit.size(); ++k)
-    fitted.push_back(o.fit[k].key + "=" + num(x[k], "%.17g"));
+    fitted.push_back(o.fit[k].key + "=" + cws::formatNumber(x[k], "%.17g"));
   std::ostringstream yaml;
   yaml << "# Fitted by wire_sim calibrate to " << o.machine_bag << "\n# ("
        << (fit.stopped ? "stopped early: the best so far" : "converged")
@@ -327,12 +339,12 @@ int calibrateMain(const std::vector<std::string>& args, const std::string& defau
     const FitParameter& f = o.fit[k];
     const ParameterVerdict& v = verdicts[k];
     const bool known = !fit.stopped && v.identifiable;
-    md << "| " << f.key << " | " << num(f.start) << " | "
-       << (known         ? num(x[k])
-           : fit.stopped ? num(x[k]) + " (so far)"
+    md << "| " << f.key << " | " << cws::formatNumber(f.start) << " | "
+       << (known         ? cws::formatNumber(x[k])
+           : fit.stopped ? cws::formatNumber(x[k]) + " (so far)"
                          : "not identifiable")
-       << " | " << (known ? num(v.sigma, "%.2g") : "-") << " | " << num(f.lo) << " .. " << num(f.hi)
-       << " | "
+       << " | " << (known ? cws::formatNumber(v.sigma, "%.2g") : "-") << " | "
+       << cws::formatNumber(f.lo) << " .. " << cws::formatNumber(f.hi) << " | "
        << (fit.stopped      ? "?"
            : v.identifiable ? "yes"
                             : "no")
@@ -348,18 +360,20 @@ int calibrateMain(const std::vector<std::string>& args, const std::string& defau
        << ", \"note\": " << jsonString(v.note) << "}" << (k + 1 < o.fit.size() ? "," : "") << "\n";
   }
   md << "\n| misfit | start | fitted |\n|---|---|---|\n"
-     << "| total (weighted) | " << num(start.misfit) << " | " << num(best.misfit) << " |\n"
-     << "| tension RMS [N] | " << num(start.tension_rms_N) << " | " << num(best.tension_rms_N)
-     << " |\n"
-     << "| profile RMS [mm] | " << num(start.profile_rms_mm) << " | " << num(best.profile_rms_mm)
-     << " |\n"
-     << "| bulging RMS [mm] | " << num(start.bulging_rms_mm) << " | " << num(best.bulging_rms_mm)
-     << " |\n"
-     << "| profile offset removed [mm] | " << num(start.profile_offset_mm) << " | "
-     << num(best.profile_offset_mm) << " |\n\n"
-     << "Weights: tension " << num(o.weights.tension) << " /N^2, profile " << num(o.weights.profile)
-     << " /mm^2, bulging " << num(o.weights.bulging) << " /mm^2. " << ev.evaluations()
-     << " evaluations (" << ev.kept() << " kept from an earlier run) in " << num(wall_s, "%.3g")
+     << "| total (weighted) | " << cws::formatNumber(start.misfit) << " | "
+     << cws::formatNumber(best.misfit) << " |\n"
+     << "| tension RMS [N] | " << cws::formatNumber(start.tension_rms_N) << " | "
+     << cws::formatNumber(best.tension_rms_N) << " |\n"
+     << "| profile RMS [mm] | " << cws::formatNumber(start.profile_rms_mm) << " | "
+     << cws::formatNumber(best.profile_rms_mm) << " |\n"
+     << "| bulging RMS [mm] | " << cws::formatNumber(start.bulging_rms_mm) << " | "
+     << cws::formatNumber(best.bulging_rms_mm) << " |\n"
+     << "| profile offset removed [mm] | " << cws::formatNumber(start.profile_offset_mm) << " | "
+     << cws::formatNumber(best.profile_offset_mm) << " |\n\n"
+     << "Weights: tension " << cws::formatNumber(o.weights.tension) << " /N^2, profile "
+     << cws::formatNumber(o.weights.profile) << " /mm^2, bulging "
+     << cws::formatNumber(o.weights.bulging) << " /mm^2. " << ev.evaluations() << " evaluations ("
+     << ev.kept() << " kept from an earlier run) in " << cws::formatNumber(wall_s, "%.3g")
      << " s of wall time. " << fit.termination << "\n";
   js << "  ],\n  \"misfit_start\": " << misfitJson(start)
      << ",\n  \"misfit_fitted\": " << misfitJson(best)
@@ -375,14 +389,15 @@ int calibrateMain(const std::vector<std::string>& args, const std::string& defau
   if (!fit.stopped) {
     try {
       std::vector<std::string> before = o.overrides;
-      for (const FitParameter& f : o.fit) before.push_back(f.key + "=" + num(f.start, "%.17g"));
+      for (const FitParameter& f : o.fit)
+        before.push_back(f.key + "=" + cws::formatNumber(f.start, "%.17g"));
       replayTo(o, before, (fs::path(o.out) / "before").string());
       replayTo(o, fitted, (fs::path(o.out) / "after").string());
       const std::string cmd =
           "/usr/bin/python3 " + std::string(CWS_TOOLS_DIR) + "/plot_calibration.py " +
           o.machine_bag + " " + o.out + "/before/replay.bag " + o.out + "/after/replay.bag " +
-          o.out + " " + num(start.profile_offset_mm, "%.9g") + " " +
-          num(best.profile_offset_mm, "%.9g") + " > " + o.out + "/plot.log 2>&1";
+          o.out + " " + cws::formatNumber(start.profile_offset_mm, "%.9g") + " " +
+          cws::formatNumber(best.profile_offset_mm, "%.9g") + " > " + o.out + "/plot.log 2>&1";
       if (std::system(cmd.c_str()) != 0) {
         md << "\nThe plots failed: see plot.log.\n";
       } else {

@@ -24,8 +24,9 @@ struct FitParameter {
 };
 
 struct CalibrationOptions {
-  std::string machine_bag;  // absolute
-  std::string scene;        // absolute, or "" for the built-in defaults
+  std::string machine_bag;       // absolute
+  std::string machine_bag_hash;  // its bytes hashed (an evaluation is kept for the same bag)
+  std::string scene;             // absolute, or "" for the built-in defaults
   std::vector<std::string> overrides;
   std::vector<FitParameter> fit;
   cws::MisfitWeights weights;

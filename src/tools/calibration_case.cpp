@@ -12,6 +12,7 @@
 #include "calibrate.hpp"
 #include "coil_winding_sim/core/run/output.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
+#include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/ros/node_options.hpp"
 #include "coil_winding_sim/ros/offline_replay.hpp"
 #include "run_store.hpp"
@@ -24,12 +25,6 @@ namespace fs = std::filesystem;
 namespace {
 
 const char* const kEvaluationFile = "evaluation.txt";
-
-std::string number(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
 
 double optionNumber(const SweepPlan& plan, const std::string& key) {
   return std::stod(plan.option(key, "nan"));
@@ -86,12 +81,14 @@ int runCase(const SweepPlan& plan, const std::string& dir, std::size_t i,
     const cws::Misfit m = cws::recordingMisfit(rec.measured, series, w);
     const Eigen::VectorXd r = m.weighted(w);
     std::ostringstream out;
-    out << "misfit " << number(m.value(w)) << "\ntension_rms_N " << number(m.tensionRms())
-        << "\nprofile_rms_mm " << number(m.profileRms()) << "\nbulging_rms_mm "
-        << number(m.bulgingRms()) << "\nprofile_offset_mm " << number(m.profile_offset_mm)
-        << "\ntension_samples " << m.tension_N.size() << "\nprofile_points " << m.profile_mm.size()
-        << "\nprofile_pairs " << m.profile_pairs << "\nresiduals " << r.size() << "\n";
-    for (Eigen::Index k = 0; k < r.size(); ++k) out << number(r[k]) << "\n";
+    out << "misfit " << cws::formatNumber(m.value(w), "%.17g") << "\ntension_rms_N "
+        << cws::formatNumber(m.tensionRms(), "%.17g") << "\nprofile_rms_mm "
+        << cws::formatNumber(m.profileRms(), "%.17g") << "\nbulging_rms_mm "
+        << cws::formatNumber(m.bulgingRms(), "%.17g") << "\nprofile_offset_mm "
+        << cws::formatNumber(m.profile_offset_mm, "%.17g") << "\ntension_samples "
+        << m.tension_N.size() << "\nprofile_points " << m.profile_mm.size() << "\nprofile_pairs "
+        << m.profile_pairs << "\nresiduals " << r.size() << "\n";
+    for (Eigen::Index k = 0; k < r.size(); ++k) out << cws::formatNumber(r[k], "%.17g") << "\n";
     cws::writeFileAtomically((case_dir / kEvaluationFile).string(), out.str());
     s.status = "ok";
   } catch (const std::exception& e) {
@@ -102,16 +99,6 @@ int runCase(const SweepPlan& plan, const std::string& dir, std::size_t i,
   s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   writeCaseStatus(plan, dir, i, s);
   return s.status == "ok" ? 0 : 1;
-}
-
-// The bag's bytes, hashed (an evaluation is kept only for the same bag).
-std::string fileHash(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%016" PRIx64, fnv1a(bytes.str()));
-  return buf;
 }
 
 const bool kCalibrationKind = registerPlanKind("calibration", [] {
@@ -135,18 +122,18 @@ SweepPlan calibrationPlan(const CalibrationOptions& o, const std::vector<Eigen::
   for (const FitParameter& f : o.fit) p.keys.push_back(f.key);
   for (const Eigen::VectorXd& x : points) {
     std::vector<std::string> values;
-    for (Eigen::Index k = 0; k < x.size(); ++k) values.push_back(number(x[k]));
+    for (Eigen::Index k = 0; k < x.size(); ++k) values.push_back(cws::formatNumber(x[k], "%.17g"));
     p.cases.push_back(values);
   }
   p.options = {{"machine_bag", o.machine_bag},
-               {"machine_bag_hash", fileHash(o.machine_bag)},
-               {"weight_tension", number(o.weights.tension)},
-               {"weight_profile", number(o.weights.profile)},
-               {"weight_bulging", number(o.weights.bulging)},
+               {"machine_bag_hash", o.machine_bag_hash},
+               {"weight_tension", cws::formatNumber(o.weights.tension, "%.17g")},
+               {"weight_profile", cws::formatNumber(o.weights.profile, "%.17g")},
+               {"weight_bulging", cws::formatNumber(o.weights.bulging, "%.17g")},
                {"remove_profile_offset", o.weights.remove_profile_offset ? "true" : "false"},
-               {"spindle_rate_hz", number(o.spindle_rate_hz)},
-               {"profile_rate_hz", number(o.profile_rate_hz)},
-               {"profile_turns", number(o.profile_turns)}};
+               {"spindle_rate_hz", cws::formatNumber(o.spindle_rate_hz, "%.17g")},
+               {"profile_rate_hz", cws::formatNumber(o.profile_rate_hz, "%.17g")},
+               {"profile_turns", cws::formatNumber(o.profile_turns, "%.17g")}};
   return p;
 }
 

@@ -40,7 +40,7 @@ class ReplaySink {
 // The scene and the recording of a replay: the scene's file with its
 // overrides, the bag read against the scene's limits, and the wire's
 // storage sized for the recording (its fastest speed, the scene's or a
-// command's, over its whole length) unless the overrides set
+// command's, over its whole length) unless the scene or the overrides set
 // supply.max_points. Throws MachineBagError for a bad bag, cws::SceneError
 // for a bad scene.
 void loadReplay(const std::string& scene_path, const std::vector<std::string>& overrides,
