@@ -7,14 +7,30 @@ namespace cws {
 
 void CarriedWireIndex::reserve(int segments, double reach, double longest) {
   cell_ = reach;
-  // A segment's box grown by the reach spans at most ceil(longest / reach)
-  // + 3 cells along each axis; buckets about twice the nodes.
-  const std::size_t per_axis = static_cast<std::size_t>(std::ceil(longest / reach)) + 3;
-  const std::size_t nodes =
-      static_cast<std::size_t>(std::max(segments, 1)) * per_axis * per_axis * per_axis;
+  // A segment's box, grown by the reach, spans at most ceil(u) + 3 cells
+  // along an axis where the segment spans u cells: the most cells over the
+  // ways a segment of at most `longest` can lie (ceil(u) = k needs
+  // (k - 1)^2 of the squared length in cells).
+  const double length = longest / reach;
+  const int most = static_cast<int>(std::ceil(length));
+  std::size_t per_segment = 1;
+  for (int kx = 0; kx <= most; ++kx) {
+    for (int ky = 0; ky <= most; ++ky) {
+      for (int kz = 0; kz <= most; ++kz) {
+        auto need = [](int k) { return k > 1 ? double(k - 1) * (k - 1) : 0.0; };
+        if (need(kx) + need(ky) + need(kz) >= length * length) continue;
+        per_segment = std::max<std::size_t>(per_segment, std::size_t(kx + 3) * (ky + 3) * (kz + 3));
+      }
+    }
+  }
+  const std::size_t nodes = static_cast<std::size_t>(std::max(segments, 1)) * per_segment;
   nodes_.reserve(nodes);
+  // Buckets for the cells a segment of a coil fills (about 36 for a
+  // segment as long as the reach: 4 x 3 x 3), at most twice that: short
+  // chains, and no bucket array sized for the bound.
+  const std::size_t typical = static_cast<std::size_t>(std::max(segments, 1)) * 32;
   int bits = 1;
-  while ((std::size_t{1} << bits) < 2 * nodes && bits < 40) ++bits;
+  while ((std::size_t{1} << bits) < typical && bits < 40) ++bits;
   shift_ = 64 - bits;
   heads_.assign(std::size_t{1} << bits, -1);
   clear();

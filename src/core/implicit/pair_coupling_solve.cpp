@@ -1,5 +1,6 @@
 #include "coil_winding_sim/core/implicit/pair_coupling_solve.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -25,6 +26,7 @@ bool PairCouplingSolve::factor(SpatialAssembly& a) {
   m_ = a.pairCouplings();
   if (m_ == 0) return true;
   const int unknowns = a.unknowns(), cols = 3 * m_;
+  if (unknowns > w_.rows()) w_.setZero(std::max<Eigen::Index>(unknowns, 2 * w_.rows()), kMax);
   // W = A^-1 U, column by column.
   for (int p = 0; p < m_; ++p) {
     pairs_[p] = a.pairCoupling(p);

@@ -1,5 +1,7 @@
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 
+#include <algorithm>
+
 #include "coil_winding_sim/core/model/quaternion.hpp"
 
 namespace cws {
@@ -15,14 +17,24 @@ void SpatialAssembly::resize(int capacity_points) {
   // Every coupling is between a point's block and its neighbours' (bending
   // and stretching j to j+1, a frame's rows to p_i-1); the port's two rows
   // form a block of their own after the last point's.
-  matrix_.resize(unknowns);
   basis_.assign(capacity_points, Eigen::Matrix<double, 4, 3>::Zero());
   q_.assign(capacity_points, Eigen::Vector4d::Zero());
   radial_.setZero(capacity_points);
   fq4_.setZero(4, capacity_points);
-  kqq_.assign(3 * capacity_points, Eigen::Matrix4d::Zero());
-  kpq_.assign(3 * capacity_points, Eigen::Matrix<double, 3, 4>::Zero());
-  kqp_.assign(3 * capacity_points, Eigen::Matrix<double, 4, 3>::Zero());
+  kqq_.clear();
+  kpq_.clear();
+  kqp_.clear();
+  reserveSpan(std::min(capacity_points, kReservedSpan));
+}
+
+void SpatialAssembly::reserveSpan(int points) {
+  matrix_.reserve(kPerPoint * points + 2);
+  if (3 * points <= static_cast<int>(kqq_.size())) return;
+  const std::size_t slots =
+      static_cast<std::size_t>(3 * std::max(points, 2 * static_cast<int>(kqq_.size() / 3)));
+  kqq_.assign(slots, Eigen::Matrix4d::Zero());
+  kpq_.assign(slots, Eigen::Matrix<double, 3, 4>::Zero());
+  kqp_.assign(slots, Eigen::Matrix<double, 4, 3>::Zero());
 }
 
 void SpatialAssembly::finish() {
@@ -60,11 +72,12 @@ void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double a
   const bool partial = jacobian_top >= first && jacobian_top < n - 1;
   jacobian_top_ = partial ? jacobian_top : n;  // (n: also the port's rows)
   alpha_ = alpha;
+  if (jacobian) reserveSpan(n - first);
   force_.head(unknowns_).setZero();
   fq4_.middleCols(first, n - first).setZero();
   if (jacobian) {
     const int top = std::min(n - 1, jacobian_top_);
-    for (int k = 3 * first; k < 3 * (top + 1); ++k) {
+    for (int k = 0; k < 3 * (top + 1 - first); ++k) {
       kqq_[k].setZero();
       kpq_[k].setZero();
       kqp_[k].setZero();

@@ -28,7 +28,7 @@ SpatialFormulation::SpatialFormulation(NewtonModelView& model, const SolverParam
   state_.qd.setZero(4, cap);
   state_.mu.setZero(3, cap);
   assembly_.resize(cap);
-  couplings_.resize(SpatialAssembly::kPerPoint * cap + 2);
+  couplings_.resize(SpatialAssembly::kPerPoint * std::min(cap, SpatialAssembly::kReservedSpan) + 2);
   x0_.setZero(7, cap);
   v0_.setZero(7, cap);
   x_hat_.setZero(7, cap);
@@ -39,7 +39,7 @@ SpatialFormulation::SpatialFormulation(NewtonModelView& model, const SolverParam
   radial_r_.setZero(cap);
   r_.setZero(SpatialAssembly::kPerPoint * cap + 2);
   dx_.setZero(SpatialAssembly::kPerPoint * cap + 2);
-  secant_.reserve(SpatialAssembly::kPerPoint * cap + 2);
+  secant_.reserve(SpatialAssembly::kPerPoint * std::min(cap, SpatialAssembly::kReservedSpan) + 2);
   weight_.setZero(SpatialAssembly::kPerPoint * cap + 2);
 }
 

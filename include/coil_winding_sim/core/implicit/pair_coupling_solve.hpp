@@ -6,7 +6,8 @@
 // with three columns of U per pair (U_p = C_p^T) and K block-diagonal (the
 // pairs' 3 x 3 blocks, which need not be invertible). A factorization costs
 // three band solves per pair and a dense LU of 3 x 3 blocks per pair; a
-// solve, one small solve and a product. Storage is sized once.
+// solve, one small solve and a product. Storage is sized for the integrated
+// span SpatialAssembly reserves, and grows with it.
 #pragma once
 
 #include <Eigen/Core>
@@ -17,7 +18,8 @@ namespace cws {
 
 class PairCouplingSolve {
  public:
-  // Storage for systems of up to `unknowns` unknowns.
+  // Storage for systems of `unknowns` unknowns; a larger system grows it
+  // (factor), as SpatialAssembly's blocks grow with the integrated span.
   void resize(int unknowns);
   // After the assembly's band matrix is factored: takes its pair couplings
   // (none: nothing to do). False if the small system is singular.

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 
 namespace cws {
 
@@ -50,6 +51,14 @@ class SecantSteps {
     const int n = static_cast<int>(dx.size());
     const double n2 = dot(dx, dx, w);
     if (!(n2 > 0.0)) return false;
+    // A longer system than the storage holds (reserve: the integrated span
+    // SpatialAssembly reserves) grows it, keeping the steps kept.
+    if (n > steps_.rows()) {
+      Eigen::MatrixXd grown =
+          Eigen::MatrixXd::Zero(std::max<Eigen::Index>(n, 2 * steps_.rows()), kMax);
+      grown.topRows(steps_.rows()) = steps_;
+      steps_.swap(grown);
+    }
     steps_.col(count_).head(n) = dx;
     norm2_[count_++] = n2;
     return true;

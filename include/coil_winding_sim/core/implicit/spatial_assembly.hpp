@@ -75,7 +75,12 @@ class SpatialAssembly {
   // Projects what the effects added on q (forces and blocks, kept in the
   // quaternion's coordinates while they add) onto the frames' rotations.
   void finish();
-  // Storage for up to `capacity_points` points (once, before a run).
+  // Storage for up to `capacity_points` points (once, before a run). The
+  // Jacobian's blocks, which only the integrated points use, are sized for
+  // kReservedSpan of them (fewer if the capacity is less); a longer
+  // integrated span grows them (begin), which a coil meets only when wound
+  // wire is released over many turns.
+  static constexpr int kReservedSpan = 1024;
   void resize(int capacity_points);
   // Starts the system of points first..n-1 (with the port's multipliers if
   // asked); `jacobian` false: forces only. jacobian_top >= first: only the
@@ -191,7 +196,10 @@ class SpatialAssembly {
   // Whether matrix row r belongs to a wanted point's rows (the port's rows
   // follow the last point's).
   bool rowWanted(int r) const { return r / kPerPoint + first_ <= jacobian_top_; }
-  static int slot(int i, int j) { return 3 * i + (j - i + 1); }
+  // (Relative to the first integrated point: the blocks cover the span.)
+  int slot(int i, int j) const { return 3 * (i - first_) + (j - i + 1); }
+  // Jacobian storage for `points` integrated points at least.
+  void reserveSpan(int points);
   // Constraint row `row`'s gradient on the unknowns c..c+2 (one point's p
   // or rotation): the row's entries, scaled, and the multiplier's column.
   void addConstraintColumns(int row, int c, const Eigen::Vector3d& grad) {

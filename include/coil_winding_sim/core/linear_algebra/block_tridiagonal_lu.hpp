@@ -73,6 +73,14 @@ class BlockTridiagonalLu {
     factored_n_ = -1;
     for (int c = 0; c < B; ++c) learned_[c] = c;
   }
+  // Grows the storage to matrices of `unknowns` unknowns at least (twice
+  // what it holds, where that is more) when it holds fewer; the factors kept
+  // are lost then (a larger matrix is factored anew anyway).
+  void reserve(int unknowns) {
+    const int blocks = (unknowns + B - 1) / B;
+    if (blocks <= static_cast<int>(diag_.size())) return;
+    resize(std::max(unknowns, 2 * static_cast<int>(diag_.size()) * B));
+  }
   // Starts a matrix of size n (<= capacity): all zero. merge_last: the last
   // block is inverted together with the one before it (it needs two blocks
   // at least). The factors of the last factorization stay (factorFrom).
