@@ -177,21 +177,35 @@ int run(const Args& a) {
   cws::Simulation sim(scene);
   std::cerr << "wire_sim: " << sim.model().constants().n << " points, " << sim.stepper().name()
             << ", until t = " << sim.endTime() << " s\n";
-  sim.run(
-      [](const cws::Simulation& s) {
-        const double rtf = s.realTimeFactor();
-        const double remaining = rtf > 0.0 ? (s.endTime() - s.time()) / rtf : 0.0;
-        std::fprintf(stderr,
-                     "  t = %.6f s of %.6f s, real-time factor %.3g, ~%.0f s left, step %.3g s\n",
-                     s.time(), s.endTime(), rtf, remaining, s.stepper().lastStep());
-      },
-      [] { return g_stop_signal != 0; });
+  // A run that ends early (a signal, or an error it cannot go on from)
+  // writes the state it reached, marked "stopped" in summary.json.
+  try {
+    sim.run(
+        [](const cws::Simulation& s) {
+          const double rtf = s.realTimeFactor();
+          const double remaining = rtf > 0.0 ? (s.endTime() - s.time()) / rtf : 0.0;
+          std::fprintf(stderr,
+                       "  t = %.6f s of %.6f s, real-time factor %.3g, ~%.0f s left, step %.3g s\n",
+                       s.time(), s.endTime(), rtf, remaining, s.stepper().lastStep());
+        },
+        [] { return g_stop_signal != 0; });
+  } catch (const cws::IntegrationError& e) {
+    const cws::RunStop stop{"error", e.what()};
+    cws::writeOutputs(sim, out, nullptr, &stop);
+    std::fprintf(stderr, "wire_sim: the partial results up to t = %.6g s are in %s (\"stopped\")\n",
+                 sim.time(), out.c_str());
+    throw;
+  }
   if (g_stop_signal != 0) {
-    // Stopped: the state is not the scene's result, so nothing is written.
     const int sig = g_stop_signal;
-    std::fprintf(stderr,
-                 "wire_sim: stopped by %s at t = %.6g s of %.6g s; no results written to %s\n",
-                 sig == SIGINT ? "SIGINT" : "SIGTERM", sim.time(), sim.endTime(), out.c_str());
+    const char* name = sig == SIGINT ? "SIGINT" : "SIGTERM";
+    char text[200];
+    std::snprintf(text, sizeof text, "stopped by %s at t = %.6g s of %.6g s", name, sim.time(),
+                  sim.endTime());
+    const cws::RunStop stop{name, text};
+    cws::writeOutputs(sim, out, nullptr, &stop);
+    std::fprintf(stderr, "wire_sim: %s; the partial results are in %s (\"stopped\")\n", text,
+                 out.c_str());
     return 128 + sig;
   }
   // --error-estimate: the same scene again, refined, and the difference.
@@ -203,9 +217,14 @@ int run(const Args& a) {
     refined.run({}, [] { return g_stop_signal != 0; });
     if (g_stop_signal != 0) {
       const int sig = g_stop_signal;
+      const char* name = sig == SIGINT ? "SIGINT" : "SIGTERM";
+      const cws::RunStop stop{name, std::string("stopped by ") + name +
+                                        " during the error estimate (the run itself finished)"};
+      cws::writeOutputs(sim, out, nullptr, &stop);
       std::fprintf(stderr,
-                   "wire_sim: stopped by %s during the error estimate; no results written\n",
-                   sig == SIGINT ? "SIGINT" : "SIGTERM");
+                   "wire_sim: stopped by %s during the error estimate; the run's results, without "
+                   "the estimate, are in %s (\"stopped\")\n",
+                   name, out.c_str());
       return 128 + sig;
     }
     estimate =

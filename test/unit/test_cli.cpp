@@ -133,11 +133,12 @@ TEST_F(WireSimCli, ShortRunWritesSummaryAndCsv) {
 }
 
 // A run that fails after an earlier success in the same directory must not
-// leave the earlier summary.json to be mistaken for its own. The failure: a
+// leave the earlier summary.json to be mistaken for its own: its own, marked
+// "stopped", replaces it. The failure: a
 // fixed step of 0.1 ms (200 times the axial stability limit of 2 mm segments,
 // l / 2640 m/s = 0.76 us) under a 1 N end force cannot meet the tolerance, and
 // min_step forbids a smaller step.
-TEST_F(WireSimCli, FailedRunAfterSuccessLeavesNoSummary) {
+TEST_F(WireSimCli, FailedRunAfterSuccessLeavesOnlyItsStoppedSummary) {
   const fs::path out = dir_ / "out";
   ASSERT_EQ(runSmall(out.string()).status, 0);
   ASSERT_TRUE(fs::exists(out / "summary.json"));
@@ -146,7 +147,8 @@ TEST_F(WireSimCli, FailedRunAfterSuccessLeavesNoSummary) {
                               "solver.min_step=1e-4", "--set", "solver.initial_step=1e-4"});
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_TRUE(contains(r.err, "min_step")) << r.err;
-  EXPECT_FALSE(fs::exists(out / "summary.json"));
+  EXPECT_TRUE(contains(readAll(out / "summary.json"), "\"stopped\": {\"cause\": \"error\""))
+      << readAll(out / "summary.json");
   EXPECT_FALSE(fs::exists(out / "summary.json.partial"));
 }
 

@@ -9,12 +9,13 @@ namespace {
 using namespace cli_test;
 
 // ---------------------------------------------------------------------------
-// Runs that fail or are stopped part way leave no summary.
+// Runs that fail or are stopped part way leave the results of the state
+// they reached, marked "stopped" with the cause, never an unmarked summary.
 
 // A run that integrates for a while and then fails: a 1 kN end force applied
 // at t = 1 ms to a small wire makes rkf45 need steps below solver.min_step
 // (1e-8 s) soon after; until then it steps normally.
-TEST_F(WireSimCli, RunFailingMidwayLeavesNoSummary) {
+TEST_F(WireSimCli, RunFailingMidwayLeavesAStoppedSummary) {
   const fs::path out = dir_ / "out";
   ASSERT_EQ(runSmall(out.string()).status, 0);
   ASSERT_TRUE(fs::exists(out / "summary.json"));
@@ -30,15 +31,19 @@ TEST_F(WireSimCli, RunFailingMidwayLeavesNoSummary) {
   const std::size_t at = r.err.find("at t = ");
   ASSERT_NE(at, std::string::npos) << r.err;
   EXPECT_GE(std::strtod(r.err.c_str() + at + 7, nullptr), 0.99e-3) << r.err;
-  expectNoSummary(out, "failed run");
-  EXPECT_FALSE(fs::exists(out / "wire.csv"));
+  const std::string summary = readAll(out / "summary.json");
+  EXPECT_TRUE(contains(summary, "\"stopped\": {\"cause\": \"error\", \"message\": \"")) << summary;
+  EXPECT_TRUE(contains(summary, "min_step")) << summary;
+  EXPECT_TRUE(contains(r.err, "partial results up to")) << r.err;
+  EXPECT_TRUE(fs::exists(out / "wire.csv"));
 }
 
 // SIGINT (Ctrl-C) and SIGTERM stop a run after its current step: exit
-// 128 + signal, a message saying so, and no results (an earlier run's
-// summary in the directory is gone too). Without a handler the process would
-// die of the signal instead of exiting.
-TEST_F(WireSimCli, StoppedRunWritesNoResults) {
+// 128 + signal, a message saying so, and the results of the state it
+// reached, marked "stopped" with the signal (an earlier run's complete
+// summary is replaced, so nothing looks finished). Without a handler the
+// process would die of the signal instead of exiting.
+TEST_F(WireSimCli, StoppedRunWritesItsPartialResults) {
   const fs::path out = dir_ / "out";
   const std::string scene = write("quiet.yaml", kQuietScene);
   for (const int sig : {SIGINT, SIGTERM}) {
@@ -70,9 +75,13 @@ TEST_F(WireSimCli, StoppedRunWritesNoResults) {
         << "signal " << sig << ": ended by a signal, not an exit; " << text;
     EXPECT_EQ(WEXITSTATUS(status), 128 + sig) << text;
     EXPECT_TRUE(contains(text, sig == SIGINT ? "stopped by SIGINT" : "stopped by SIGTERM")) << text;
-    EXPECT_TRUE(contains(text, "no results written")) << text;
-    expectNoSummary(out, "stopped run");
-    EXPECT_FALSE(fs::exists(out / "wire.csv"));
+    EXPECT_TRUE(contains(text, "the partial results are in")) << text;
+    const std::string summary = readAll(out / "summary.json");
+    EXPECT_TRUE(contains(summary, std::string("\"stopped\": {\"cause\": \"") +
+                                      (sig == SIGINT ? "SIGINT" : "SIGTERM") + "\""))
+        << summary;
+    EXPECT_TRUE(contains(summary, "\"end_time_s\": 1000")) << summary;
+    EXPECT_TRUE(fs::exists(out / "wire.csv"));
     EXPECT_FALSE(fs::exists(out / "wire.csv.partial"));
   }
 }

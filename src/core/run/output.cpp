@@ -25,6 +25,24 @@ std::string num(double v) {
 
 // The files writeOutputs writes.
 const char* const kOutputFiles[] = {"summary.json", "wire.csv", "shape_core.csv"};
+// A JSON string's content: quotes, backslashes and control characters
+// escaped.
+std::string jsonEscaped(const std::string& text) {
+  std::string out;
+  for (const char ch : text) {
+    if (ch == '"' || ch == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (static_cast<unsigned char>(ch) < 0x20) {
+      char code[8];
+      std::snprintf(code, sizeof code, "\\u%04x", static_cast<unsigned>(ch));
+      out += code;
+    } else {
+      out += ch;
+    }
+  }
+  return out;
+}
 }  // namespace
 
 void writeFileAtomically(const std::string& path, const std::string& text) {
@@ -62,11 +80,17 @@ void removeOutputs(const std::string& dir) {
   }
 }
 
-void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstimate* estimate) {
+void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstimate* estimate,
+                      const RunStop* stop) {
   const EnergyReport e = sim.energy();
   const StepCounts& n = sim.stepper().counts();
-  out << "{\n"
-      << "  \"sim_time_s\": " << num(sim.time()) << ",\n"
+  out << "{\n";
+  // A run that ended early: the state it reached, and why (only then).
+  if (stop) {
+    out << "  \"stopped\": {\"cause\": \"" << jsonEscaped(stop->cause) << "\", \"message\": \""
+        << jsonEscaped(stop->message) << "\", \"end_time_s\": " << num(sim.endTime()) << "},\n";
+  }
+  out << "  \"sim_time_s\": " << num(sim.time()) << ",\n"
       << "  \"wall_time_s\": " << num(sim.wallTime()) << ",\n"
       << "  \"real_time_factor\": " << num(sim.realTimeFactor()) << ",\n"
       << "  \"integrator\": \"" << sim.stepper().name() << "\",\n"
@@ -245,10 +269,11 @@ void checkOutputDir(const std::string& dir) {
   fs::remove(probe, ec);
 }
 
-void writeOutputs(const Simulation& sim, const std::string& dir, const ErrorEstimate* estimate) {
+void writeOutputs(const Simulation& sim, const std::string& dir, const ErrorEstimate* estimate,
+                  const RunStop* stop) {
   checkOutputDir(dir);
   std::ostringstream summary, csv;
-  writeSummaryJson(sim, summary, estimate);
+  writeSummaryJson(sim, summary, estimate, stop);
   writeWireCsv(sim, csv);
   writeFileAtomically((fs::path(dir) / "wire.csv").string(), csv.str());
   if (sim.model().core() && !sim.scene().core.cylinders.empty()) {

@@ -10,10 +10,19 @@
 
 namespace cws {
 
+// Why a run ended before its end time: a signal (SIGINT, SIGTERM) or an
+// error the integration could not go on from, and the message said then.
+// Its outputs are those of the state it reached (summary.json "stopped").
+struct RunStop {
+  std::string cause;    // "SIGINT", "SIGTERM" or "error"
+  std::string message;  // what the run said when it stopped
+};
+
 // With `estimate`, summary.json also reports the run's own error
-// (error_estimate.hpp).
+// (error_estimate.hpp); with `stop`, why the run ended early ("stopped",
+// absent from a run that reached its end).
 void writeSummaryJson(const Simulation& sim, std::ostream& out,
-                      const ErrorEstimate* estimate = nullptr);
+                      const ErrorEstimate* estimate = nullptr, const RunStop* stop = nullptr);
 void writeWireCsv(const Simulation& sim, std::ostream& out);
 // The coil report as a JSON object (null when not valid).
 void writeCoilJson(const CoilReport& r, std::ostream& out);
@@ -27,7 +36,7 @@ void writeShapeCsv(const Simulation& sim, std::ostream& out);
 // written to a temporary name and renamed, so a failed run never leaves a
 // complete-looking file. Throws std::runtime_error naming the path.
 void writeOutputs(const Simulation& sim, const std::string& dir,
-                  const ErrorEstimate* estimate = nullptr);
+                  const ErrorEstimate* estimate = nullptr, const RunStop* stop = nullptr);
 
 // Refuses early (before a run) a directory that cannot be created or written.
 void checkOutputDir(const std::string& dir);
