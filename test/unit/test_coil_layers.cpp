@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -243,5 +244,34 @@ void expectLateReversalAt(double flange_spacing, double turns, int expected) {
 TEST(CoilLayers, ALateReversalIsReportedAtTheTurnWhereTheWireClimbs) {
   expectLateReversalAt(4.5e-3, 7.0, 5);
   expectLateReversalAt(3.5e-3, 6.0, 4);
+}
+
+// A coil wound past its planned layers (issue 57): two_layers.yaml plans
+// 50 turns in 2 layers of 25; at 70 turns the traverse goes on into a
+// third layer, which the 3 mm flanges hold (three layers stand 2.73 mm).
+// Until 2026-11-29 the port stopped after the second layer and the wire
+// piled up at the flange, where the Newton steps crawled at 2e-7 s from
+// t = 3.05 s (0.03 of real time and falling) and the run never ended. The
+// stop predicate is a guard (10 minutes of wall time), not a timing
+// assertion: the run takes seconds.
+TEST(CoilLayers, ACoilWoundPastItsPlannedLayersEndsInAFurtherLayer) {
+  const std::string two_layers = std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml";
+  const cws::Scene s = cws::loadScene(two_layers, {"process.turns=70"});
+  ASSERT_EQ(s.process.layers, 2);
+  EXPECT_EQ(s.traverseLayers(), 3);
+  cws::Simulation sim(s);
+  const auto start = std::chrono::steady_clock::now();
+  sim.run({}, [&] { return std::chrono::steady_clock::now() - start > std::chrono::minutes(10); });
+  ASSERT_GE(sim.time(), sim.endTime() * (1.0 - 1e-12)) << "stopped at t = " << sim.time();
+  const cws::CoilReport coil = cws::reportCoil(sim.model(), s);
+  ASSERT_TRUE(coil.valid);
+  EXPECT_EQ(coil.layers, 3);
+  // The build-up of three layers: the third lies about 2 x sqrt(3)/2 d out,
+  // below the flanges' 3 mm.
+  const cws::BulgeReport b = cws::headlineBulging(sim.model(), s, &coil);
+  EXPECT_GT(b.build_up_m, 1.6 * s.wire.diameter);
+  EXPECT_LT(b.build_up_m, s.core.flange_height);
+  std::printf("70 turns: %d layers, build-up %.4f mm, %.3g s wall for %.3g s simulated\n",
+              coil.layers, 1e3 * b.build_up_m, sim.wallTime(), sim.time());
 }
 #endif

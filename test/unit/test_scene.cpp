@@ -369,6 +369,32 @@ TEST_F(SceneFiles, RefusesAnOverFullBobbin) {
   EXPECT_NO_THROW(cws::loadScene(bobbin, {"process.layers=4", "physics.flanges=false"}));
 }
 
+// A job longer than its planned layers goes on in further layers up to what
+// the bobbin holds (two_layers.yaml: 25 turns a layer, 3 mm flanges hold 3
+// layers of 1 mm wire, 75 turns); one turn more is refused, with the
+// capacity in turns.
+TEST_F(SceneFiles, AJobPastItsPlannedLayersGoesOnUpToWhatTheBobbinHolds) {
+  const std::string bobbin = std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml";
+  const cws::Scene planned = cws::loadScene(bobbin, {});
+  EXPECT_DOUBLE_EQ(planned.turnsPerLayer(), 25.0);
+  EXPECT_EQ(planned.traverseLayers(), 2);  // 50 turns: exactly the plan
+  EXPECT_EQ(planned.bobbinLayers(), 3);
+  EXPECT_EQ(cws::loadScene(bobbin, {"process.turns=50.05"}).traverseLayers(), 2);  // rounding
+  EXPECT_EQ(cws::loadScene(bobbin, {"process.turns=51"}).traverseLayers(), 3);
+  EXPECT_EQ(cws::loadScene(bobbin, {"process.turns=75"}).traverseLayers(), 3);
+  // A job set by its duration keeps the plan.
+  EXPECT_EQ(cws::loadScene(bobbin, {"process.duration=9"}).traverseLayers(), 2);
+  try {
+    cws::loadScene(bobbin, {"process.turns=76"});
+    ADD_FAILURE() << "a full bobbin was accepted";
+  } catch (const cws::SceneError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(e.key(), "process.turns") << what;
+    EXPECT_NE(what.find("75 turns"), std::string::npos) << what;
+    EXPECT_NE(what.find("full"), std::string::npos) << what;
+  }
+}
+
 TEST_F(SceneFiles, RefusesKineticFrictionAboveStatic) {
   expectRefused("contact:\n  static_friction: 0.2\n  kinetic_friction: 0.25\n", {},
                 "contact.kinetic_friction", "above static");

@@ -84,7 +84,7 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
 
   // Turns: their points, layer (the most common), plan, position, stand-off.
   const TraverseProfile plan =
-      TraverseProfile::of(s.process.traverse_pitch, s.process.winding_width, d, s.process.layers);
+      TraverseProfile::of(s.process.traverse_pitch, s.process.winding_width, d, s.traverseLayers());
   for (int i = 0; i <= last;) {
     TurnReport turn;
     turn.turn = r.point_turn[i];

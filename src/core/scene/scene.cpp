@@ -87,6 +87,27 @@ double Scene::pointCapacityForAngle(double core_angle_rad) const {
   return n + std::ceil(1.2 * fed / wire.segment_length) + 8.0;
 }
 
+double Scene::turnsPerLayer() const {
+  if (!(process.winding_width > wire.diameter) || process.traverse_pitch == 0.0) return 0.0;
+  return (process.winding_width - wire.diameter) / std::abs(process.traverse_pitch);
+}
+
+int Scene::traverseLayers() const {
+  const double per_layer = turnsPerLayer();
+  if (process.layers <= 0 || process.duration || per_layer <= 0.0) return process.layers;
+  // (A job of its layers' turns, rounded up by up to a tenth of a turn,
+  // needs no further pass: the port waits at the flange for that tenth.)
+  const double needed = std::ceil((std::abs(process.turns) - 0.1) / per_layer);
+  return static_cast<int>(std::max<double>(process.layers, std::min(needed, 1e6)));
+}
+
+int Scene::bobbinLayers() const {
+  const double d = wire.diameter;
+  if (core.flange_height < d) return 0;
+  return 1 +
+         static_cast<int>(std::floor((core.flange_height / d - 1.0) * 2.0 / std::sqrt(3.0) + 1e-9));
+}
+
 // A wave crosses a segment in l / c: axial c = sqrt(EA / rho); torsional
 // c = sqrt(GJ / (2/5 rho r^2)), the frames' inertia per length.
 double explicitStepLimit(const Scene& s) {

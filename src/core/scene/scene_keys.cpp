@@ -152,7 +152,8 @@ std::vector<SceneKey> declareKeys() {
                                                 "between the flanges; the traverse reverses at "
                                                 "its ends (0: never)"),
       key<&S::process, &Process::layers>("process.layers", "-", count(100000),
-                                         "traverse passes before the port stops (0: no end)"),
+                                         "the job's planned traverse passes (0: no end); more "
+                                         "turns go on in further layers up to the bobbin's"),
       key<&S::process, &Process::max_core_speed_rpm>("process.max_core_speed_rpm", "rpm", kPositive,
                                                      "setpoints beyond +- this are refused"),
       key<&S::process, &Process::max_tension>("process.max_tension", "N", kPositive,

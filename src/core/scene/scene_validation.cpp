@@ -107,17 +107,36 @@ void flangesFit(const Scene& s) {
   // (orthocyclic, each layer in the grooves of the one below), rise above
   // the flanges. Wire beyond a flange's rim would fall over it; the model
   // has nothing there to hold it.
-  if (s.process.layers > 0) {
+  const int layers = s.traverseLayers();
+  if (layers > 0) {
     const double d = s.wire.diameter;
-    const double stack = d * (1.0 + (s.process.layers - 1) * 0.5 * std::sqrt(3.0));
-    if (stack > s.core.flange_height) {
+    const double stack = d * (1.0 + (layers - 1) * 0.5 * std::sqrt(3.0));
+    if (stack > s.core.flange_height * (1.0 + 1e-12)) {
+      // Its capacity: the layers that fit, in turns where the traverse
+      // reverses.
+      const int holds = s.bobbinLayers();
+      const double per_layer = s.turnsPerLayer();
+      const std::string capacity =
+          "the bobbin holds " + std::to_string(holds) + " layers" +
+          (per_layer > 0.0 ? " (" + fmt(holds * per_layer) + " turns)" : std::string()) +
+          " under core.flange_height = " + fmt(s.core.flange_height) + " m";
+      if (layers > s.process.layers) {
+        throw SceneError("process.turns",
+                         fmt(s.process.turns) + " turns wind past the " +
+                             std::to_string(s.process.layers) +
+                             " planned layers (process.layers) into " + std::to_string(layers) +
+                             " layers of " + fmt(per_layer) + " turns each, but " + capacity +
+                             ": the bobbin is full; wind at most " + fmt(holds * per_layer) +
+                             " turns or raise core.flange_height to at least " + fmt(stack) + " m");
+      }
       throw SceneError("process.layers",
                        std::to_string(s.process.layers) + " layers of wire " + fmt(d) +
                            " m thick stand at least " + fmt(stack) +
                            " m high, above core.flange_height = " + fmt(s.core.flange_height) +
                            " m: the bobbin is over-full and the wire would climb over the "
-                           "flanges' rims; raise core.flange_height to at least " +
-                           fmt(stack) + " m or wind fewer layers");
+                           "flanges' rims (" +
+                           capacity + "); raise core.flange_height to at least " + fmt(stack) +
+                           " m or wind fewer layers");
     }
   }
 }

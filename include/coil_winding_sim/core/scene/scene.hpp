@@ -110,7 +110,8 @@ struct ProcessParams {
   double traverse_pitch = 0.0;    // port travel along the core axis per core turn [m]
   double winding_width =
       0.0;         // between the flanges; the traverse reverses at its ends [m] (0: never)
-  int layers = 0;  // traverse passes before the port stops (0: no end)
+  int layers = 0;  // the job's planned traverse passes (0: no end); process.turns
+                   // beyond them go on in further layers (Scene::traverseLayers)
   double max_core_speed_rpm = 6000.0;  // setpoints beyond +- this are refused [rpm]
   double max_tension = 300.0;          // setpoints above this are refused [N]
   double turns = 1.75;                 // core revolutions to run [-]
@@ -272,6 +273,18 @@ struct Scene {
   // The points a run that turns the core by core_angle_rad [rad] needs
   // (supply.max_points aside): a replay's commands set the angle.
   double pointCapacityForAngle(double core_angle_rad) const;
+  // Turns per pass of the traverse [-]: its travel W - d over the pitch
+  // (0: no reversal, no winding width or no pitch).
+  double turnsPerLayer() const;
+  // The passes the traverse lays before the port stops (0: no end):
+  // process.layers, the job's plan, or more where process.turns winds past
+  // them. A coil wound past its plan goes on in further layers, up to what
+  // the bobbin holds (validateScene refuses more), as a machine's traverse
+  // does; it never stops the port under a turning core before the job ends.
+  int traverseLayers() const;
+  // Layers the bobbin holds under core.flange_height, packed as closely as
+  // wire packs (d (1 + (layers - 1) sqrt(3) / 2) high) [-].
+  int bobbinLayers() const;
 };
 
 // Checks every value; throws SceneError naming the first bad key.
