@@ -7,9 +7,6 @@
 namespace cws {
 
 void SpatialAssembly::resize(int capacity_points) {
-  const int unknowns = kPerPoint * capacity_points + 2;
-  force_.setZero(unknowns);
-  scale_.setOnes(unknowns);
   f_work.setZero(3, capacity_points);
   f_dissipative.setZero(3, capacity_points);
   fq_work.setZero(4, capacity_points);
@@ -21,6 +18,8 @@ void SpatialAssembly::resize(int capacity_points) {
   q_.assign(capacity_points, Eigen::Vector4d::Zero());
   radial_.setZero(capacity_points);
   fq4_.setZero(4, capacity_points);
+  force_.resize(0);
+  scale_.resize(0);
   kqq_.clear();
   kpq_.clear();
   kqp_.clear();
@@ -28,7 +27,13 @@ void SpatialAssembly::resize(int capacity_points) {
 }
 
 void SpatialAssembly::reserveSpan(int points) {
-  matrix_.reserve(kPerPoint * points + 2);
+  const int unknowns = kPerPoint * points + 2;
+  matrix_.reserve(unknowns);
+  if (unknowns > force_.size()) {
+    const Eigen::Index grown = std::max<Eigen::Index>(unknowns, 2 * force_.size());
+    force_.setZero(grown);
+    scale_.setOnes(grown);
+  }
   if (3 * points <= static_cast<int>(kqq_.size())) return;
   const std::size_t slots =
       static_cast<std::size_t>(3 * std::max(points, 2 * static_cast<int>(kqq_.size() / 3)));
@@ -72,7 +77,7 @@ void SpatialAssembly::begin(int first, int n, bool port, bool jacobian, double a
   const bool partial = jacobian_top >= first && jacobian_top < n - 1;
   jacobian_top_ = partial ? jacobian_top : n;  // (n: also the port's rows)
   alpha_ = alpha;
-  if (jacobian) reserveSpan(n - first);
+  reserveSpan(n - first);
   force_.head(unknowns_).setZero();
   fq4_.middleCols(first, n - first).setZero();
   if (jacobian) {

@@ -37,10 +37,10 @@ SpatialFormulation::SpatialFormulation(NewtonModelView& model, const SolverParam
   mu_try_.setZero(3, cap);
   mu_accepted_.setZero(3, cap);
   radial_r_.setZero(cap);
-  r_.setZero(SpatialAssembly::kPerPoint * cap + 2);
-  dx_.setZero(SpatialAssembly::kPerPoint * cap + 2);
+  r_.setZero(SpatialAssembly::kPerPoint * std::min(cap, SpatialAssembly::kReservedSpan) + 2);
+  dx_.setZero(SpatialAssembly::kPerPoint * std::min(cap, SpatialAssembly::kReservedSpan) + 2);
   secant_.reserve(SpatialAssembly::kPerPoint * std::min(cap, SpatialAssembly::kReservedSpan) + 2);
-  weight_.setZero(SpatialAssembly::kPerPoint * cap + 2);
+  weight_.setZero(SpatialAssembly::kPerPoint * std::min(cap, SpatialAssembly::kReservedSpan) + 2);
 }
 
 void SpatialFormulation::load(double t0) {
@@ -173,6 +173,15 @@ NewtonStats SpatialFormulation::solve(const OneLegStep& step, const Eigen::Matri
   // (Newton moves a frame by rotations: it starts on the unit sphere.)
   for (int i = f; i < n; ++i) state_.q.col(i) = x_guess.block<4, 1>(3, i).normalized();
   updateRates();
+  // The system's vectors cover the integrated span (grown as the
+  // assembly's are: SpatialAssembly::kReservedSpan).
+  const Eigen::Index rows = SpatialAssembly::kPerPoint * m + 2;
+  if (rows > r_.size()) {
+    const Eigen::Index grown = std::max<Eigen::Index>(rows, 2 * r_.size());
+    r_.setZero(grown);
+    dx_.setZero(grown);
+    weight_.setZero(grown);
+  }
   // (The port's multipliers, last, weigh nothing.)
   const double w_rotation = 0.25 * segment_length_ * segment_length_;
   for (int i = f; i < n; ++i) {

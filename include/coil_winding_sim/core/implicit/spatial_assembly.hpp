@@ -76,10 +76,10 @@ class SpatialAssembly {
   // quaternion's coordinates while they add) onto the frames' rotations.
   void finish();
   // Storage for up to `capacity_points` points (once, before a run). The
-  // Jacobian's blocks, which only the integrated points use, are sized for
-  // kReservedSpan of them (fewer if the capacity is less); a longer
-  // integrated span grows them (begin), which a coil meets only when wound
-  // wire is released over many turns.
+  // system's rows and the Jacobian's blocks, which only the integrated
+  // points use, are sized for kReservedSpan of them (fewer if the capacity
+  // is less); a longer integrated span grows them (begin), which a coil
+  // meets only when wound wire is released over many turns.
   static constexpr int kReservedSpan = 1024;
   void resize(int capacity_points);
   // Starts the system of points first..n-1 (with the port's multipliers if
@@ -198,7 +198,7 @@ class SpatialAssembly {
   bool rowWanted(int r) const { return r / kPerPoint + first_ <= jacobian_top_; }
   // (Relative to the first integrated point: the blocks cover the span.)
   int slot(int i, int j) const { return 3 * (i - first_) + (j - i + 1); }
-  // Jacobian storage for `points` integrated points at least.
+  // Rows and Jacobian storage for `points` integrated points at least.
   void reserveSpan(int points);
   // Constraint row `row`'s gradient on the unknowns c..c+2 (one point's p
   // or rotation): the row's entries, scaled, and the multiplier's column.
