@@ -179,6 +179,7 @@ void WindingCell::run() {
       }
       noteFallback();
       if (!o_.follow_clock && o_.stop_at_end && !job_done_ && !failed_ && jobEnded()) endJob();
+      checkPlan();
       if (wind_.active && !failed_ && windEnded()) endWind("done");
       done = paused_ || failed_ || holding();
       // While the cell takes no steps, its stamps follow the clock: the
@@ -313,6 +314,14 @@ bool WindingCell::finished() const {
 void WindingCell::advanceChunk() {
   const double start = wallNow();
   double t_limit = o_.stop_at_end ? jobEndTime() : 1e300;
+  // Running until stopped: the steps end on a coil's plan and on a full
+  // bobbin, where the spindle is braked (checkPlan).
+  if (!o_.stop_at_end && !o_.follow_clock && !braking_ && sim_->model().core()) {
+    if (scene_.process.layers > 0 && !plan_ended_ && !wind_.active)
+      t_limit = std::min(t_limit, jobEndTime());
+    const double holds = scene_.bobbinTurns();
+    if (std::isfinite(holds) && !bobbin_full_) t_limit = std::min(t_limit, timeAtTurns(0.0, holds));
+  }
   if (run_until_) t_limit = std::min(t_limit, *run_until_);
   if (wind_.active && wind_.duration_s > 0.0) t_limit = std::min(t_limit, windEndTime());
   try {

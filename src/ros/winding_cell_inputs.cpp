@@ -151,6 +151,10 @@ bool WindingCell::refusedWhileHolding(const std::string& topic, const std::strin
   std::string why, todo = "call ~reset or ~restore to wind again";
   if (job_done_ && o_.stop_at_end) {
     why = "the job is done and the cell holds its state (~stop_at_end true)";
+  } else if (job_done_ && plan_stop_ && !bobbin_full_) {
+    // The spindle stopped at the scene's plan: a setpoint winds on.
+    resume_ = true;
+    return false;
   } else if (job_done_) {
     why = "the wind goal is done and the cell holds its state";
     todo = "send a wind goal, or call ~reset or ~restore, to wind again";

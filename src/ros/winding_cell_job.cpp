@@ -53,6 +53,57 @@ double WindingCell::timeAtTurns(double start_angle_rad, double turns) const {
   return hi;
 }
 
+// Running until stopped (neither ~stop_at_end nor ~follow_clock): a coil
+// scene (process.layers planned) ends its job at process.turns with the
+// spindle braked to rest, and the cell holds "job done"; a later wind goal
+// or setpoint winds on (the traverse lays further layers:
+// Scene::traverseLayers). A bobbin ends when it is full: the spindle stops
+// and the cell holds until a reset or restore (lock held).
+void WindingCell::checkPlan() {
+  const cws::RotatingCore* core = sim_->model().core();
+  if (!core || o_.stop_at_end || o_.follow_clock || failed_) return;
+  // A later setpoint winds on from a plan's stop (not from a full bobbin).
+  if (resume_.exchange(false) && plan_stop_ && !bobbin_full_) {
+    plan_stop_ = false;
+    job_done_ = false;
+    job_note_.clear();
+    restartPace();
+  }
+  if (job_done_) return;
+  const double t = sim_->time();
+  if (braking_) {
+    if (std::abs(core->omega(t)) > 0.0) return;
+    braking_ = false;
+    plan_stop_ = true;
+    if (wind_.active) {
+      endWind("stopped (" + job_note_ + ")");
+      return;
+    }
+    endJob();
+    return;
+  }
+  const double turns = std::abs(core->angle(t)) / (2.0 * M_PI);
+  const double holds = scene_.bobbinTurns();
+  const bool full = turns >= holds * (1.0 - 1e-9);
+  const bool planned = scene_.process.layers > 0 && !plan_ended_ && !wind_.active && jobEnded();
+  if (!full && !planned) return;
+  plan_ended_ = true;
+  bobbin_full_ = full;
+  job_note_ = full
+                  ? "the bobbin is full at " + cws::formatNumber(holds, "%.4g") +
+                        " turns: the spindle stopped; reset or restore to wind again"
+                  : "the spindle stopped at the scene's plan of " +
+                        cws::formatNumber(scene_.process.turns, "%.4g") + " turns in " +
+                        std::to_string(scene_.plannedLayers()) +
+                        " layers; a wind goal or a setpoint winds on" +
+                        (std::isfinite(holds)
+                             ? ", up to the bobbin's " + cws::formatNumber(holds, "%.4g") + " turns"
+                             : std::string());
+  speed_setpoint_ = 0.0;
+  sim_->apply(cws::Setpoint::coreSpeed(0.0));
+  braking_ = true;
+}
+
 // The job is done: one line on the console, cell_status and the metrics
 // say so, and ~exit_at_end asks the loop to end.
 void WindingCell::endJob() {
@@ -83,6 +134,7 @@ std::string WindingCell::cellState(std::string& message) const {
                   b.valid ? (cws::formatNumber(1e3 * b.height_m, "%.4f") + " mm").c_str()
                           : "none (nothing wound)");
     message = text;
+    if (plan_stop_) message += "; " + job_note_;
     return S::JOB_DONE;
   }
   if (storage_full_) {

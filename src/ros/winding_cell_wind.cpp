@@ -106,6 +106,17 @@ void WindingCell::startWind(const coil_winding_sim::WindGoal& goal) {
   if (why.empty() && !sim_->model().core() && goal.turns > 0.0) {
     why = "the scene has no core to turn (physics.contact false): give a duration";
   }
+  // A goal of more turns than the bobbin has room for.
+  if (why.empty() && sim_->model().core() && goal.turns > 0.0) {
+    const double wound = std::abs(sim_->coreTurns()), holds = scene_.bobbinTurns();
+    if (wound + goal.turns > holds * (1.0 + 1e-9)) {
+      why = "the bobbin holds " + cws::formatNumber(holds, "%.4g") + " turns and has " +
+            cws::formatNumber(wound, "%.4g") + " on it: room for " +
+            cws::formatNumber(std::max(0.0, holds - wound), "%.4g") + " more, not " +
+            cws::formatNumber(goal.turns, "%.4g");
+    }
+  }
+  if (why.empty() && bobbin_full_) why = job_note_;
   if (!why.empty()) {
     ROS_WARN("winding_cell: wind goal refused: %s", why.c_str());
     coil_winding_sim::WindResult result;
@@ -125,6 +136,8 @@ void WindingCell::startWind(const coil_winding_sim::WindGoal& goal) {
   // The job winds: a held job ends, a pause ends, a core at rest without a
   // profile takes the scene's speed.
   job_done_ = false;
+  plan_stop_ = false;
+  job_note_.clear();
   paused_ = false;
   run_until_.reset();
   if (wind_.time_s.empty() && speed_setpoint_ == 0.0) {

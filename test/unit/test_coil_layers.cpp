@@ -258,7 +258,7 @@ TEST(CoilLayers, ACoilWoundPastItsPlannedLayersEndsInAFurtherLayer) {
   const std::string two_layers = std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml";
   const cws::Scene s = cws::loadScene(two_layers, {"process.turns=70"});
   ASSERT_EQ(s.process.layers, 2);
-  EXPECT_EQ(s.traverseLayers(), 3);
+  EXPECT_EQ(s.plannedLayers(), 3);
   cws::Simulation sim(s);
   const auto start = std::chrono::steady_clock::now();
   sim.run({}, [&] { return std::chrono::steady_clock::now() - start > std::chrono::minutes(10); });

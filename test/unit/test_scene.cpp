@@ -377,13 +377,19 @@ TEST_F(SceneFiles, AJobPastItsPlannedLayersGoesOnUpToWhatTheBobbinHolds) {
   const std::string bobbin = std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml";
   const cws::Scene planned = cws::loadScene(bobbin, {});
   EXPECT_DOUBLE_EQ(planned.turnsPerLayer(), 25.0);
-  EXPECT_EQ(planned.traverseLayers(), 2);  // 50 turns: exactly the plan
+  EXPECT_EQ(planned.plannedLayers(), 2);  // 50 turns: exactly the plan
   EXPECT_EQ(planned.bobbinLayers(), 3);
-  EXPECT_EQ(cws::loadScene(bobbin, {"process.turns=50.05"}).traverseLayers(), 2);  // rounding
-  EXPECT_EQ(cws::loadScene(bobbin, {"process.turns=51"}).traverseLayers(), 3);
-  EXPECT_EQ(cws::loadScene(bobbin, {"process.turns=75"}).traverseLayers(), 3);
+  EXPECT_DOUBLE_EQ(planned.bobbinTurns(), 75.0);
+  // The traverse lays what the bobbin holds: wire wound on after the job
+  // lies in a further layer.
+  EXPECT_EQ(planned.traverseLayers(), 3);
+  EXPECT_EQ(cws::loadScene(bobbin, {"process.turns=50.05"}).plannedLayers(), 2);  // rounding
+  EXPECT_EQ(cws::loadScene(bobbin, {"process.turns=51"}).plannedLayers(), 3);
+  EXPECT_EQ(cws::loadScene(bobbin, {"process.turns=75"}).plannedLayers(), 3);
   // A job set by its duration keeps the plan.
-  EXPECT_EQ(cws::loadScene(bobbin, {"process.duration=9"}).traverseLayers(), 2);
+  EXPECT_EQ(cws::loadScene(bobbin, {"process.duration=9"}).plannedLayers(), 2);
+  // Without flanges the traverse stops after the job's layers.
+  EXPECT_EQ(cws::loadScene(bobbin, {"physics.flanges=false"}).traverseLayers(), 2);
   try {
     cws::loadScene(bobbin, {"process.turns=76"});
     ADD_FAILURE() << "a full bobbin was accepted";

@@ -193,6 +193,16 @@ class WindingCell {
   // the exit it asks for with ~exit_at_end.
   // (Atomic: the setpoint callbacks read them without the lock.)
   std::atomic<bool> job_done_{false}, storage_full_{false};
+  // A coil's plan (winding_cell_job.cpp, checkPlan): running until stopped,
+  // a scene with process.layers planned ends its job with the spindle
+  // braked to rest at process.turns, and the bobbin ends when it is full.
+  // plan_ended_: once per job; braking_: the spindle is being stopped;
+  // plan_stop_: the cell holds at such a stop, and a setpoint winds on
+  // (resume_: one arrived); job_note_: what the stop says.
+  bool plan_ended_ = false, braking_ = false, bobbin_full_ = false;
+  std::atomic<bool> plan_stop_{false}, resume_{false};
+  std::string job_note_;
+  void checkPlan();
   bool exit_requested_ = false;
   // The job's pace, as Gazebo's: simulated time over the wall time spent
   // winding (not paused, held or at rest).

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "coil_winding_sim/core/model/quaternion.hpp"
 #include "scene_detail.hpp"
@@ -93,10 +94,22 @@ double Scene::turnsPerLayer() const {
 }
 
 int Scene::traverseLayers() const {
+  const int planned = plannedLayers();
+  if (planned <= 0 || !physics.flanges || turnsPerLayer() <= 0.0) return planned;
+  return std::max(planned, bobbinLayers());
+}
+
+double Scene::bobbinTurns() const {
+  const double per_layer = turnsPerLayer();
+  if (!physics.flanges || per_layer <= 0.0) return std::numeric_limits<double>::infinity();
+  return bobbinLayers() * per_layer;
+}
+
+int Scene::plannedLayers() const {
   const double per_layer = turnsPerLayer();
   if (process.layers <= 0 || process.duration || per_layer <= 0.0) return process.layers;
   // (A job of its layers' turns, rounded up by up to a tenth of a turn,
-  // needs no further pass: the port waits at the flange for that tenth.)
+  // plans no further layer.)
   const double needed = std::ceil((std::abs(process.turns) - 0.1) / per_layer);
   return static_cast<int>(std::max<double>(process.layers, std::min(needed, 1e6)));
 }

@@ -107,7 +107,7 @@ void flangesFit(const Scene& s) {
   // (orthocyclic, each layer in the grooves of the one below), rise above
   // the flanges. Wire beyond a flange's rim would fall over it; the model
   // has nothing there to hold it.
-  const int layers = s.traverseLayers();
+  const int layers = s.plannedLayers();
   if (layers > 0) {
     const double d = s.wire.diameter;
     const double stack = d * (1.0 + (layers - 1) * 0.5 * std::sqrt(3.0));

@@ -276,12 +276,19 @@ struct Scene {
   // Turns per pass of the traverse [-]: its travel W - d over the pitch
   // (0: no reversal, no winding width or no pitch).
   double turnsPerLayer() const;
-  // The passes the traverse lays before the port stops (0: no end):
-  // process.layers, the job's plan, or more where process.turns winds past
-  // them. A coil wound past its plan goes on in further layers, up to what
-  // the bobbin holds (validateScene refuses more), as a machine's traverse
-  // does; it never stops the port under a turning core before the job ends.
+  // The layers the job winds: process.layers, its plan, or more where
+  // process.turns winds past them (validateScene refuses more than the
+  // bobbin holds; 0: no end).
+  int plannedLayers() const;
+  // The passes the traverse lays before the port stops (0: no end): on a
+  // bobbin (physics.flanges) as many as it holds, as a machine's traverse
+  // goes on reversing while the spindle turns, so that wire wound past the
+  // plan (the cell winding on after its job) lies in further layers rather
+  // than piling up at a flange; else plannedLayers().
   int traverseLayers() const;
+  // The turns the bobbin holds (bobbinLayers() of turnsPerLayer(); +inf
+  // without flanges or a traverse that reverses) [-].
+  double bobbinTurns() const;
   // Layers the bobbin holds under core.flange_height, packed as closely as
   // wire packs (d (1 + (layers - 1) sqrt(3) / 2) high) [-].
   int bobbinLayers() const;
