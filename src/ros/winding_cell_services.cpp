@@ -154,8 +154,8 @@ void WindingCell::replace(std::unique_ptr<cws::Simulation> next) {
   compute_s_ = 0.0;
   job_done_ = false;
   storage_full_ = false;
-  plan_ended_ = braking_ = bobbin_full_ = false;
-  plan_stop_ = resume_ = false;
+  plan_ended_ = braking_ = false;
+  plan_stop_ = resume_ = bobbin_full_ = false;
   job_note_.clear();
   carried_sent_ = 0;  // (the reader starts the new run's wire from point 0)
   exit_requested_ = false;

@@ -199,8 +199,9 @@ class WindingCell {
   // plan_ended_: once per job; braking_: the spindle is being stopped;
   // plan_stop_: the cell holds at such a stop, and a setpoint winds on
   // (resume_: one arrived); job_note_: what the stop says.
-  bool plan_ended_ = false, braking_ = false, bobbin_full_ = false;
-  std::atomic<bool> plan_stop_{false}, resume_{false};
+  bool plan_ended_ = false, braking_ = false;
+  // (Atomic: the setpoint callbacks read them without the lock.)
+  std::atomic<bool> plan_stop_{false}, resume_{false}, bobbin_full_{false};
   std::string job_note_;
   void checkPlan();
   bool exit_requested_ = false;
