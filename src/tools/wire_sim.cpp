@@ -180,13 +180,21 @@ int run(const Args& a) {
   // A run that ends early (a signal, or an error it cannot go on from)
   // writes the state it reached, marked "stopped" in summary.json.
   try {
+    // The time left at the pace since the last progress line, not the
+    // run's mean: a run that slows down (a crawl) says so.
+    double last_t = sim.time(), last_wall = sim.wallTime();
     sim.run(
-        [](const cws::Simulation& s) {
+        [&](const cws::Simulation& s) {
           const double rtf = s.realTimeFactor();
-          const double remaining = rtf > 0.0 ? (s.endTime() - s.time()) / rtf : 0.0;
+          const double recent =
+              s.wallTime() > last_wall ? (s.time() - last_t) / (s.wallTime() - last_wall) : rtf;
+          last_t = s.time();
+          last_wall = s.wallTime();
+          const double remaining = recent > 0.0 ? (s.endTime() - s.time()) / recent : 0.0;
           std::fprintf(stderr,
-                       "  t = %.6f s of %.6f s, real-time factor %.3g, ~%.0f s left, step %.3g s\n",
-                       s.time(), s.endTime(), rtf, remaining, s.stepper().lastStep());
+                       "  t = %.6f s of %.6f s, real-time factor %.3g (%.3g lately), ~%.0f s "
+                       "left, step %.3g s\n",
+                       s.time(), s.endTime(), rtf, recent, remaining, s.stepper().lastStep());
         },
         [] { return g_stop_signal != 0; });
   } catch (const cws::IntegrationError& e) {
