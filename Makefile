@@ -3,6 +3,10 @@
 #   make deps     install missing Debian packages (as root; skipped when all present)
 #   make build    build the package in the catkin workspace .ws/ (git-ignored)
 #   make run      run the wire_sim tool:  make run [SCENE=config/scenes/x.yaml] [OUT=out/x] [ARGS="..."]
+#                 (the scene's method: bdf2 with strike steps in the package's scenes)
+#   make reference  the same scene with the converged explicit method (symplectic_euler
+#                 at its automatic step), into REF_OUT (default out/reference); compare
+#                 with src/tools/compare_runs.py REF_OUT OUT
 #   make study    the paper's 2 x 2 study: table and figure in docs/study (STUDY_OUT)
 #   make coil-study  gaps and overlaps of a two-layer coil against tension and pitch:
 #                 table and cross-sections in docs/study/coil (COIL_STUDY_OUT)
@@ -73,7 +77,7 @@ CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCATKIN_ENABLE_TESTING=ON \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON
 
-.PHONY: deps build run study coil-study bench work-precision stability robustness compare compare-demo calibrate-demo screenshots test format format-check clean
+.PHONY: deps build run reference study coil-study bench work-precision stability robustness compare compare-demo calibrate-demo screenshots test format format-check clean
 
 deps:
 ifeq ($(SKIP_DEPS),1)
@@ -111,6 +115,15 @@ build: deps | $(WS)/src/$(PKG)
 run: build
 	mkdir -p "$(dir $(OUT))"
 	$(WIRE_SIM) run --out "$(OUT)" $(if $(SCENE),--scene "$(SCENE)") $(ARGS)
+
+# The explicit reference of a run (docs/PERFORMANCE.md): the same scene and
+# settings with symplectic_euler at its automatic step, 1/4 of the time an
+# axial wave needs to cross a segment.
+REF_OUT ?= out/reference
+reference: build
+	mkdir -p "$(dir $(REF_OUT))"
+	$(WIRE_SIM) run --out "$(REF_OUT)" $(if $(SCENE),--scene "$(SCENE)") $(ARGS) \
+	  --set solver.integrator=symplectic_euler
 
 # Error against run time for every integrator, the paper's 1200 and 600 rpm
 # cases (30 N, 2 mm segments): CSVs and figure into docs/performance.

@@ -79,12 +79,23 @@ void JobErrorEstimator::finishJob(const cws::Simulation& finished, double comput
           e.refinement.c_str(), e.wall_s, e.refined_wall_s);
       ROS_INFO("winding_cell: error estimate of the job ended at t = %.6f s: %s", end.time_s, text);
       setStatus(text);
+      std::lock_guard<std::mutex> lock(status_mutex_);
+      latest_.shape = e.shape_error_rel_diameter;
+      latest_.bulging =
+          e.bulging_valid ? e.bulging_error_rel : std::numeric_limits<double>::quiet_NaN();
+      latest_.sim_time = end.time_s;
+      ++latest_.count;
     } else {
       ROS_WARN("winding_cell: no error estimate of the job ended at t = %.6f s: %s", end.time_s,
                failure.c_str());
       setStatus("failed: " + failure);
     }
   });
+}
+
+JobErrorEstimator::Latest JobErrorEstimator::latest() const {
+  std::lock_guard<std::mutex> lock(status_mutex_);
+  return latest_;
 }
 
 void JobErrorEstimator::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) const {

@@ -164,9 +164,18 @@ void WindingCell::publishStatus() {
   std::lock_guard<std::mutex> lock(sim_mutex_);
   coil_winding_sim::CellStatus s;
   s.state = cellState(s.message);
-  if (s.state == last_status_ && refused_ == last_refused_) return;
+  const JobErrorEstimator::Latest estimate =
+      estimator_ ? estimator_->latest() : JobErrorEstimator::Latest{};
+  if (s.state == last_status_ && refused_ == last_refused_ &&
+      estimate.count == last_estimate_count_) {
+    return;
+  }
   last_status_ = s.state;
   last_refused_ = refused_;
+  last_estimate_count_ = estimate.count;
+  s.shape_error_estimate = estimate.shape;
+  s.bulging_error_estimate = estimate.bulging;
+  s.error_estimate_sim_time = estimate.sim_time;
   s.refused = refused_;
   s.header.stamp = stamp();
   s.header.frame_id = o_.frames.world;

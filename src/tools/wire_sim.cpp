@@ -240,14 +240,14 @@ int run(const Args& a) {
   }
   cws::writeOutputs(sim, out, estimate.get());
   const cws::EnergyReport e = sim.energy();
-  // The method that ran, and in one line how to get the fast one and the
-  // converged reference of the same model.
+  // The method that ran, and in one line how to get the converged explicit
+  // reference of the same model, and the run's own error.
   std::printf(
       "done: %s, t = %.6g s in %.3g s wall (real-time factor %.3g), %ld steps (%ld rejected)\n"
       "      max constraint residual %.3g, max axial force %.4g N, energy imbalance %.3g J\n"
       "      results in %s/summary.json and %s/wire.csv\n"
-      "      fast (real time): --set solver.integrator=bdf2; converged reference: "
-      "--set solver.integrator=symplectic_euler (docs/PERFORMANCE.md)\n",
+      "      converged reference: --set solver.integrator=symplectic_euler (make reference); "
+      "this run's error: --error-estimate (docs/PERFORMANCE.md)\n",
       sim.stepper().name(), sim.time(), sim.wallTime(), sim.realTimeFactor(),
       sim.stepper().counts().accepted, sim.stepper().counts().rejected, sim.maxConstraintResidual(),
       sim.maxAxialForce(), e.imbalance(), out.c_str(), out.c_str());

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <vector>
 
+#include "coil_winding_sim/CellStatus.h"
 #include "coil_winding_sim/ErrorEstimate.h"
 #include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/WindingMetrics.h"
@@ -28,6 +29,15 @@ struct Listener {
     ros::NodeHandle nh;
     metrics_sub = nh.subscribe("winding_metrics", 10, &Listener::onMetrics, this);
     estimate_sub = nh.subscribe("error_estimate", 10, &Listener::onEstimate, this);
+    status_sub = nh.subscribe("cell_status", 10, &Listener::onStatus, this);
+  }
+  void onStatus(const coil_winding_sim::CellStatus::ConstPtr& m) {
+    std::lock_guard<std::mutex> l(mutex);
+    status = *m;
+  }
+  coil_winding_sim::CellStatus lastStatus() {
+    std::lock_guard<std::mutex> l(mutex);
+    return status;
   }
   void onMetrics(const coil_winding_sim::WindingMetrics::ConstPtr& m) {
     std::lock_guard<std::mutex> l(mutex);
@@ -48,7 +58,8 @@ struct Listener {
   std::mutex mutex;
   coil_winding_sim::WindingMetrics metrics;
   std::vector<coil_winding_sim::ErrorEstimate> estimates;
-  ros::Subscriber metrics_sub, estimate_sub;
+  coil_winding_sim::CellStatus status;
+  ros::Subscriber metrics_sub, estimate_sub, status_sub;
 };
 
 bool pause(bool on) {
@@ -96,6 +107,11 @@ TEST(ErrorEstimate, AJobWithASetpointIsRunAgainWithIt) {
   // The scene's setpoints at the start and the 60 N mid-job, each given
   // again (without the 60 N, the refined run is another job: many d off).
   EXPECT_GE(e.inputs, 1);
+  // cell_status carries it too, once it has arrived.
+  ASSERT_TRUE(waitFor([&] { return l.lastStatus().shape_error_estimate == e.shape_error; }, 10.0))
+      << "cell_status does not carry the estimate";
+  EXPECT_EQ(l.lastStatus().bulging_error_estimate, e.bulging_error);
+  EXPECT_NEAR(l.lastStatus().error_estimate_sim_time, 0.1, 1e-9);
   std::printf("estimate: shape %g d, bulging %g, %d inputs, %g s against %g s\n", e.shape_error,
               e.bulging_error, e.inputs, e.compute_time, e.refined_compute_time);
 

@@ -23,8 +23,11 @@ const std::string kDefault = std::string(CWS_SOURCE_DIR) + "/config/scenes/defau
 std::vector<std::string> paperCaseKeys(double turns, bool carry,
                                        const std::string& segment = "2e-3",
                                        const std::string& step = "2e-7") {
-  return {"process.core_speed_rpm=1200", "wire.segment_length=" + segment,
-          "solver.fixed_step=" + step, "process.turns=" + std::to_string(turns),
+  return {"process.core_speed_rpm=1200",
+          "wire.segment_length=" + segment,
+          "solver.integrator=symplectic_euler",
+          "solver.fixed_step=" + step,
+          "process.turns=" + std::to_string(turns),
           std::string("solver.carry_stuck_wire=") + (carry ? "true" : "false")};
 }
 

@@ -134,7 +134,7 @@ TEST(ImplicitSteps, FollowTheCoreRevolution) {
        {Case{300, 500, 4e-4, 4e-4}, Case{100, 500, 4e-4, 4e-4}, Case{600, 500, 4e-4, 2e-4},
         Case{1200, 500, 4e-4, 1e-4}, Case{3000, 500, 4e-4, 4e-5}, Case{1200, 0, 2e-4, 2e-4}}) {
     cws::Simulation sim(cws::loadScene(
-        kDefault, {"solver.integrator=bdf2", "core.start_at_speed=true",
+        kDefault, {"solver.integrator=bdf2", "core.start_at_speed=true", "solver.strike_step=0",
                    "process.core_speed_rpm=" + std::to_string(c.rpm),
                    "solver.steps_per_revolution=" + std::to_string(c.per_revolution),
                    "solver.implicit_step=" + std::to_string(c.bound), "process.duration=0.01"}));
@@ -150,9 +150,9 @@ TEST(ImplicitSteps, FollowTheCoreRevolution) {
   // A new speed setpoint: the step after it is 1/64 of the new speed's
   // (the core ramps towards it), and the steps grow to it.
   cws::Simulation sim(cws::loadScene(
-      kDefault,
-      {"solver.integrator=bdf2", "core.start_at_speed=true", "process.core_speed_rpm=300",
-       "solver.steps_per_revolution=500", "solver.implicit_step=4e-4", "process.duration=0.05"}));
+      kDefault, {"solver.integrator=bdf2", "core.start_at_speed=true", "solver.strike_step=0",
+                 "process.core_speed_rpm=300", "solver.steps_per_revolution=500",
+                 "solver.implicit_step=4e-4", "process.duration=0.05"}));
   while (sim.time() < 0.005) sim.step(sim.endTime());
   EXPECT_DOUBLE_EQ(sim.stepper().lastStep(), 4e-4);
   sim.setCoreSpeed(3000.0 * 2.0 * kPi / 60.0);

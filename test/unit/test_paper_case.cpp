@@ -40,7 +40,11 @@ void checkPaperCase(bool carry) {
   EXPECT_NEAR(tension_sum / weight, 70.0, 0.02 * 70.0);
   // Stated bounds per integrator: the error-controlled RKF45 balances energy
   // to 1e-5 and holds the constraints to 1e-6; the first-order fixed-step
-  // semi-implicit Euler (the scene's default) to 1e-3 and 1e-5. Carried wire
+  // semi-implicit Euler to 1e-3 and 1e-5. BDF2 (the scene's default) is
+  // L-stable: it removes the energy of motion its step does not resolve, a
+  // loss (its numerical dissipation) of at most 1 % (docs/STABILITY.md's
+  // criterion), and it creates at most 1e-3; it holds the constraints
+  // exactly (they are its unknowns' frames). Carried wire
   // (the scene's default): a point taken on by the core has its velocity set
   // to the core's, a jump of at most contact.stick_speed v, which the
   // boundary frame's constraint absorbs with a residual of about
@@ -48,7 +52,12 @@ void checkPaperCase(bool carry) {
   const bool rkf45 = sim.scene().solver.integrator == "rkf45";
   std::printf("paper case: max constraint residual %.2e (%s%s)\n", sim.maxConstraintResidual(),
               sim.scene().solver.integrator.c_str(), carry ? ", carried wire" : "");
-  EXPECT_LT(std::abs(e.imbalance()), (rkf45 ? 1e-5 : 1e-3) * e.work_done);
+  if (sim.scene().solver.integrator == "bdf2") {
+    EXPECT_LT(e.imbalance(), 1e-3 * e.work_done);
+    EXPECT_GT(e.imbalance(), -0.01 * e.work_done);
+  } else {
+    EXPECT_LT(std::abs(e.imbalance()), (rkf45 ? 1e-5 : 1e-3) * e.work_done);
+  }
   EXPECT_LT(sim.maxConstraintResidual(), carry ? 1e-4 : rkf45 ? 1e-6 : 1e-5);
   EXPECT_NEAR(sim.coreTurns(), 0.3, 1e-9);
 }

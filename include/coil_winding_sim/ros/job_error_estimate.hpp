@@ -9,6 +9,7 @@
 #include <ros/ros.h>
 
 #include <atomic>
+#include <limits>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -36,6 +37,15 @@ class JobErrorEstimator {
   // True once the present job's estimate is published (or never will be:
   // the job has not ended).
   bool settled() const { return !busy_; }
+  // The last published estimate (cell_status): NaN fields while there is
+  // none; count grows by one with each.
+  struct Latest {
+    double shape = std::numeric_limits<double>::quiet_NaN();     // [d]
+    double bulging = std::numeric_limits<double>::quiet_NaN();   // relative [-]
+    double sim_time = std::numeric_limits<double>::quiet_NaN();  // the job's end [s]
+    int count = 0;
+  };
+  Latest latest() const;
   // Adds the estimate's state to the node's diagnostics.
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) const;
 
@@ -52,6 +62,7 @@ class JobErrorEstimator {
   std::atomic<bool> busy_{false};  // a refined run under way
   mutable std::mutex status_mutex_;
   std::string status_ = "the job has not ended yet";
+  Latest latest_;  // under status_mutex_
 };
 
 }  // namespace cws_ros

@@ -222,6 +222,7 @@ class WindingCell {
   double fallback_wall_s_ = -1e300;                // wall time of the last new one [s]
   std::string last_status_;                        // the state last sent on cell_status
   std::string refused_, last_refused_;  // the last refused live change (cell_status), and sent
+  int last_estimate_count_ = 0;         // error estimates sent on cell_status
   double force_max_N_ = 1.0;            // the wire's colour range, 0 to this [N]
   std::optional<double> run_until_;     // pause when the simulated time reaches it [s]
   double compute_s_ = 0.0;              // wall time in the present job's steps [s]

@@ -188,15 +188,6 @@ void rhoInfinityInRange(const Scene& s) {
   }
 }
 
-// The steps through a struck span are shorter than the others.
-void strikeStepBelowImplicitStep(const Scene& s) {
-  if (s.solver.strike_step > 0.0 && s.solver.strike_step >= s.solver.implicit_step) {
-    throw SceneError("solver.strike_step", fmt(s.solver.strike_step) +
-                                               " s is not below solver.implicit_step = " +
-                                               fmt(s.solver.implicit_step) + " s");
-  }
-}
-
 void coreFitsEffects(const Scene& s) {
   if (s.core.hull_faces && s.core.cylinders.size() < 2) {
     throw SceneError("core.hull_faces", "needs at least two core.cylinders");
@@ -407,7 +398,6 @@ const CrossRule kCrossRules[] = {
     {"contact.kinetic_friction", kineticNotAboveStatic},
     {"contact.damping_ratio", dampingRatioInRange},
     {"solver.rho_infinity", rhoInfinityInRange},
-    {"solver.strike_speed", strikeStepBelowImplicitStep},
     {"process.layers", traverseFits},
     {"physics.planar", flangesFit},
     {"physics.planar", wireContactFits},

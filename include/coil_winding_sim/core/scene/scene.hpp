@@ -142,8 +142,10 @@ struct SolverParams {
   // core strikes the free span, a point of it landing at least
   // kStrikeGap points beyond the wound wire at a speed relative to the core
   // of at least strike_speed [m/s], the Newton steps go down to strike_step
-  // [s] and stay there for strike_window [s] (strike_step 0: never).
-  double strike_step = 0.0;
+  // [s] and stay there for strike_window [s] (strike_step 0: never; at or
+  // above implicit_step: no shorter steps). On by default: it puts the
+  // paper's 1200 rpm cases within 2 % in bulging of the explicit model.
+  double strike_step = 1.0e-6;
   double strike_window = 1.5e-4;
   double strike_speed = 1.0;
   // generalized_alpha: the spectral radius at infinite frequency [-], in
