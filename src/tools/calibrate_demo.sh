@@ -27,7 +27,10 @@ root=$(cd "$here/../.." && pwd)
 wire_sim=${WIRE_SIM:-$root/.ws/devel/lib/coil_winding_sim/wire_sim}
 python=/usr/bin/python3
 scene=$root/config/scenes/winding_cell.yaml
-law=(--set contact.friction_law=elastic_slip)
+# Without strike steps (solver.strike_step 0), as the demo was validated:
+# with them the misfit's tension term and compare_bags.py's differ by 4 %
+# (0.1021 against 0.0983 N), not yet explained (issue 57).
+law=(--set contact.friction_law=elastic_slip --set solver.strike_step=0)
 truth=(--set contact.static_friction=0.28 --set contact.kinetic_friction=0.2
        --set wire.bend.yield_curvature=2.0)
 mkdir -p "$out"

@@ -149,16 +149,18 @@ TEST_F(Calibrate, MisfitTermsAgreeWithTheComparison) {
   EXPECT_NEAR(b_cpp, b_py, 1e-6 + 1e-6 * b_py);
 }
 
-// The same command again takes every evaluation it has (as a sweep does);
+// The same command again takes every evaluation it has (as a sweep does;
+// the demo's settings, calibrate_demo.sh);
 // Ctrl-C keeps the best so far and the next run goes on from there.
 TEST_F(Calibrate, ResumesAndKeepsTheBestOnCtrlC) {
-  const std::string cmd = std::string(CWS_WIRE_SIM_EXE) + " calibrate " +
-                          (dir / "demo/machine_slow.bag").string() + " --scene " + CWS_SOURCE_DIR +
-                          "/config/scenes/winding_cell.yaml --set contact.friction_law=elastic_slip"
-                          " --fit contact.kinetic_friction=0.1:0.22 --fit "
-                          "wire.bend.yield_curvature=1:3 --design 4 --evaluations 12 "
-                          "--profile-rate 20 --out " +
-                          (dir / "demo/slow").string();
+  const std::string cmd =
+      std::string(CWS_WIRE_SIM_EXE) + " calibrate " + (dir / "demo/machine_slow.bag").string() +
+      " --scene " + CWS_SOURCE_DIR +
+      "/config/scenes/winding_cell.yaml --set contact.friction_law=elastic_slip"
+      " --set solver.strike_step=0 --fit contact.kinetic_friction=0.1:0.22 --fit "
+      "wire.bend.yield_curvature=1:3 --design 4 --evaluations 12 "
+      "--profile-rate 20 --out " +
+      (dir / "demo/slow").string();
   ASSERT_EQ(shell(cmd, dir / "again.log"), 0) << cws_ros_test::readFile(dir / "again.log");
   const YAML::Node again = YAML::LoadFile((dir / "demo/slow/calibration.json").string());
   EXPECT_EQ(again["kept"].as<int>(), again["evaluations"].as<int>())
@@ -169,7 +171,8 @@ TEST_F(Calibrate, ResumesAndKeepsTheBestOnCtrlC) {
   const std::string fresh = std::string(CWS_WIRE_SIM_EXE) + " calibrate " +
                             (dir / "demo/machine.bag").string() + " --scene " + CWS_SOURCE_DIR +
                             "/config/scenes/winding_cell.yaml --set contact.friction_law="
-                            "elastic_slip --fit contact.static_friction=0.22:0.4 --fit "
+                            "elastic_slip --set solver.strike_step=0 --fit "
+                            "contact.static_friction=0.22:0.4 --fit "
                             "wire.bend.yield_curvature=1:3 --profile-rate 20 --out " +
                             out.string();
   const pid_t pid = fork();
