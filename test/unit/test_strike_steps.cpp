@@ -38,6 +38,17 @@ long strikeWindows(const cws::Simulation& sim) {
   return counts ? counts->strike_windows : -1;
 }
 
+// Two runs that took the same steps, to the bit.
+void expectSameRun(const cws::Simulation& a, const cws::Simulation& b) {
+  EXPECT_EQ(a.stepper().counts().accepted, b.stepper().counts().accepted);
+  const int n = a.model().constants().n;
+  ASSERT_EQ(n, b.model().constants().n);
+  EXPECT_EQ((a.model().committed().p_world.leftCols(n) - b.model().committed().p_world.leftCols(n))
+                .cwiseAbs()
+                .maxCoeff(),
+            0.0);
+}
+
 TEST(StrikeSteps, FollowTheCoreStrikingTheFreeSpan) {
   const cws::Simulation reference = run(2400, 0.02, {"solver.integrator=symplectic_euler"});
   const cws::Simulation plain = run(2400, 0.02, {"solver.integrator=bdf2", "solver.strike_step=0"});
@@ -69,14 +80,7 @@ TEST(StrikeSteps, SlowCoresTakeTheSameSteps) {
   const cws::Simulation keyed =
       run(600, 0.0, {"solver.integrator=bdf2", "solver.strike_step=1e-6"});
   EXPECT_EQ(strikeWindows(keyed), 0);
-  EXPECT_EQ(plain.stepper().counts().accepted, keyed.stepper().counts().accepted);
-  const int n = plain.model().constants().n;
-  ASSERT_EQ(n, keyed.model().constants().n);
-  EXPECT_EQ((plain.model().committed().p_world.leftCols(n) -
-             keyed.model().committed().p_world.leftCols(n))
-                .cwiseAbs()
-                .maxCoeff(),
-            0.0);
+  expectSameRun(plain, keyed);
 }
 
 // Strike steps are the default of the Newton steps (issue 57): a scene that
@@ -92,14 +96,7 @@ TEST(StrikeSteps, AreTheDefaultAndNeverLengthenAStep) {
       run(2400, 0.0193, {"solver.implicit_step=1e-6", "solver.strike_step=0"});
   // The strike at 18.9 ms is seen, and changes no step.
   EXPECT_EQ(strikeWindows(fine), 1);
-  EXPECT_EQ(fine.stepper().counts().accepted, fine_off.stepper().counts().accepted);
-  const int n = fine.model().constants().n;
-  ASSERT_EQ(n, fine_off.model().constants().n);
-  EXPECT_EQ((fine.model().committed().p_world.leftCols(n) -
-             fine_off.model().committed().p_world.leftCols(n))
-                .cwiseAbs()
-                .maxCoeff(),
-            0.0);
+  expectSameRun(fine, fine_off);
 }
 
 }  // namespace
