@@ -27,13 +27,9 @@ root=$(cd "$here/../.." && pwd)
 wire_sim=${WIRE_SIM:-$root/.ws/devel/lib/coil_winding_sim/wire_sim}
 python=/usr/bin/python3
 scene=$root/config/scenes/winding_cell.yaml
-# Without strike steps (solver.strike_step 0), as the demo was validated.
-# With them the start's tension misfit and compare_bags.py's differ by 4 %
-# (0.1021 against 0.0983 N, 49 samples in compare_bags.py): the simulated
-# angle then ends within a micro-radian below the machine's last sample,
-# which the misfit takes (it reaches 1 urad beyond) and compare_bags.py
-# does not; and contact.kinetic_friction is no longer pinned down by this
-# recording (+-12 % of its range). Left for issue 57.
+# Without strike steps (solver.strike_step 0), as the demo was validated:
+# with them contact.kinetic_friction is no longer pinned down by this
+# recording (+-12 % of its range at 1 sigma). Left for issue 57.
 law=(--set contact.friction_law=elastic_slip --set solver.strike_step=0)
 truth=(--set contact.static_friction=0.28 --set contact.kinetic_friction=0.2
        --set wire.bend.yield_curvature=2.0)

@@ -194,7 +194,11 @@ def compare(machine, sim, align, max_lag):
         if keep_s.sum() < MIN_SAMPLES or keep_m.sum() < MIN_SAMPLES:
             raise InputError("too few samples to align by angle: the spindle turns in %d machine and "
                              "%d sim tension samples (need %d)" % (keep_m.sum(), keep_s.sum(), MIN_SAMPLES))
-        ulo, uhi = max(um[keep_m][0], us[keep_s][0]), min(um[keep_m][-1], us[keep_s][-1])
+        # The common range, reaching a micro-radian beyond the sim's end (as
+        # wire_sim calibrate's misfit does): a machine sample at the sim's
+        # last angle must not come and go with the angle's last bits.
+        ulo = max(um[keep_m][0], us[keep_s][0])
+        uhi = min(um[keep_m][-1], us[keep_s][-1] + 1e-6)
         sel = keep_m & (um >= ulo) & (um <= uhi) & (tmt >= lo) & (tmt <= hi)
         if sel.sum() < MIN_SAMPLES:
             raise InputError("too few samples to align by angle: %d machine tension samples in the "

@@ -142,8 +142,8 @@ TEST_F(Calibrate, MisfitTermsAgreeWithTheComparison) {
   const double b_py = s["profile"]["bulging"]["all_pairs_diff_rms_mm"].as<double>();
   std::printf("tension RMS %.6g / %.6g N, profile RMS %.6g / %.6g mm, bulging %.6g / %.6g mm\n",
               t_cpp, t_py, p_cpp, p_py, b_cpp, b_py);
-  // (The C++ side takes a last sample up to 1 urad beyond the simulated
-  // angle's end, where compare_bags.py needs it within: none here.)
+  // (Both take a last machine sample up to 1 urad beyond the simulated
+  // angle's end.)
   EXPECT_NEAR(t_cpp, t_py, 1e-9 + 1e-6 * t_py);
   EXPECT_NEAR(p_cpp, p_py, 1e-6 + 1e-6 * p_py);
   EXPECT_NEAR(b_cpp, b_py, 1e-6 + 1e-6 * b_py);
