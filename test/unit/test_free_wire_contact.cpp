@@ -188,9 +188,10 @@ TEST(FreeWireContact, ForceDerivativeMatchesFiniteDifferences) {
 }
 
 // The Newton system with the pairs' couplings C^T K C outside a random
-// block-tridiagonal band: the band's factorization plus the Woodbury
-// correction solves it as a dense LU of the whole matrix does.
-TEST(FreeWireContact, CouplingsOutsideTheBandSolveAsTheWholeMatrix) {
+// block-tridiagonal band, `extra` random pairs added to the contact's two:
+// the band's factorization plus the Woodbury correction solves it as a
+// dense LU of the whole matrix does.
+static void expectCouplingsSolveAsTheWholeMatrix(int extra) {
   Bench b({"contact.damping_ratio=1.0"});
   b.free.commit(0.0, b.k);
   cws::SpatialState s = b.state(1.5e4);
@@ -204,11 +205,23 @@ TEST(FreeWireContact, CouplingsOutsideTheBandSolveAsTheWholeMatrix) {
   a.begin(s.first, s.n, false, true, s.alpha);
   b.free.addSpatialForces(s, a);
   ASSERT_EQ(a.pairCouplings(), 2);
-  // A random band of the Newton matrix's shape and size.
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const int unknowns = a.unknowns(), blocks = unknowns / A::kPerPoint;
   const double scale = b.scene.contact.stiffness;
+  // Further pairs as many touching free segments give (a point against a
+  // segment before it), each a stiff block of the contact's size.
+  for (int x = 0; x < extra; ++x) {
+    const int m = s.first - 1 + static_cast<int>((0.5 + 0.5 * u(rng)) * (s.n - s.first - 4));
+    const int pa = std::min(s.n - 1, m + 3 + x % 3);
+    Eigen::Matrix3d k = Eigen::Matrix3d::Identity() * 2.0 * scale;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) k(r, c) += 0.5 * scale * u(rng);
+    }
+    a.addPairCoupling(pa, m, 0.5 + 0.5 * u(rng), k);
+  }
+  ASSERT_EQ(a.pairCouplings(), 2 + extra);
+  // A random band of the Newton matrix's shape and size.
+  const int unknowns = a.unknowns(), blocks = unknowns / A::kPerPoint;
   for (int bi = 0; bi < blocks; ++bi) {
     for (int bj = std::max(0, bi - 1); bj <= std::min(blocks - 1, bi + 1); ++bj) {
       A::Matrix::Block& m = a.matrix().blockAt(bi, bj);
@@ -246,14 +259,27 @@ TEST(FreeWireContact, CouplingsOutsideTheBandSolveAsTheWholeMatrix) {
   cws::PairCouplingSolve pairs;
   pairs.resize(unknowns);
   ASSERT_TRUE(pairs.factor(a));
-  EXPECT_EQ(pairs.pairs(), 2);
+  EXPECT_EQ(pairs.pairs(), 2 + extra);
   Eigen::VectorXd x = rhs;
   a.matrix().solve(x);
   const double band_only = (x - want).norm() / want.norm();
   pairs.correct(a, x);
   const double err = (x - want).norm() / want.norm();
-  std::printf("relative error: band alone %.2e, with the couplings %.2e\n", band_only, err);
+  std::printf("%d pairs: relative error: band alone %.2e, with the couplings %.2e\n", 2 + extra,
+              band_only, err);
   EXPECT_GT(band_only, 1e-3);
   EXPECT_LT(err, 1e-10);
+}
+
+TEST(FreeWireContact, CouplingsOutsideTheBandSolveAsTheWholeMatrix) {
+  expectCouplingsSolveAsTheWholeMatrix(0);
+}
+
+// More pairs than the assembly reserves room for (40): every one is in the
+// solve. Until 2026-11-29 those past 40 were left out, and wire released
+// onto free wire (50-90 pairs) crawled (issue 57).
+TEST(FreeWireContact, EveryPairIsInTheSolvePastTheReservedRoom) {
+  ASSERT_EQ(cws::SpatialAssembly::kReservedPairCouplings, 40);
+  expectCouplingsSolveAsTheWholeMatrix(70);
 }
 #endif

@@ -7,10 +7,21 @@
 namespace cws {
 
 void PairCouplingSolve::resize(int unknowns) {
-  w_.setZero(unknowns, kMax);
-  s_.setZero();
-  g_.setZero();
+  w_.resize(0, 0);
+  pairs_.clear();
+  grow(unknowns, SpatialAssembly::kReservedPairCouplings);
   m_ = 0;
+}
+
+void PairCouplingSolve::grow(int unknowns, int pairs) {
+  const int rows = static_cast<int>(w_.rows()), have = static_cast<int>(pairs_.size());
+  if (unknowns <= rows && pairs <= have) return;
+  const int cap = pairs <= have ? have : std::max(pairs, 2 * have);
+  pairs_.resize(cap);
+  w_.setZero(unknowns <= rows ? rows : std::max(unknowns, 2 * rows), 3 * cap);
+  s_.setZero(3 * cap, 3 * cap);
+  g_.setZero(3 * cap);
+  pivot_.assign(3 * cap, 0);
 }
 
 Eigen::Vector3d PairCouplingSolve::relative(const SpatialAssembly& a, int p,
@@ -26,7 +37,7 @@ bool PairCouplingSolve::factor(SpatialAssembly& a) {
   m_ = a.pairCouplings();
   if (m_ == 0) return true;
   const int unknowns = a.unknowns(), cols = 3 * m_;
-  if (unknowns > w_.rows()) w_.setZero(std::max<Eigen::Index>(unknowns, 2 * w_.rows()), kMax);
+  grow(unknowns, m_);
   // W = A^-1 U, column by column.
   for (int p = 0; p < m_; ++p) {
     pairs_[p] = a.pairCoupling(p);
@@ -55,10 +66,11 @@ bool PairCouplingSolve::factor(SpatialAssembly& a) {
     if (!(std::abs(s_(best, c)) > 0.0) || !std::isfinite(s_(best, c))) return false;
     pivot_[c] = best;
     if (best != c) s_.row(c).head(cols).swap(s_.row(best).head(cols));
+    const int rest = cols - c - 1;
     for (int r = c + 1; r < cols; ++r) {
       const double f = s_(r, c) / s_(c, c);
       s_(r, c) = f;
-      for (int k = c + 1; k < cols; ++k) s_(r, k) -= f * s_(c, k);
+      if (f != 0.0) s_.row(r).segment(c + 1, rest) -= f * s_.row(c).segment(c + 1, rest);
     }
   }
   return true;

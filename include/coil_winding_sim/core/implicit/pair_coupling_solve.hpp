@@ -7,10 +7,12 @@
 // pairs' 3 x 3 blocks, which need not be invertible). A factorization costs
 // three band solves per pair and a dense LU of 3 x 3 blocks per pair; a
 // solve, one small solve and a product. Storage is sized for the integrated
-// span SpatialAssembly reserves, and grows with it.
+// span and the pairs SpatialAssembly reserves, and grows with them (every
+// touching pair is solved: spatial_assembly.hpp).
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 
@@ -29,17 +31,23 @@ class PairCouplingSolve {
   int pairs() const { return m_; }
 
  private:
-  static constexpr int kMax = 3 * SpatialAssembly::kMaxPairCouplings;
   // C_p v for the unknowns v of pair p (rows of its points' positions).
   Eigen::Vector3d relative(const SpatialAssembly& a, int p,
                            const Eigen::Ref<const Eigen::VectorXd>& v) const;
 
+  // Storage for systems of `unknowns` unknowns and `pairs` pairs at least
+  // (twice what it holds, where that is more).
+  void grow(int unknowns, int pairs);
+
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   int m_ = 0;
-  SpatialAssembly::PairCoupling pairs_[SpatialAssembly::kMaxPairCouplings];
-  Eigen::MatrixXd w_;                    // A^-1 U, unknowns x 3 per pair
-  Eigen::Matrix<double, kMax, kMax> s_;  // I + K U^T W, LU in place
-  int pivot_[kMax] = {};
-  mutable Eigen::Matrix<double, kMax, 1> g_;
+  std::vector<SpatialAssembly::PairCoupling,
+              Eigen::aligned_allocator<SpatialAssembly::PairCoupling>>
+      pairs_;
+  Eigen::MatrixXd w_;  // A^-1 U, unknowns x 3 per pair
+  RowMajor s_;         // I + K U^T W, LU in place (rows contiguous for its updates)
+  std::vector<int> pivot_;
+  mutable Eigen::VectorXd g_;
 };
 
 }  // namespace cws

@@ -161,16 +161,20 @@ class SpatialAssembly {
   // (1 - t) p_b - t p_b+1 is the point's position relative to the segment's
   // point, and k [N/m] is the block in that relative position as the matrix
   // holds it (-(dF/dx + alpha dF/dv)). Solved through the Woodbury identity
-  // (pair_coupling_solve.hpp); at most kMaxPairCouplings of them (the
-  // Jacobian of any further pair is left out: modified Newton).
+  // (pair_coupling_solve.hpp). Every touching pair is kept: with the 40 of
+  // an earlier cap, wire released onto free wire (50-90 pairs) left the
+  // rest to the iteration, which then converged only at steps below the
+  // contact spring's period (docs/history/2026-11-29-every-pair-in-the-jacobian.md).
+  // Room for kReservedPairCouplings, grown on demand.
   struct PairCoupling {
     int a = 0, b = 0;
     double t = 0.0;
     Eigen::Matrix3d k = Eigen::Matrix3d::Zero();
   };
-  static constexpr int kMaxPairCouplings = 40;
+  static constexpr int kReservedPairCouplings = 40;
   void addPairCoupling(int a, int b, double t, const Eigen::Matrix3d& k) {
-    if (!jacobian_ || pair_count_ == kMaxPairCouplings) return;
+    if (!jacobian_) return;
+    if (pair_count_ == static_cast<int>(pairs_.size())) pairs_.resize(2 * pairs_.size());
     pairs_[pair_count_++] = PairCoupling{a, b, t, k};
   }
   int pairCouplings() const { return pair_count_; }
@@ -224,7 +228,8 @@ class SpatialAssembly {
         .template block<Derived::RowsAtCompileTime, Derived::ColsAtCompileTime>(row, col) += b;
   }
 
-  PairCoupling pairs_[kMaxPairCouplings];
+  std::vector<PairCoupling, Eigen::aligned_allocator<PairCoupling>> pairs_ =
+      std::vector<PairCoupling, Eigen::aligned_allocator<PairCoupling>>(kReservedPairCouplings);
   int pair_count_ = 0;
   int first_ = 1, n_ = 0, unknowns_ = 0, jacobian_top_ = -1;
   bool jacobian_ = false;
