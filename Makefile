@@ -158,7 +158,10 @@ stability: build
 # one at a time on one core, each within ROBUSTNESS_BUDGET seconds of wall
 # time, as a sweep (kept cases are not run again; ARGS="--slurm ..." would
 # submit them instead). The table: docs/ROBUSTNESS.md and
-# docs/robustness/robustness.csv. Fails when a case did not finish.
+# docs/robustness/robustness.csv. Then the abuse suite (src/tools/abuse.py):
+# faults and extremes, each with its expected outcome, appended to
+# docs/ROBUSTNESS.md. Fails when a case did not finish or an abuse case's
+# outcome is not the expected one.
 ROBUSTNESS_OUT ?= out/robustness
 ROBUSTNESS_ARGS ?= --count 40 --seed 1
 ROBUSTNESS_BUDGET ?= 200
@@ -170,6 +173,9 @@ robustness: build
 	  --out $(ROBUSTNESS_OUT)/runs $(ARGS) || rc=$$?; \
 	$(PYTHON) src/tools/robustness.py report $(ROBUSTNESS_OUT)/runs docs/robustness || rc=1; \
 	if [ -f docs/robustness/ROBUSTNESS.md ]; then mv docs/robustness/ROBUSTNESS.md docs/ROBUSTNESS.md; fi; \
+	taskset -c 0 $(PYTHON) src/tools/abuse.py run $(WIRE_SIM) $(ROBUSTNESS_OUT)/abuse \
+	  --budget $(ROBUSTNESS_BUDGET) || rc=1; \
+	$(PYTHON) src/tools/abuse.py report $(ROBUSTNESS_OUT)/abuse docs/ROBUSTNESS.md || rc=1; \
 	exit $$rc
 
 # Machine run vs simulation (issue 7): summary.json, summary.md and plots in

@@ -27,7 +27,8 @@ Supply::Supply(const WireConstants& c, const Scene& s, const RotatingCore* core)
       port0_world_(s.supply.port_position_world),
       axis_world_(s.core.axis_world.normalized()),
       profile_(TraverseProfile::of(s.process.traverse_pitch, s.process.winding_width,
-                                   s.wire.diameter, s.traverseLayers())),
+                                   s.wire.diameter, s.traverseLayers())
+                   .stalled(s.process.traverse_stall_turn, s.process.traverse_stall_turns)),
       core_origin_world_(s.core.position_world),
       tension_(s.process.tension) {
   for (const CylinderParams& cyl : s.core.cylinders) {

@@ -84,7 +84,8 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
 
   // Turns: their points, layer (the most common), plan, position, stand-off.
   const TraverseProfile plan =
-      TraverseProfile::of(s.process.traverse_pitch, s.process.winding_width, d, s.traverseLayers());
+      TraverseProfile::of(s.process.traverse_pitch, s.process.winding_width, d, s.traverseLayers())
+          .stalled(s.process.traverse_stall_turn, s.process.traverse_stall_turns);
   for (int i = 0; i <= last;) {
     TurnReport turn;
     turn.turn = r.point_turn[i];

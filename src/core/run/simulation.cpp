@@ -33,7 +33,17 @@ Simulation::Simulation(const Scene& scene) : scene_(validated(scene)) {
   y_ = model_->initialState();
   t_end_ = scene_.endTime();
   collapse_step_s_ = stepper_->collapseRatio() * explicitStepLimit(scene_);
+  for (const ProcessCommand& c : scene_.process.commands) {
+    if (c.core_speed_rpm)
+      commands_.add(c.time, Setpoint::coreSpeed(rpmToRadPerSec(*c.core_speed_rpm)));
+    if (c.tension) commands_.add(c.time, Setpoint::supplyTension(*c.tension));
+  }
+  applyDueCommands();
   afterStep();
+}
+
+void Simulation::applyDueCommands() {
+  commands_.takeDue(t_, [&](double, const Setpoint& c) { c.applyTo(*this); });
 }
 
 double Simulation::coreTurns() const {
@@ -94,6 +104,8 @@ std::unique_ptr<Simulation> Simulation::fromState(const SimulationState& st) {
   }
   sim->model_->restoreState(st.model, sim->y_);
   sim->t_ = st.time_s;
+  // The scene's commands due by then are in the state restored.
+  sim->commands_.takeDue(sim->t_, [](double, const Setpoint&) {});
   sim->stepper_->restore(st.next_step_s, st.last_step_s, st.counts);
   sim->max_residual_ = st.max_residual;
   sim->max_axial_force_ = st.max_axial_force_N;
@@ -112,6 +124,8 @@ void Simulation::step(double t_limit) {
     if (t_ramp < t_limit && t_ramp > t_ + 1e-12 * std::max(1.0, std::abs(t_))) t_limit = t_ramp;
     ramp = {t_ramp, std::abs(core->angularAcceleration(t_))};
   }
+  // Nor across a command of the scene (process.commands).
+  t_limit = std::min(t_limit, commands_.nextTime());
   // Nor across a commanded port sample (a velocity kink of the port).
   if (const Supply* supply = model_->supply()) {
     t_limit = std::min(t_limit, supply->portCommand().nextKink(t_));
@@ -153,6 +167,7 @@ void Simulation::step(double t_limit) {
     stepper_->kink();
   }
   afterStep();
+  applyDueCommands();
   if (max_residual_ > kDivergedResidual) {
     throw IntegrationError(withRampCause(
         remedy::diverged(scene_, t_, max_residual_, stepper_->name(), stepper_->lastStep()), t_,

@@ -64,7 +64,12 @@ double Scene::pointCapacity() const {
   const double n = initialPoints();
   if (!physics.supply) return n;
   if (supply.max_points > 0) return std::max(n, static_cast<double>(supply.max_points));
-  return pointCapacityForAngle(std::abs(rpmToRadPerSec(process.core_speed_rpm)) * endTime());
+  // At the fastest core speed the job commands.
+  double rpm = std::abs(process.core_speed_rpm);
+  for (const ProcessCommand& c : process.commands) {
+    if (c.core_speed_rpm) rpm = std::max(rpm, std::abs(*c.core_speed_rpm));
+  }
+  return pointCapacityForAngle(rpmToRadPerSec(rpm) * endTime());
 }
 
 double Scene::pointCapacityForAngle(double core_angle_rad) const {
@@ -110,8 +115,15 @@ int Scene::plannedLayers() const {
   if (process.layers <= 0 || process.duration || per_layer <= 0.0) return process.layers;
   // (A job of its layers' turns, rounded up by up to a tenth of a turn,
   // plans no further layer.)
-  const double needed = std::ceil((std::abs(process.turns) - 0.1) / per_layer);
+  const double needed = std::ceil((traverseTurns() - 0.1) / per_layer);
   return static_cast<int>(std::max<double>(process.layers, std::min(needed, 1e6)));
+}
+
+double Scene::traverseTurns() const {
+  const double turns = std::abs(process.turns);
+  const double stalled =
+      std::min(process.traverse_stall_turns, std::max(0.0, turns - process.traverse_stall_turn));
+  return turns - stalled;
 }
 
 int Scene::bobbinLayers() const {

@@ -72,6 +72,7 @@ void requireNonNegative(double v, const std::string& key);
 extern const ListKeyHandlers kCylinderList;
 extern const ListKeyHandlers kFaceList;
 extern const ListKeyHandlers kLoadList;
+extern const ListKeyHandlers kCommandList;
 
 // ---------------------------------------------------------------------------
 // Geometry of a scene at t = 0 (scene.cpp).

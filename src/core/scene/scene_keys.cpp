@@ -162,6 +162,14 @@ std::vector<SceneKey> declareKeys() {
                                         "core revolutions to simulate"),
       key<&S::process, &Process::duration>("process.duration", "s", kPositive,
                                            "when set (not ~), ends the run instead of turns"),
+      list("process.commands", "s, rpm, N", kCommandList,
+           "setpoints at simulated times {time, core_speed_rpm, tension}"),
+      key<&S::process, &Process::traverse_stall_turn>(
+          "process.traverse_stall_turn", "-", kNonNegative,
+          "core turn at which the traverse stops (a fault; with traverse_stall_turns)"),
+      key<&S::process, &Process::traverse_stall_turns>(
+          "process.traverse_stall_turns", "-", kNonNegative,
+          "core turns the traverse stays stopped, then goes on (0: never stops)"),
 
       key<&S::solver, &Solver::integrator>("solver.integrator", "", oneOf(integratorNames()),
                                            "time integrator"),

@@ -1,6 +1,8 @@
-// The list-valued scene keys: core.cylinders, core.faces and end.load. Each
+// The list-valued scene keys: core.cylinders, core.faces, end.load and
+// process.commands. Each
 // has hand-written handlers (read, write, numbers, own checks), registered
 // in the key table (scene_keys.cpp) like any other key.
+#include <cmath>
 #include <string>
 
 #include "scene_detail.hpp"
@@ -141,10 +143,83 @@ void checkLoad(const Scene& s, const std::string& key) {
     }
   }
 }
+
+// ---------------------------------------------------------------------------
+// process.commands: [{time [s], core_speed_rpm [rpm], tension [N]}, ...],
+// each with time and at least one setpoint, times not decreasing; each
+// setpoint within the process's limits (process.max_core_speed_rpm,
+// process.max_tension), as the cell's own setpoints are.
+void readCommands(const YAML::Node& n, const std::string& key, Scene& s) {
+  s.process.commands.clear();
+  readEntries(n, key, {"time", "core_speed_rpm", "tension"}, {"time"}, false,
+              [&](const YAML::Node& c, const std::string& entry) {
+                ProcessCommand pc;
+                pc.time = readDouble(c["time"], entry + ".time");
+                if (c["core_speed_rpm"]) {
+                  pc.core_speed_rpm = readDouble(c["core_speed_rpm"], entry + ".core_speed_rpm");
+                }
+                if (c["tension"]) pc.tension = readDouble(c["tension"], entry + ".tension");
+                if (!pc.core_speed_rpm && !pc.tension) {
+                  throw SceneError(entry, "gives no setpoint: add core_speed_rpm or tension");
+                }
+                s.process.commands.push_back(pc);
+              });
+}
+
+YAML::Node writeCommands(const Scene& s) {
+  YAML::Node list(YAML::NodeType::Sequence);
+  for (const ProcessCommand& c : s.process.commands) {
+    YAML::Node entry;
+    entry["time"] = num(c.time);
+    if (c.core_speed_rpm) entry["core_speed_rpm"] = num(*c.core_speed_rpm);
+    if (c.tension) entry["tension"] = num(*c.tension);
+    list.push_back(entry);
+  }
+  return list;
+}
+
+void commandNumbers(const Scene& s, const std::string& key, const NumberVisitor& fn) {
+  for (std::size_t i = 0; i < s.process.commands.size(); ++i) {
+    const ProcessCommand& c = s.process.commands[i];
+    fn(entryKey(key, i) + ".time", c.time);
+    if (c.core_speed_rpm) fn(entryKey(key, i) + ".core_speed_rpm", *c.core_speed_rpm);
+    if (c.tension) fn(entryKey(key, i) + ".tension", *c.tension);
+  }
+}
+
+void checkCommands(const Scene& s, const std::string& key) {
+  const ProcessParams& p = s.process;
+  for (std::size_t i = 0; i < p.commands.size(); ++i) {
+    const ProcessCommand& c = p.commands[i];
+    const std::string time = entryKey(key, i) + ".time";
+    requireNonNegative(c.time, time);
+    if (i > 0 && c.time < p.commands[i - 1].time) {
+      throw SceneError(time, "command times must not decrease: " + fmt(c.time) + " s is before " +
+                                 entryKey(key, i - 1) + ".time = " + fmt(p.commands[i - 1].time) +
+                                 " s");
+    }
+    if (c.core_speed_rpm && !p.duration) {
+      throw SceneError(entryKey(key, i) + ".core_speed_rpm",
+                       "changes the core speed, so process.turns does not say when the job "
+                       "ends: give process.duration [s]");
+    }
+    if (c.core_speed_rpm && !(std::abs(*c.core_speed_rpm) <= p.max_core_speed_rpm)) {
+      throw SceneError(entryKey(key, i) + ".core_speed_rpm",
+                       fmt(*c.core_speed_rpm) + " rpm is beyond process.max_core_speed_rpm = " +
+                           fmt(p.max_core_speed_rpm) + " rpm");
+    }
+    if (c.tension && !(*c.tension >= 0.0 && *c.tension <= p.max_tension)) {
+      throw SceneError(entryKey(key, i) + ".tension",
+                       fmt(*c.tension) +
+                           " N is outside 0 to process.max_tension = " + fmt(p.max_tension) + " N");
+    }
+  }
+}
 }  // namespace
 
 const ListKeyHandlers kCylinderList{readCylinders, writeCylinders, cylinderNumbers, checkCylinders};
 const ListKeyHandlers kFaceList{readFaces, writeFaces, faceNumbers, checkFaces};
 const ListKeyHandlers kLoadList{readLoad, writeLoad, loadNumbers, checkLoad};
+const ListKeyHandlers kCommandList{readCommands, writeCommands, commandNumbers, checkCommands};
 
 }  // namespace cws::detail

@@ -8,7 +8,9 @@
 // the wire diameter). After `layers` passes it stays at the end of the last
 // one. With no width the port keeps going: a spiral (today's
 // process.traverse_pitch alone). Before the start (the core turned back
-// past its starting angle) the first pass's line continues.
+// past its starting angle) the first pass's line continues. A stalled
+// traverse (a machine fault) stays where it is for `stall_rad` of core
+// angle from `stall_from_rad`, then goes on from there.
 #pragma once
 
 #include <cmath>
@@ -20,6 +22,8 @@ struct TraverseProfile {
                         // pass's direction
   double travel = 0.0;  // port travel between reversals, W - d [m]; 0: no reversal
   int layers = 0;       // passes before the port stops; 0: no end
+  double stall_from_rad = 0.0;  // core angle at which the traverse stops [rad]
+  double stall_rad = 0.0;       // core angle it stays stopped for [rad]; 0: never stops
 
   struct Position {
     double offset = 0.0;   // along the core axis from the start [m]
@@ -32,10 +36,31 @@ struct TraverseProfile {
   static TraverseProfile of(double pitch, double width, double diameter, int layers) {
     return TraverseProfile{pitch, width > 0.0 ? width - diameter : 0.0, layers};
   }
+  // The same with a stall from core turn `from_turn` for `turns` turns [-].
+  TraverseProfile stalled(double from_turn, double turns) const {
+    TraverseProfile p = *this;
+    p.stall_from_rad = 2.0 * M_PI * from_turn;
+    p.stall_rad = 2.0 * M_PI * turns;
+    return p;
+  }
 
   // Where the port is when the core has turned by angle_rad [rad] from the
   // start.
   Position at(double angle_rad) const {
+    // Within a stall: where it stopped, at rest; after it, the angle the
+    // traverse has moved through.
+    bool stopped = false;
+    if (stall_rad > 0.0 && angle_rad > stall_from_rad) {
+      stopped = angle_rad < stall_from_rad + stall_rad;
+      angle_rad = stopped ? stall_from_rad : angle_rad - stall_rad;
+    }
+    Position p = moving(angle_rad);
+    if (stopped) p.per_rad = 0.0;
+    return p;
+  }
+
+ private:
+  Position moving(double angle_rad) const {
     const double per_rad = pitch / (2.0 * M_PI);
     const double u = std::abs(per_rad) * angle_rad;  // travel so far [m]
     const double sign = pitch < 0.0 ? -1.0 : 1.0;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "coil_winding_sim/core/model/wire_model.hpp"
+#include "coil_winding_sim/core/run/command_schedule.hpp"
 #include "coil_winding_sim/core/run/input_log.hpp"
 #include "coil_winding_sim/core/run/pace_profile.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
@@ -154,6 +155,9 @@ class Simulation {
 
  private:
   void afterStep();
+  // Applies the scene's commands (process.commands) due by now; they are
+  // part of the scene, so a rerun of it repeats them: not logged.
+  void applyDueCommands();
   // A core speed ramp: its end [s] and |acceleration| [rad/s^2].
   struct Ramp {
     double end_s = -std::numeric_limits<double>::infinity();
@@ -173,6 +177,7 @@ class Simulation {
   double wall_s_ = 0.0;
   PaceProfile pace_;
   InputLog inputs_;
+  CommandSchedule commands_;  // process.commands not yet applied
   bool keep_inputs_ = true;
   double max_residual_ = 0.0;
   double max_axial_force_ = 0.0;

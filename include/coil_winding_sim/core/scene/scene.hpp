@@ -104,6 +104,14 @@ struct CoreParams {
 // SI. The one conversion to an angular velocity [rad/s].
 inline double rpmToRadPerSec(double rpm) { return rpm * 2.0 * M_PI / 60.0; }
 
+// A setpoint the job gives at a simulated time (process.commands): the core
+// speed, the supply tension, or both.
+struct ProcessCommand {
+  double time = 0.0;                     // [s]
+  std::optional<double> core_speed_rpm;  // [rpm]
+  std::optional<double> tension;         // [N]
+};
+
 struct ProcessParams {
   double core_speed_rpm = 600.0;  // [rpm]
   double tension = 30.0;          // supply tension [N]
@@ -116,6 +124,14 @@ struct ProcessParams {
   double max_tension = 300.0;          // setpoints above this are refused [N]
   double turns = 1.75;                 // core revolutions to run [-]
   std::optional<double> duration;      // [s]; when set, overrides turns
+  // Setpoints at simulated times, in time order (a machine's program, or a
+  // fault: the core reversed, the tension dropped).
+  std::vector<ProcessCommand> commands;
+  // A traverse that stops (a machine fault): from core turn
+  // traverse_stall_turn [-] it stays where it is for traverse_stall_turns
+  // [-] core turns, then goes on (0 turns: never stops).
+  double traverse_stall_turn = 0.0;
+  double traverse_stall_turns = 0.0;
 };
 
 struct SolverParams {
@@ -288,6 +304,9 @@ struct Scene {
   // plan (the cell winding on after its job) lies in further layers rather
   // than piling up at a flange; else plannedLayers().
   int traverseLayers() const;
+  // Of process.turns, those the traverse moves in [-]: less a stall's
+  // turns (process.traverse_stall_turns) within the job.
+  double traverseTurns() const;
   // The turns the bobbin holds (bobbinLayers() of turnsPerLayer(); +inf
   // without flanges or a traverse that reverses) [-].
   double bobbinTurns() const;
