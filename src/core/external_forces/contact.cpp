@@ -86,11 +86,13 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
   }
   trial_surface_.assign(slots, -1);
   trial_stuck_.assign(slots, 0);
-  trial_anchor_core_.assign(slots, Eigen::Vector3d::Zero());
   trial_sign_.assign(slots, 1);
-  trial_slip_world_.assign(slots, Eigen::Vector3d::Zero());
   trial_releases_.assign(slots, 0);
-  recheck_touches_.assign(slots, Touch());
+  const std::size_t span_slots =
+      static_cast<std::size_t>(std::min(c_.capacity, kReservedSpan)) * slots_;
+  trial_anchor_core_.assign(span_slots, Eigen::Vector3d::Zero());
+  trial_slip_world_.assign(span_slots, Eigen::Vector3d::Zero());
+  recheck_touches_.assign(span_slots, Touch());
 }
 
 Eigen::Vector3d Contact::friction(int i, const Eigen::Vector3d& p_world,
@@ -182,7 +184,7 @@ void Contact::commit(double t, const WireKinematics& k) {
     const Eigen::Vector3d p = k.p_world.col(i);
     const Touch* touches = found;
     if (rechecked) {
-      touches = &recheck_touches_[i * slots_];
+      touches = &recheck_touches_[(i - c_.first) * slots_];
     } else {
       touchAll(i, p, &surface_[i * slots_], found);
     }

@@ -83,7 +83,8 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
       Eigen::Vector2d ft;
       // The frozen flags' stick and slip, or elastic slip's return map from
       // the committed anchor (the law decided at every evaluation).
-      const Eigen::Vector3d& anchor_core = elastic_slip_ ? anchor_core_[i] : trial_anchor_core_[i];
+      const Eigen::Vector3d& anchor_core =
+          elastic_slip_ ? anchor_core_[i] : trial_anchor_core_[i - s.first];
       const Eigen::Vector2d delta =
           x - s.plane.toPlane(core_.originWorld() + rot_world_core_ * anchor_core);
       const double along = delta.dot(tan);
@@ -127,12 +128,13 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
 }
 
 void Contact::beginImplicitStep(const PlanarState& s0) {
+  growSpan(trial_anchor_core_, s0.n - s0.first);
   placeSurfaces(s0.t);
   for (int i = s0.first; i < s0.n; ++i) {
     trial_surface_[i] = surface_[i];
     if (!friction_) continue;
     trial_stuck_[i] = stuck_[i];
-    trial_anchor_core_[i] = anchor_core_[i];
+    trial_anchor_core_[i - s0.first] = anchor_core_[i];
     trial_releases_[i] = 0;
     // A slipping point keeps the direction it slides in.
     trial_sign_[i] = 1;
@@ -148,6 +150,7 @@ void Contact::beginImplicitStep(const PlanarState& s0) {
 }
 
 bool Contact::recheckFlags(const PlanarState& s) {
+  growSpan(trial_anchor_core_, s.n - s.first);
   placeSurfaces(s.t);
   bool changed = false;
   for (int i = s.first; i < s.n; ++i) {
@@ -173,7 +176,8 @@ bool Contact::recheckFlags(const PlanarState& s) {
     if (trial_stuck_[i]) {
       // Stick holds while the spring (and its dashpot) stays within mu_s N.
       const Eigen::Vector2d delta =
-          x - s.plane.toPlane(core_.originWorld() + rot_world_core_ * trial_anchor_core_[i]);
+          x -
+          s.plane.toPlane(core_.originWorld() + rot_world_core_ * trial_anchor_core_[i - s.first]);
       const double pull = p_.stick_stiffness * delta.dot(tan) + c_stick_ * vt;
       if (std::abs(pull) > p_.static_friction * normalForce(h, r.dot(nrm))) {
         trial_stuck_[i] = 0;
@@ -192,7 +196,7 @@ bool Contact::recheckFlags(const PlanarState& s) {
       // dashpot's pull alone passes mu_s N, and stick and slip would take
       // turns without end.
       trial_stuck_[i] = 1;
-      trial_anchor_core_[i] =
+      trial_anchor_core_[i - s.first] =
           rot_world_core_.transpose() * (s.plane.toWorld(x) - core_.originWorld());
       changed = true;
     } else if (fresh) {
@@ -210,7 +214,7 @@ void Contact::adoptFlags() {
     surface_[x] = trial_surface_[x];
     if (!friction_) continue;
     stuck_[x] = trial_stuck_[x];
-    anchor_core_[x] = trial_anchor_core_[x];
+    anchor_core_[x] = trial_anchor_core_[x - c_.first * slots_];
   }
 }
 

@@ -170,7 +170,7 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
         // Stick: the spring to the anchor, its tangential part (and its
         // dashpot against the sliding velocity vh = P_n r).
         const Eigen::Vector3d delta =
-            p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[x]);
+            p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[x - s.first * slots_]);
         const double dnn = delta.dot(nrm);
         ft = -p_.stick_stiffness * (delta - dnn * nrm);
         if (jacobian) {
@@ -220,14 +220,17 @@ void Contact::beginSpatialStep(const SpatialState& s0) {
   recheck_.valid = false;
   placeSurfaces(s0.t);
   syncCarriedWire();
+  growSpan(trial_slip_world_, s0.n - s0.first);
+  growSpan(trial_anchor_core_, s0.n - s0.first);
+  const int base = s0.first * slots_;  // the span-indexed arrays' first slot
   for (int x = s0.first * slots_; x < s0.n * slots_; ++x) {
     trial_surface_[x] = surface_[x];
     if (!friction_) continue;
     trial_stuck_[x] = stuck_[x];
-    trial_anchor_core_[x] = anchor_core_[x];
+    trial_anchor_core_[x - base] = anchor_core_[x];
     // The direction a slipping point slides in at the step's start: a
     // sliding that turns against it within the step sticks the point.
-    trial_slip_world_[x].setZero();
+    trial_slip_world_[x - base].setZero();
     trial_releases_[x] = 0;
     Eigen::Vector3d nrm;
     double h;
@@ -236,7 +239,7 @@ void Contact::beginSpatialStep(const SpatialState& s0) {
     if (surface_[x] >= 0 && spatialSurface(i, surface_[x], p, nrm, h, nullptr)) {
       const Eigen::Vector3d v_rel = s0.v.col(i) - s0.carried.velocity(p);
       const Eigen::Vector3d vh = v_rel - v_rel.dot(nrm) * nrm;
-      if (vh.norm() > 0.0) trial_slip_world_[x] = vh.normalized();
+      if (vh.norm() > 0.0) trial_slip_world_[x - base] = vh.normalized();
     }
   }
 }
@@ -245,10 +248,14 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
   placeSurfaces(s.t);
   bool changed = false;
   Touch touches[kMaxSlots];
+  growSpan(trial_slip_world_, s.n - s.first);
+  growSpan(trial_anchor_core_, s.n - s.first);
+  growSpan(recheck_touches_, s.n - s.first);
+  const int base = s.first * slots_;  // the span-indexed arrays' first slot
   for (int i = s.first; i < s.n; ++i) {
     const Eigen::Vector3d p = s.p.col(i);
     touchAll(i, p, &trial_surface_[i * slots_], touches);
-    std::copy(touches, touches + slots_, &recheck_touches_[i * slots_]);
+    std::copy(touches, touches + slots_, &recheck_touches_[(i - s.first) * slots_]);
     for (int slot = 0; slot < slots_; ++slot) {
       const int x = i * slots_ + slot;
       // (touchAll's depth and normal are spatialSurface's for the surface
@@ -274,12 +281,12 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
       if (trial_stuck_[x]) {
         // Stick holds while the spring (and its dashpot) stays within mu_s N.
         const Eigen::Vector3d delta =
-            p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[x]);
+            p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[x - base]);
         const Eigen::Vector3d pull =
             p_.stick_stiffness * (delta - delta.dot(nrm) * nrm) + c_stick_ * vh;
         if (pull.norm() > p_.static_friction * normalForce(h, v_rel.dot(nrm))) {
           trial_stuck_[x] = 0;
-          trial_slip_world_[x] = pull.normalized();
+          trial_slip_world_[x - base] = pull.normalized();
           ++trial_releases_[x];
           changed = true;
           s.flagChangedAt(i);
@@ -292,16 +299,16 @@ bool Contact::recheckSpatialFlags(const SpatialState& s) {
       // A point whose stick broke twice in this step keeps slipping: with
       // almost no normal force (a point grazing a second surface in a
       // corner) stick and slip would take turns without end.
-      const Eigen::Vector3d& dir = trial_slip_world_[x];
+      const Eigen::Vector3d& dir = trial_slip_world_[x - base];
       const bool known = !fresh && dir.squaredNorm() > 0.0;
       if (p_.static_friction > 0.0 && trial_releases_[x] < 2 &&
           (speed < p_.stick_speed || (known && vh.dot(dir) < p_.stick_speed))) {
         trial_stuck_[x] = 1;
-        trial_anchor_core_[x] = rot_world_core_.transpose() * (p - core_.originWorld());
+        trial_anchor_core_[x - base] = rot_world_core_.transpose() * (p - core_.originWorld());
         changed = true;
         s.flagChangedAt(i);
       } else if (!known && speed > 0.0) {
-        trial_slip_world_[x] = vh / speed;
+        trial_slip_world_[x - base] = vh / speed;
       }
     }
   }

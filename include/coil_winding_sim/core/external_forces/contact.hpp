@@ -334,16 +334,27 @@ class Contact : public ForceEffect {
   // frame) and slip direction (+1 / -1 along the surface tangent n x normal).
   std::vector<int> trial_surface_;
   std::vector<char> trial_stuck_;
-  std::vector<Eigen::Vector3d> trial_anchor_core_;
+  std::vector<Eigen::Vector3d> trial_anchor_core_;  // per slot of the integrated span, as below
   std::vector<signed char> trial_sign_;
   // 3-D: the world direction a slipping point slid in at the step's start,
-  // or in which it began to slip (unit; zero: none yet).
+  // or in which it began to slip (unit; zero: none yet). Per slot of the
+  // integrated span (index (i - first) * slots_ + slot), as
+  // recheck_touches_: sized for kReservedSpan points, grown on demand
+  // (growSpan), as the Newton system is (issue 57: storage for 100,000
+  // points).
   std::vector<Eigen::Vector3d> trial_slip_world_;
+  static constexpr int kReservedSpan = 1024;
+  template <class T>
+  void growSpan(std::vector<T>& v, int points) const {
+    const std::size_t need = static_cast<std::size_t>(points) * slots_;
+    if (v.size() < need) v.resize(std::max(need, 2 * v.size()));
+  }
   // How often a slot's stick broke within the present step.
   std::vector<signed char> trial_releases_;
   // 3-D: the surfaces the last recheck found per slot, at time t for points
   // first..n-1 (valid until the step's commit reads them, a new step or a
-  // restore): an accepted step's end state is its last recheck's.
+  // restore): an accepted step's end state is its last recheck's. Per slot
+  // of that span (index (i - first) * slots_ + slot).
   struct RecheckAt {
     bool valid = false;
     double t = 0.0;  // [s]
