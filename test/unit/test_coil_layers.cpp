@@ -246,24 +246,29 @@ TEST(CoilLayers, ALateReversalIsReportedAtTheTurnWhereTheWireClimbs) {
   expectLateReversalAt(3.5e-3, 6.0, 4);
 }
 
+// Runs a scene to its end and reports its coil. The stop predicate is a
+// guard (10 minutes of wall time), not a timing assertion: the runs take
+// seconds.
+static cws::CoilReport windToTheEnd(cws::Simulation& sim) {
+  const auto start = std::chrono::steady_clock::now();
+  sim.run({}, [&] { return std::chrono::steady_clock::now() - start > std::chrono::minutes(10); });
+  return cws::reportCoil(sim.model(), sim.scene());
+}
+
 // A coil wound past its planned layers (issue 57): two_layers.yaml plans
 // 50 turns in 2 layers of 25; at 70 turns the traverse goes on into a
 // third layer, which the 3 mm flanges hold (three layers stand 2.73 mm).
 // Until 2026-11-29 the port stopped after the second layer and the wire
 // piled up at the flange, where the Newton steps crawled at 2e-7 s from
-// t = 3.05 s (0.03 of real time and falling) and the run never ended. The
-// stop predicate is a guard (10 minutes of wall time), not a timing
-// assertion: the run takes seconds.
+// t = 3.05 s (0.03 of real time and falling) and the run never ended.
 TEST(CoilLayers, ACoilWoundPastItsPlannedLayersEndsInAFurtherLayer) {
   const std::string two_layers = std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml";
   const cws::Scene s = cws::loadScene(two_layers, {"process.turns=70"});
   ASSERT_EQ(s.process.layers, 2);
   EXPECT_EQ(s.plannedLayers(), 3);
   cws::Simulation sim(s);
-  const auto start = std::chrono::steady_clock::now();
-  sim.run({}, [&] { return std::chrono::steady_clock::now() - start > std::chrono::minutes(10); });
+  const cws::CoilReport coil = windToTheEnd(sim);
   ASSERT_GE(sim.time(), sim.endTime() * (1.0 - 1e-12)) << "stopped at t = " << sim.time();
-  const cws::CoilReport coil = cws::reportCoil(sim.model(), s);
   ASSERT_TRUE(coil.valid);
   EXPECT_EQ(coil.layers, 3);
   // The build-up of three layers: the third lies about 2 x sqrt(3)/2 d out,
@@ -283,9 +288,7 @@ TEST(CoilLayers, ACoilWoundPastItsPlannedLayersEndsInAFurtherLayer) {
 // 2.5e-5 of real time, and the run never ended (issue 57). With every pair
 // in the matrix the run ends. (Where the released turns end up, wire
 // above the 4.1 mm flanges in what the report counts as six layers at a
-// pitch of 0.906 d, is the model's outcome, not checked here.) As above,
-// the stop predicate is a guard, not a timing assertion: the run takes
-// seconds.
+// pitch of 0.906 d, is the model's outcome, not checked here.)
 TEST(CoilLayers, WireReleasedOntoFreeWireWindsOn) {
   const std::string two_layers = std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml";
   const cws::Scene s = cws::loadScene(
@@ -295,10 +298,8 @@ TEST(CoilLayers, WireReleasedOntoFreeWireWindsOn) {
        "contact.static_friction=0.272", "contact.kinetic_friction=0.255", "contact.damping_ratio=0",
        "physics.flanges=true", "core.flange_height=0.004098"});
   cws::Simulation sim(s);
-  const auto start = std::chrono::steady_clock::now();
-  sim.run({}, [&] { return std::chrono::steady_clock::now() - start > std::chrono::minutes(10); });
+  const cws::CoilReport coil = windToTheEnd(sim);
   ASSERT_GE(sim.time(), sim.endTime() * (1.0 - 1e-12)) << "stopped at t = " << sim.time();
-  const cws::CoilReport coil = cws::reportCoil(sim.model(), s);
   ASSERT_TRUE(coil.valid);
   EXPECT_GE(coil.layers, 4);
   const cws::BulgeReport b = cws::headlineBulging(sim.model(), s, &coil);
