@@ -202,6 +202,12 @@ double WindingCell::windTurns(double t) const {
 bool WindingCell::windEnded() const {
   const double t = sim_->time();
   if (wind_.duration_s > 0.0) return t >= wind_.start_s + wind_.duration_s * (1.0 - 1e-12);
+  // At the end time found for the core's present command (windEndTime),
+  // where the last step ends: the turns counted there may lie a few ulps of
+  // the angle short (the core's angle evaluated again after the step), and
+  // a goal that waited for them never ended (issue 58).
+  const cws::RotatingCore* core = sim_->model().core();
+  if (core && core->command() == wind_.end_command && t >= wind_.end_s) return true;
   return windTurns(t) >= wind_.turns * (1.0 - 1e-12);
 }
 
