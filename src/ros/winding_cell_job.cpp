@@ -18,6 +18,9 @@ bool WindingCell::jobEnded() const {
   if (scene_.process.duration) return sim_->time() >= *scene_.process.duration;
   const cws::RotatingCore* core = sim_->model().core();
   if (!core) return sim_->time() >= sim_->endTime();
+  // At the end time found for the present command, where the last step
+  // ends, whatever the last bits of the angle there (as a wind goal's).
+  if (core->command() == job_end_command_ && sim_->time() >= job_end_s_) return true;
   return std::abs(core->angle(sim_->time())) >= 2.0 * M_PI * scene_.process.turns * (1.0 - 1e-12);
 }
 
@@ -26,7 +29,14 @@ bool WindingCell::jobEnded() const {
 double WindingCell::jobEndTime() const {
   if (scene_.process.duration) return *scene_.process.duration;
   if (!sim_->model().core()) return sim_->endTime();
-  return timeAtTurns(0.0, scene_.process.turns);
+  // (Found again only when the command changes: the core's motion under
+  // one command is one closed form.)
+  const double command = sim_->model().core()->command();
+  if (command != job_end_command_) {
+    job_end_command_ = command;
+    job_end_s_ = timeAtTurns(0.0, scene_.process.turns);
+  }
+  return job_end_s_;
 }
 
 // The first time the core's angle lies `turns` turns from start_angle_rad

@@ -2,6 +2,7 @@
 // restore (winding_cell.hpp). A failing service leaves the run as it was.
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "coil_winding_sim/core/run/setpoint_limits.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
@@ -142,6 +143,7 @@ void WindingCell::replace(std::unique_ptr<cws::Simulation> next) {
   abortWind("the run was replaced (reset or restore)");
   clock_offset_ += sim_->time() - next->time();
   sim_ = std::move(next);
+  job_end_command_ = std::numeric_limits<double>::quiet_NaN();  // (jobEndTime)
   sim_->keepInputs(estimator_ != nullptr);
   clock_s_ = stamp().toSec();
   inbox_.clear();

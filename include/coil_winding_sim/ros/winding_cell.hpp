@@ -261,6 +261,9 @@ class WindingCell {
     mutable double end_s = 0.0, end_command = std::numeric_limits<double>::quiet_NaN();
   };
   WindJob wind_;
+  // The job's end time found for the core's command (jobEndTime), found
+  // again when the command changes or the run is replaced [s].
+  mutable double job_end_s_ = 0.0, job_end_command_ = std::numeric_limits<double>::quiet_NaN();
   std::unique_ptr<actionlib::SimpleActionServer<coil_winding_sim::WindAction>> wind_server_;
   // A goal or a cancel from the server's callbacks, for the loop.
   std::mutex wind_mutex_;
