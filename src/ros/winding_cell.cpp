@@ -122,15 +122,18 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
   startWindServer();
   diagnostics_.setHardwareID("coil_winding_sim");
   diagnostics_.add("simulation", this, &WindingCell::diagnose);
-  ROS_INFO("winding_cell: scene '%s', %d points, target real-time factor %g%s, %s; %s",
-           o_.scene.c_str(), sim_->model().constants().n, pace_.target(),
-           o_.publish_clock ? ", publishing /clock" : "",
-           o_.follow_clock  ? "replaying"
-           : o_.stop_at_end ? "holding at the job's end (~stop_at_end)"
-                            : "running until stopped",
-           o_.start == "at_rest"  ? "the core at rest until a speed setpoint"
-           : o_.start == "paused" ? "paused (~pause false starts it)"
-                                  : "winding");
+  // The line that says the cell is ready, with where to reach it.
+  ROS_INFO(
+      "winding_cell: ready: action %s, services %s/{reset,pause,snapshot,restore,run_until}; "
+      "scene '%s', %d points, target real-time factor %g%s, %s; %s",
+      nh_.resolveName("wind").c_str(), pnh_.getNamespace().c_str(), o_.scene.c_str(),
+      sim_->model().constants().n, pace_.target(), o_.publish_clock ? ", publishing /clock" : "",
+      o_.follow_clock  ? "replaying"
+      : o_.stop_at_end ? "holding at the job's end (~stop_at_end)"
+                       : "running until stopped",
+      o_.start == "at_rest"  ? "the core at rest until a speed setpoint"
+      : o_.start == "paused" ? "paused (~pause false starts it)"
+                             : "winding");
   if (o_.follow_clock) {
     if (replay_.end()) {
       ROS_INFO("winding_cell: replaying '%s': %.6f s from %.9f s, lag %g s", o_.machine_bag.c_str(),
