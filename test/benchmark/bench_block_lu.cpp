@@ -11,8 +11,18 @@
 // matrix only, arg 1 also factors and solves: the difference is the
 // factorization's and the solve's cost. Instruction counts: valgrind
 // --tool=callgrind bench_block_lu.
+//
+// pairCouplings: the 3-D system of 234 free points (robustness case 2's
+// span when wound wire was released onto free wire, issue 57) with 0, 40
+// or 88 pairs of touching free segments, each a point against the segment
+// about one turn (60 points) before it: the band's factorization, the
+// pairs' (PairCouplingSolve) and one Newton direction.
 #include <benchmark/benchmark.h>
 
+#include <random>
+
+#include "coil_winding_sim/core/implicit/pair_coupling_solve.hpp"
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/linear_algebra/block_tridiagonal_lu.hpp"
 
 namespace {
@@ -41,8 +51,50 @@ void fillAndSolve(benchmark::State& st) {
   }
 }
 
+void pairCouplings(benchmark::State& st) {
+  using A = cws::SpatialAssembly;
+  constexpr int kPoints = 234;
+  A a;
+  a.resize(kPoints);
+  a.begin(0, kPoints, true, true, 1e4);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int x = 0; x < st.range(0); ++x) {
+    const int pa = 61 + x * (kPoints - 62) / static_cast<int>(st.range(0));
+    Eigen::Matrix3d k = Eigen::Matrix3d::Identity() * 2e6;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) k(r, c) += 5e5 * u(rng);
+    }
+    a.addPairCoupling(pa, pa - 60, 0.5 + 0.5 * u(rng), k);
+  }
+  const int unknowns = a.unknowns(), blocks = (unknowns + A::kPerPoint - 1) / A::kPerPoint;
+  cws::PairCouplingSolve pairs;
+  pairs.resize(unknowns);
+  Eigen::VectorXd b = Eigen::VectorXd::Ones(unknowns);
+  for (auto _ : st) {
+    for (int bi = 0; bi < blocks; ++bi) {
+      for (int bj = std::max(0, bi - 1); bj <= std::min(blocks - 1, bi + 1); ++bj) {
+        A::Matrix::Block& m = a.matrix().blockAt(bi, bj);
+        for (int r = 0; r < A::kPerPoint; ++r) {
+          for (int c = 0; c < A::kPerPoint; ++c) {
+            const bool coupled = bi == bj || (bi < bj ? r : c) < A::kCoupled;
+            m(r, c) = coupled ? 1e6 * u(rng) : 0.0;
+          }
+        }
+        if (bi == bj) m.diagonal().array() += 2e7;
+      }
+    }
+    benchmark::DoNotOptimize(a.matrix().factor());
+    benchmark::DoNotOptimize(pairs.factor(a));
+    a.matrix().solve(b);
+    pairs.correct(a, b);
+    benchmark::DoNotOptimize(b.data());
+  }
+}
+
 }  // namespace
 
+BENCHMARK(pairCouplings)->Arg(0)->Arg(40)->Arg(88)->Unit(benchmark::kMicrosecond);
 BENCHMARK_TEMPLATE(fillAndSolve, 10, 7)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(fillAndSolve, 8, 6)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(fillAndSolve, 7, 7)->Arg(0)->Arg(1);

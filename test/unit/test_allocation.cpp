@@ -8,6 +8,8 @@
 #include <string>
 
 #include "coil_winding_sim/core/external_forces/free_wire_contact.hpp"
+#include "coil_winding_sim/core/implicit/pair_coupling_solve.hpp"
+#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 
 // GCC sees the replaced operator delete free() what operator new got from
@@ -137,3 +139,38 @@ TEST(Allocation, FreeWireContactStepsAllocateNothing) {
   EXPECT_GT(touching_steps, 0);
 }
 #endif
+
+// Many touching free pairs (88, as wire released onto free wire gives):
+// once the storage has grown to them, a factorization and a solve allocate
+// nothing.
+TEST(Allocation, ManyPairCouplingsAllocateNothing) {
+  using A = cws::SpatialAssembly;
+  constexpr int kPoints = 234;
+  A a;
+  a.resize(kPoints);
+  a.begin(0, kPoints, true, true, 1e4);
+  for (int x = 0; x < 88; ++x) {
+    const int pa = 61 + x * 2;
+    a.addPairCoupling(pa, pa - 60, 0.3, Eigen::Matrix3d::Identity() * 2e6);
+  }
+  const int unknowns = a.unknowns(), blocks = (unknowns + A::kPerPoint - 1) / A::kPerPoint;
+  for (int bi = 0; bi < blocks; ++bi) {
+    a.matrix().blockAt(bi, bi).diagonal().setConstant(2e7);
+    if (bi > 0) a.matrix().blockAt(bi, bi - 1)(0, 0) = 1e6;
+  }
+  ASSERT_TRUE(a.matrix().factor());
+  cws::PairCouplingSolve pairs;
+  pairs.resize(unknowns);
+  ASSERT_TRUE(pairs.factor(a));  // (grows its storage to 88 pairs)
+  Eigen::VectorXd x = Eigen::VectorXd::Ones(unknowns);
+  allocations = 0;
+  counting = true;
+  const bool factored = pairs.factor(a);
+  a.matrix().solve(x);
+  pairs.correct(a, x);
+  counting = false;
+  ASSERT_TRUE(factored);
+  EXPECT_EQ(pairs.pairs(), 88);
+  EXPECT_EQ(allocations.load(), 0);
+  EXPECT_TRUE(x.allFinite());
+}

@@ -72,6 +72,19 @@ void check(int n, std::mt19937& rng, bool port = false) {
   // dense LU's own result, far from any wrong elimination's O(1).
   EXPECT_LT(residual, 1e-9);
   EXPECT_LT(diff, 1e-10);
+  // Three right-hand sides at once, zero after a row `last` (the sweep up
+  // starts there): in the first block, mid-matrix, in the last two blocks
+  // (the merged port pair) and at the end.
+  for (int last : {0, n / 2, std::max(0, n - kB - 3), n - 1}) {
+    Eigen::Matrix<double, Eigen::Dynamic, 3> r = Eigen::MatrixXd::Zero(lu.paddedSize(), 3);
+    for (int i = 0; i <= last; ++i) {
+      for (int j = 0; j < 3; ++j) r(i, j) = u(rng);
+    }
+    const Eigen::MatrixXd r_dense = r.topRows(n);
+    lu.template solveColumns<3>(r, last);
+    const Eigen::MatrixXd x3 = dense.partialPivLu().solve(r_dense);
+    EXPECT_LT((r.topRows(n) - x3).norm() / x3.norm(), 1e-10) << "n = " << n << ", last " << last;
+  }
 }
 
 TEST(BlockTridiagonalLu, MatchesADenseLuOnSaddlePointBlocks) {

@@ -7,55 +7,64 @@
 namespace cws {
 
 void PairCouplingSolve::resize(int unknowns) {
-  w_.resize(0, 0);
+  r_.resize(0);
   pairs_.clear();
   grow(unknowns, SpatialAssembly::kReservedPairCouplings);
   m_ = 0;
 }
 
 void PairCouplingSolve::grow(int unknowns, int pairs) {
-  const int rows = static_cast<int>(w_.rows()), have = static_cast<int>(pairs_.size());
+  const int rows = static_cast<int>(r_.size()), have = static_cast<int>(pairs_.size());
   if (unknowns <= rows && pairs <= have) return;
   const int cap = pairs <= have ? have : std::max(pairs, 2 * have);
+  // (Rows: the band's padded size, a block more than its unknowns at most.)
+  const int padded = unknowns <= rows ? rows : std::max(unknowns, 2 * rows);
   pairs_.resize(cap);
-  w_.setZero(unknowns <= rows ? rows : std::max(unknowns, 2 * rows), 3 * cap);
+  w_.setZero(padded + SpatialAssembly::kPerPoint, 3);
+  r_.setZero(padded + SpatialAssembly::kPerPoint);
   s_.setZero(3 * cap, 3 * cap);
   g_.setZero(3 * cap);
   pivot_.assign(3 * cap, 0);
 }
 
-Eigen::Vector3d PairCouplingSolve::relative(const SpatialAssembly& a, int p,
-                                            const Eigen::Ref<const Eigen::VectorXd>& v) const {
+template <class V>
+Eigen::Matrix<double, 3, V::ColsAtCompileTime> PairCouplingSolve::relative(const SpatialAssembly& a,
+                                                                           int p,
+                                                                           const V& v) const {
   // (The prescribed boundary point has no unknowns.)
   const SpatialAssembly::PairCoupling& c = pairs_[p];
-  Eigen::Vector3d r = v.segment<3>(a.pRow(c.a)) - c.t * v.segment<3>(a.pRow(c.b + 1));
-  if (c.b >= a.first()) r -= (1.0 - c.t) * v.segment<3>(a.pRow(c.b));
+  Eigen::Matrix<double, 3, V::ColsAtCompileTime> r =
+      v.template middleRows<3>(a.pRow(c.a)) - c.t * v.template middleRows<3>(a.pRow(c.b + 1));
+  if (c.b >= a.first()) r -= (1.0 - c.t) * v.template middleRows<3>(a.pRow(c.b));
   return r;
+}
+
+template <class V, class Z>
+void PairCouplingSolve::scatter(const SpatialAssembly& a, int p, const Z& z, V& v) const {
+  const SpatialAssembly::PairCoupling& c = pairs_[p];
+  v.template middleRows<3>(a.pRow(c.a)) += z;
+  v.template middleRows<3>(a.pRow(c.b + 1)) -= c.t * z;
+  if (c.b >= a.first()) v.template middleRows<3>(a.pRow(c.b)) -= (1.0 - c.t) * z;
 }
 
 bool PairCouplingSolve::factor(SpatialAssembly& a) {
   m_ = a.pairCouplings();
   if (m_ == 0) return true;
-  const int unknowns = a.unknowns(), cols = 3 * m_;
-  grow(unknowns, m_);
-  // W = A^-1 U, column by column.
+  const SpatialAssembly::Matrix& band = a.matrix();
+  const int padded = band.paddedSize(), cols = 3 * m_;
+  grow(padded, m_);
+  for (int p = 0; p < m_; ++p) pairs_[p] = a.pairCoupling(p);
+  // S = I + K U^T A^-1 U, block (q, p) = delta_qp I + K_q C_q A^-1 C_p^T:
+  // a pair's three columns of A^-1 U at once, then their rows each pair
+  // reads.
   for (int p = 0; p < m_; ++p) {
-    pairs_[p] = a.pairCoupling(p);
     const SpatialAssembly::PairCoupling& c = pairs_[p];
-    for (int d = 0; d < 3; ++d) {
-      auto w = w_.col(3 * p + d).head(unknowns);
-      w.setZero();
-      w[a.pRow(c.a) + d] = 1.0;
-      w[a.pRow(c.b + 1) + d] = -c.t;
-      if (c.b >= a.first()) w[a.pRow(c.b) + d] = -(1.0 - c.t);
-      a.matrix().solve(w);
-    }
-  }
-  // S = I + K U^T W, block (p, q) = delta_pq I + K_p C_p W_q.
-  for (int q = 0; q < cols; ++q) {
-    const auto w = w_.col(q).head(unknowns);
-    for (int p = 0; p < m_; ++p) s_.block<3, 1>(3 * p, q) = pairs_[p].k * relative(a, p, w);
-    s_(q, q) += 1.0;
+    auto w = w_.topRows(padded);
+    w.setZero();
+    scatter(a, p, Eigen::Matrix3d::Identity(), w);
+    band.solveColumns<3>(w, std::max(a.pRow(c.a), a.pRow(c.b + 1)) + 2);
+    for (int q = 0; q < m_; ++q) s_.block<3, 3>(3 * q, 3 * p) = pairs_[q].k * relative(a, q, w);
+    s_.block<3, 3>(3 * p, 3 * p) += Eigen::Matrix3d::Identity();
   }
   // Its LU with partial pivoting, in place.
   for (int c = 0; c < cols; ++c) {
@@ -78,8 +87,8 @@ bool PairCouplingSolve::factor(SpatialAssembly& a) {
 
 void PairCouplingSolve::correct(const SpatialAssembly& a, Eigen::Ref<Eigen::VectorXd> x) const {
   if (m_ == 0) return;
-  const int cols = 3 * m_;
-  // g = K U^T y, then S z = g (forward and back substitution), x -= W z.
+  const int cols = 3 * m_, unknowns = static_cast<int>(x.size());
+  // g = K U^T y, then S z = g (forward and back substitution), x -= A^-1 U z.
   for (int p = 0; p < m_; ++p) g_.segment<3>(3 * p) = pairs_[p].k * relative(a, p, x);
   for (int c = 0; c < cols; ++c) {
     if (pivot_[c] != c) std::swap(g_[c], g_[pivot_[c]]);
@@ -91,7 +100,11 @@ void PairCouplingSolve::correct(const SpatialAssembly& a, Eigen::Ref<Eigen::Vect
     for (int k = c + 1; k < cols; ++k) g_[c] -= s_(c, k) * g_[k];
     g_[c] /= s_(c, c);
   }
-  x.noalias() -= w_.leftCols(cols).topRows(x.size()) * g_.head(cols);
+  auto r = r_.head(unknowns);
+  r.setZero();
+  for (int p = 0; p < m_; ++p) scatter(a, p, g_.segment<3>(3 * p), r);
+  a.matrix().solve(r);
+  x -= r;
 }
 
 }  // namespace cws

@@ -1,14 +1,15 @@
 // The Newton system's couplings outside the band (contact between two free
 // segments, SpatialAssembly::PairCoupling), solved over the band's
 // factorization through the Woodbury identity:
-//   (A + U K U^T)^-1 b = y - W z,  y = A^-1 b,  W = A^-1 U,
-//   (I + K U^T W) z = K U^T y,
+//   (A + U K U^T)^-1 b = y - A^-1 U z,  y = A^-1 b,
+//   (I + K U^T A^-1 U) z = K U^T y,
 // with three columns of U per pair (U_p = C_p^T) and K block-diagonal (the
-// pairs' 3 x 3 blocks, which need not be invertible). A factorization costs
-// three band solves per pair and a dense LU of 3 x 3 blocks per pair; a
-// solve, one small solve and a product. Storage is sized for the integrated
-// span and the pairs SpatialAssembly reserves, and grows with them (every
-// touching pair is solved: spatial_assembly.hpp).
+// pairs' 3 x 3 blocks, which need not be invertible). A factorization
+// solves the band for a pair's three columns at once and keeps only the
+// rows of A^-1 U that the pairs read (the small matrix S); a solve is one
+// small solve and one more band solve, of U z. Storage is sized for the
+// integrated span and the pairs SpatialAssembly reserves, and grows with
+// them (every touching pair is solved: spatial_assembly.hpp).
 #pragma once
 
 #include <Eigen/Core>
@@ -31,9 +32,15 @@ class PairCouplingSolve {
   int pairs() const { return m_; }
 
  private:
-  // C_p v for the unknowns v of pair p (rows of its points' positions).
-  Eigen::Vector3d relative(const SpatialAssembly& a, int p,
-                           const Eigen::Ref<const Eigen::VectorXd>& v) const;
+  using Columns = Eigen::Matrix<double, Eigen::Dynamic, 3>;
+  // C_p v for the unknowns v of pair p (rows of its points' positions), for
+  // one column or three.
+  template <class V>
+  Eigen::Matrix<double, 3, V::ColsAtCompileTime> relative(const SpatialAssembly& a, int p,
+                                                          const V& v) const;
+  // v += C_p^T z (v: one column or three): U's columns of pair p, times z.
+  template <class V, class Z>
+  void scatter(const SpatialAssembly& a, int p, const Z& z, V& v) const;
 
   // Storage for systems of `unknowns` unknowns and `pairs` pairs at least
   // (twice what it holds, where that is more).
@@ -44,10 +51,10 @@ class PairCouplingSolve {
   std::vector<SpatialAssembly::PairCoupling,
               Eigen::aligned_allocator<SpatialAssembly::PairCoupling>>
       pairs_;
-  Eigen::MatrixXd w_;  // A^-1 U, unknowns x 3 per pair
-  RowMajor s_;         // I + K U^T W, LU in place (rows contiguous for its updates)
+  Columns w_;   // A^-1 U_p of one pair at a time (the band's padded rows)
+  RowMajor s_;  // I + K U^T A^-1 U, LU in place (rows contiguous for its updates)
   std::vector<int> pivot_;
-  mutable Eigen::VectorXd g_;
+  mutable Eigen::VectorXd g_, r_;
 };
 
 }  // namespace cws

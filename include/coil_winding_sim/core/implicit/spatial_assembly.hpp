@@ -184,6 +184,7 @@ class SpatialAssembly {
   const Eigen::VectorXd& forces() const { return force_; }
   using Matrix = BlockTridiagonalLu<kPerPoint, kCoupled>;
   Matrix& matrix() { return matrix_; }
+  const Matrix& matrix() const { return matrix_; }
 
   // Bookkeeping at the trial state, as WireForces does for the explicit
   // model: rates not paired with the wire's velocities, and the forces that

@@ -195,6 +195,48 @@ class BlockTridiagonalLu {
     b.head(n_) = work_.head(n_);
   }
 
+  // The rows a solve works on: n rounded up to whole blocks.
+  int paddedSize() const { return m_ * B; }
+
+  // Solves A X = R for K right-hand sides at once, in place (products of a
+  // block with K columns run at the CPU's throughput, where one column's
+  // chain of products waits on each result). x has paddedSize() rows, zero
+  // from row n on, and zero after row `last`: the sweep up starts at that
+  // row's block, as the rows after it stay zero until the sweep down.
+  template <int K>
+  void solveColumns(Eigen::Ref<Eigen::Matrix<double, Eigen::Dynamic, K>> x, int last) const {
+    using Rows = Eigen::Matrix<double, B, K>;
+    using PairRows = Eigen::Matrix<double, 2 * B, K>;
+    assert(x.rows() >= m_ * B);
+    int k = std::min(last / B, m_ - 1);
+    Rows y = Rows::Zero();
+    if (merge_ && k >= m_ - 2) {
+      const PairRows yp = pair_inv_.lazyProduct(x.template middleRows<2 * B>((m_ - 2) * B));
+      x.template middleRows<2 * B>((m_ - 2) * B) = yp;
+      y = yp.template topRows<B>();
+      k = m_ - 3;
+    } else if (k >= 0) {
+      y = inv_[k].lazyProduct(x.template middleRows<B>(k * B));
+      x.template middleRows<B>(k * B) = y;
+      --k;
+    }
+    for (; k >= 0; --k) {
+      Rows r = x.template middleRows<B>(k * B);
+      r.template topRows<C>() -= u_[k].lazyProduct(y);
+      y = inv_[k].lazyProduct(r);
+      x.template middleRows<B>(k * B) = y;
+    }
+    const int singles = merge_ ? m_ - 2 : m_;
+    for (k = 1; k < singles; ++k) {
+      const Eigen::Matrix<double, C, K> x_prev = x.template middleRows<C>((k - 1) * B);
+      x.template middleRows<B>(k * B) -= w_[k].lazyProduct(x_prev);
+    }
+    if (merge_ && m_ > 2) {
+      const Eigen::Matrix<double, C, K> x_prev = x.template middleRows<C>((m_ - 3) * B);
+      x.template middleRows<2 * B>((m_ - 2) * B) -= pair_w_.lazyProduct(x_prev);
+    }
+  }
+
  private:
   // m v for a fixed-size column-major m, as a sum of its columns in two
   // independent chains: each sweep of the solve is a chain of such
