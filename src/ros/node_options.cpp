@@ -32,6 +32,7 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh, const std::string& defau
   pnh.param<std::string>("world_frame", o.frames.world, o.frames.world);
   pnh.param<std::string>("core_frame", o.frames.core, o.frames.core);
   pnh.param<std::string>("port_frame", o.frames.port, o.frames.port);
+  pnh.param<std::string>("frame_prefix", o.frame_prefix, o.frame_prefix);
   pnh.param("setpoint_stamp_tolerance", o.setpoint_stamp_tolerance_s, o.setpoint_stamp_tolerance_s);
   pnh.param("spindle_rate", o.spindle_rate_hz, o.spindle_rate_hz);
   pnh.param("profile_rate", o.profile_rate_hz, o.profile_rate_hz);
@@ -111,6 +112,19 @@ void validateNodeOptions(NodeOptions& o, bool sim_time) {
   if (!(o.tf_rate_hz >= 0.0) || !std::isfinite(o.tf_rate_hz)) {
     throw std::invalid_argument(
         "~tf_rate must be >= 0 [Hz] (0: ten a revolution at process.max_core_speed_rpm)");
+  }
+  // The cell's own frames under a prefix (as tf2 names them: no leading
+  // slash); the world stays shared.
+  while (!o.frame_prefix.empty() && o.frame_prefix.back() == '/') o.frame_prefix.pop_back();
+  if (!o.frame_prefix.empty()) {
+    if (o.frame_prefix.front() == '/' ||
+        o.frame_prefix.find_first_of(" \t\n\"'") != std::string::npos) {
+      throw std::invalid_argument("~frame_prefix '" + o.frame_prefix +
+                                  "' must be a frame name without a leading '/' or spaces, "
+                                  "e.g. spindle1");
+    }
+    o.frames.core = o.frame_prefix + "/" + o.frames.core;
+    o.frames.port = o.frame_prefix + "/" + o.frames.port;
   }
   if (o.max_points < 2 || o.max_points > cws::kMaxScenePoints) {
     throw std::invalid_argument("~max_points must be 2 to " + std::to_string(cws::kMaxScenePoints) +

@@ -20,8 +20,8 @@ std::string vec3(double a, double b, double c) {
 }
 
 // A prismatic joint of the port along one world axis.
-void portJoint(std::ostringstream& u, const char* name, const char* parent, const char* child,
-               const char* axis) {
+void portJoint(std::ostringstream& u, const char* name, const std::string& parent,
+               const std::string& child, const char* axis) {
   u << "  <joint name=\"" << name << "\" type=\"prismatic\">\n"
     << "    <parent link=\"" << parent << "\"/>\n    <child link=\"" << child << "\"/>\n"
     << "    <axis xyz=\"" << axis << "\"/>\n"
@@ -30,7 +30,10 @@ void portJoint(std::ostringstream& u, const char* name, const char* parent, cons
 
 }  // namespace
 
-std::string cellUrdf(const cws::Scene& scene) {
+std::string cellUrdf(const cws::Scene& scene, const std::string& frame_prefix) {
+  // The cell's own links under the prefix (as the node names its frames,
+  // ~frame_prefix); world is shared.
+  const std::string p = frame_prefix.empty() ? "" : frame_prefix + "/";
   // The core's frame at rest: its origin and orientation (z: the axis), as
   // the simulation sets them up.
   const cws::RotatingCore core(scene.core, 0.0);
@@ -45,18 +48,18 @@ std::string cellUrdf(const cws::Scene& scene) {
     << "     the supply port moves on port_x, port_y, port_z along the world axes [m].\n"
     << "     The joints' positions are the node's joint_states. -->\n"
     << "<robot name=\"winding_cell\">\n"
-    << "  <link name=\"world\"/>\n  <link name=\"core\"/>\n"
+    << "  <link name=\"world\"/>\n  <link name=\"" << p << "core\"/>\n"
     << "  <joint name=\"spindle\" type=\"continuous\">\n"
-    << "    <parent link=\"world\"/>\n    <child link=\"core\"/>\n"
+    << "    <parent link=\"world\"/>\n    <child link=\"" << p << "core\"/>\n"
     << "    <origin xyz=\"" << vec3(o.x(), o.y(), o.z()) << "\" rpy=\""
     << vec3(ypr(2), ypr(1), ypr(0)) << "\"/>\n"
     << "    <axis xyz=\"0 0 1\"/>\n  </joint>\n";
   if (scene.physics.supply) {
-    u << "  <link name=\"port_x_link\"/>\n  <link name=\"port_y_link\"/>\n"
-      << "  <link name=\"supply_port\"/>\n";
-    portJoint(u, "port_x", "world", "port_x_link", "1 0 0");
-    portJoint(u, "port_y", "port_x_link", "port_y_link", "0 1 0");
-    portJoint(u, "port_z", "port_y_link", "supply_port", "0 0 1");
+    u << "  <link name=\"" << p << "port_x_link\"/>\n  <link name=\"" << p << "port_y_link\"/>\n"
+      << "  <link name=\"" << p << "supply_port\"/>\n";
+    portJoint(u, "port_x", "world", p + "port_x_link", "1 0 0");
+    portJoint(u, "port_y", p + "port_x_link", p + "port_y_link", "0 1 0");
+    portJoint(u, "port_z", p + "port_y_link", p + "supply_port", "0 0 1");
   }
   u << "</robot>\n";
   return u.str();
@@ -66,6 +69,7 @@ int urdfMain(const std::vector<std::string>& args, const std::string& default_sc
   std::string scene_path = default_scene;
   std::vector<std::string> overrides;
   bool world_on_error = false;
+  std::string frame_prefix;
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& opt = args[i];
     if (i + 1 >= args.size()) {
@@ -81,6 +85,10 @@ int urdfMain(const std::vector<std::string>& args, const std::string& default_sc
         return 2;
       }
       world_on_error = value == "world";
+    } else if (opt == "--frame-prefix") {
+      // (As the node's ~frame_prefix: a trailing '/' is dropped.)
+      frame_prefix = value;
+      while (!frame_prefix.empty() && frame_prefix.back() == '/') frame_prefix.pop_back();
     } else if (opt == "--set") {
       overrides.push_back(value);
     } else if (opt == "--overrides") {
@@ -96,7 +104,7 @@ int urdfMain(const std::vector<std::string>& args, const std::string& default_sc
       }
     } else {
       std::cerr << "wire_sim: urdf: unknown option '" << opt
-                << "' (it takes --scene, --set, --overrides, --on-error)\n";
+                << "' (it takes --scene, --set, --overrides, --on-error, --frame-prefix)\n";
       return 2;
     }
   }
@@ -104,7 +112,7 @@ int urdfMain(const std::vector<std::string>& args, const std::string& default_sc
   // most points a scene may have, so that a long job is not checked here.
   overrides.push_back("supply.max_points=" + std::to_string(cws::kMaxScenePoints));
   try {
-    std::cout << cellUrdf(cws::loadScene(scene_path, overrides));
+    std::cout << cellUrdf(cws::loadScene(scene_path, overrides), frame_prefix);
   } catch (const cws::SceneError& e) {
     // --on-error world (the cell's launch file): a URDF of the world link
     // alone, so that roslaunch goes on to the node, which names the error

@@ -13,10 +13,12 @@
 
 namespace cws_tools {
 
-// The URDF of `scene`'s cell (frame names world, core, supply_port).
-std::string cellUrdf(const cws::Scene& scene);
+// The URDF of `scene`'s cell (frame names world, core, supply_port; with a
+// prefix P: world, P/core, P/supply_port).
+std::string cellUrdf(const cws::Scene& scene, const std::string& frame_prefix = "");
 
-// wire_sim urdf [--scene FILE] [--set key=value ...] [--overrides "[k=v, ...]"]:
+// wire_sim urdf [--scene FILE] [--set key=value ...] [--overrides "[k=v, ...]"]
+// [--frame-prefix P]:
 // the URDF on stdout (--overrides takes a launch file's YAML list). Returns
 // the exit code (2: bad arguments or scene, named on stderr).
 int urdfMain(const std::vector<std::string>& args, const std::string& default_scene);

@@ -62,15 +62,18 @@ inline std::string readFile(const std::filesystem::path& p) {
 // master of its own on master_port: the child in a process group of its own
 // (as a shell's foreground job, so that a signal to -pid reaches the whole
 // launch), ROS logs in dir/ros_log, its output to log, started from the
-// directory `cwd` if one is given. Returns the child's pid, or -1.
+// directory `cwd` if one is given; `program`: roslaunch, or a program that
+// takes its arguments (launch_cell). Returns the child's pid, or -1.
 inline pid_t startRoslaunch(std::vector<std::string> args, int master_port,
                             const std::filesystem::path& dir, const std::string& log,
-                            const std::filesystem::path& cwd = {}) {
-  args.insert(args.begin(), {"roslaunch", "-p", std::to_string(master_port)});
+                            const std::filesystem::path& cwd = {},
+                            const std::string& program = "roslaunch") {
+  args.insert(args.begin(), {program, "-p", std::to_string(master_port)});
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   const std::string uri = "http://127.0.0.1:" + std::to_string(master_port);
+  std::fflush(nullptr);  // (else the child writes out this process's buffered output again)
   const pid_t pid = ::fork();
   if (pid < 0) return -1;
   if (pid == 0) {
@@ -86,7 +89,7 @@ inline pid_t startRoslaunch(std::vector<std::string> args, int master_port,
     if (!std::freopen(log.c_str(), "w", stdout) || ::dup2(STDOUT_FILENO, STDERR_FILENO) < 0) {
       ::_exit(126);
     }
-    ::execvp("roslaunch", argv.data());
+    ::execvp(program.c_str(), argv.data());
     ::_exit(127);
   }
   ::setpgid(pid, pid);  // also here: no race with a signal sent at once

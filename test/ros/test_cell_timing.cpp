@@ -257,6 +257,25 @@ TEST(NodeOptions, StartIsOneOfThreeAndExitNeedsAnEnd) {
             "");
 }
 
+// Several cells on one TF tree (multi_spindle.launch): ~frame_prefix puts
+// the core and port frames under the prefix, as wire_sim urdf --frame-prefix
+// names the links; the world stays shared.
+TEST(NodeOptions, AFramePrefixNamesTheCellsOwnFrames) {
+  cws_ros::NodeOptions o;
+  o.frame_prefix = "spindle3/";
+  cws_ros::validateNodeOptions(o, false);
+  EXPECT_EQ(o.frames.world, "world");
+  EXPECT_EQ(o.frames.core, "spindle3/core");
+  EXPECT_EQ(o.frames.port, "spindle3/supply_port");
+  cws_ros::NodeOptions none;
+  cws_ros::validateNodeOptions(none, false);
+  EXPECT_EQ(none.frames.core, "core");
+  for (const char* bad : {"/spindle1", "spindle 1"}) {
+    const std::string why = refusal([&](auto& x) { x.frame_prefix = bad; });
+    EXPECT_NE(why.find("~frame_prefix"), std::string::npos) << bad << ": " << why;
+  }
+}
+
 TEST(NodeOptions, FollowingTheClockNeedsSimTimeAndAnotherNodesClock) {
   EXPECT_NE(refusal([](auto& o) { o.follow_clock = true; }, false).find("/use_sim_time"),
             std::string::npos);

@@ -13,6 +13,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -33,8 +34,10 @@ struct Launch {
   std::string output;
 };
 
-// roslaunch of the cell with `args` from `cwd`, allowed 90 s to end by itself.
-Launch launch(const std::vector<std::string>& args, const fs::path& cwd = {}) {
+// roslaunch (or `program`) of the cell with `args` from `cwd`, allowed 90 s
+// to end by itself.
+Launch launch(const std::vector<std::string>& args, const fs::path& cwd = {},
+              const std::string& program = "roslaunch") {
   const fs::path dir = fs::temp_directory_path() / ("cws_scene_errors_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -43,7 +46,7 @@ Launch launch(const std::vector<std::string>& args, const fs::path& cwd = {}) {
   all.insert(all.end(), args.begin(), args.end());
   const std::string log = (dir / "roslaunch.log").string();
   Launch l;
-  const pid_t pid = cws_ros_test::startRoslaunch(all, port, dir, log, cwd);
+  const pid_t pid = cws_ros_test::startRoslaunch(all, port, dir, log, cwd, program);
   if (port > 0 && pid > 0) l.ended = cws_ros_test::waitForLaunch(pid, 90.0, l.status);
   l.output = cws_ros_test::readFile(log);
   fs::remove_all(dir);
@@ -83,6 +86,27 @@ TEST(SceneErrors, ARelativeSceneIsTheLaunchDirectorys) {
   const Launch missing = launch({"scene:=config/no_such_scene.yaml"}, source);
   expectOneClearLine(
       missing, "cannot open scene file '" + (source / "config/no_such_scene.yaml").string() + "'");
+}
+
+// roslaunch ends with status 0 when the cell refuses its scene; launch_cell
+// (scripts/launch_cell) ends with the cell's status, 2, and with 0 after a
+// job that ends.
+TEST(SceneErrors, TheCheckedLaunchFailsWhenTheCellFails) {
+  const Launch plain = launch({"overrides:=[proces.turns=3]"});
+  ASSERT_TRUE(plain.ended) << plain.output;
+  std::printf("roslaunch with a misspelt key: exit status %d\n", WEXITSTATUS(plain.status));
+  const Launch bad = launch({"overrides:=[proces.turns=3]"}, {}, CWS_LAUNCH_CELL);
+  expectOneClearLine(bad, "scene key 'proces': unknown key");
+  ASSERT_TRUE(WIFEXITED(bad.status));
+  EXPECT_EQ(WEXITSTATUS(bad.status), 2) << bad.output;
+  const Launch ok =
+      launch({"scene:=" + std::string(CWS_SOURCE_DIR) + "/test/scenes/spinning_wire.yaml",
+              "overrides:=[process.duration=0.05]", "exit_at_end:=true", "real_time_factor:=0"},
+             {}, CWS_LAUNCH_CELL);
+  ASSERT_TRUE(ok.ended) << ok.output;
+  ASSERT_TRUE(WIFEXITED(ok.status));
+  EXPECT_EQ(WEXITSTATUS(ok.status), 0) << ok.output;
+  EXPECT_NE(ok.output.find("job done: "), std::string::npos) << ok.output;
 }
 
 }  // namespace

@@ -44,7 +44,10 @@ struct NodeOptions {
   // ~start: "running" (winding at the scene's speed), "paused" (until
   // ~pause false) or "at_rest" (the core at 0 until a speed setpoint).
   std::string start = "running";
-  Frames frames;                            // ~world_frame, ~core_frame, ~port_frame
+  Frames frames;  // ~world_frame, ~core_frame, ~port_frame
+  // ~frame_prefix: several cells on one TF tree (multi_spindle.launch): the
+  // core and port frames become <prefix>/<frame>; the world frame is shared.
+  std::string frame_prefix;
   double setpoint_stamp_tolerance_s = 1.0;  // ~setpoint_stamp_tolerance
   double spindle_rate_hz = 100.0;           // ~spindle_rate: the fast sim/ topics
   double profile_rate_hz = 5.0;             // ~profile_rate: sim/profile
