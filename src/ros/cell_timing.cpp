@@ -31,6 +31,28 @@ double ReplayClock::target(const ros::Time& now, double wall_s) {
   return target;
 }
 
+std::string slowCause(const cws::WorkCount& from, const cws::WorkCount& to,
+                      long fallbacks_in_stretch, const std::string& fallback_cause) {
+  const long steps = to.steps - from.steps;
+  if (steps <= 0) return "";
+  char text[320];
+  int k = std::snprintf(text, sizeof text, "steps of %.2g s on average, %ld of %ld retried",
+                        (to.t_s - from.t_s) / static_cast<double>(steps),
+                        to.rejected - from.rejected, steps + (to.rejected - from.rejected));
+  const long iterations = to.iterations - from.iterations;
+  if (iterations > 0 && k > 0 && k < static_cast<int>(sizeof text)) {
+    k += std::snprintf(
+        text + k, sizeof text - k, ", %.1f Newton iterations and %.1f factorizations a step",
+        static_cast<double>(iterations) / static_cast<double>(steps),
+        static_cast<double>(to.factorizations - from.factorizations) / static_cast<double>(steps));
+  }
+  std::string cause = text;
+  if (fallbacks_in_stretch > 0) {
+    cause += "; explicit steps where Newton could not go on (" + fallback_cause + ")";
+  }
+  return cause;
+}
+
 void PaceWindow::add(double wall_s, double sim_s) {
   // Samples at least 20 ms apart: a second spans up to 50 of them.
   if (n_ > 0 && wall_s - wall_[(head_ + kSize - 1) % kSize] < 0.02) return;
@@ -51,7 +73,11 @@ void PaceWindow::update(double wall_s, double sim_s, double target, bool near_pa
   }
   const double dw = wall_s - wall_[oldest];
   if (dw > 0.0) factor_ = (sim_s - sim_[oldest]) / dw;
-  const bool keeping = target <= 0.0 || near_pace || (dw >= 1.0 && factor_ >= 0.95 * target);
+  // Once the window spans a second, its factor alone decides: the pace
+  // restarts whenever the cell falls a quarter second behind, so "near the
+  // pace" holds again after every restart, even for a cell that never
+  // keeps up (it hid a factor of 0.52 at a target of 1, issue 58).
+  const bool keeping = target <= 0.0 || (dw >= 1.0 ? factor_ >= 0.95 * target : near_pace);
   if (keeping) {
     behind_since_s_ = -1.0;
   } else if (behind_since_s_ < 0.0) {

@@ -176,8 +176,8 @@ void WindingCell::run() {
         if (!keeping_pace_ && !holding() && pace_warning_.due(wallNow(), skipped)) {
           ROS_WARN(
               "winding_cell: not keeping pace: real-time factor %.3g over the last second "
-              "against the target %.3g (~real_time_factor)",
-              pace_window_.factor(), pace_.target());
+              "against the target %.3g (~real_time_factor); %s",
+              pace_window_.factor(), pace_.target(), slow_cause_.c_str());
         }
       }
       noteFallback();
@@ -283,7 +283,27 @@ void WindingCell::restartPace() {
   const double now = wallNow();
   pace_.restart(now, sim_->time());
   pace_window_.restart(now, sim_->time());
-  rate_.restart(now, sim_->time());
+  work_mark_ = cws::PaceProfile::count(sim_->time(), now, sim_->stepper());
+  const cws::NewtonCounts* newton = sim_->stepper().newtonCounts();
+  fallback_mark_ = newton ? newton->fallback_stretches : 0;
+  slow_cause_.clear();
+}
+
+double WindingCell::realTimeFactor() const {
+  return paused_ || failed_ || holding() ? 0.0 : pace_window_.factor();
+}
+
+// Once a second of wall time: the work done in it, and from it the cause a
+// slow cell gives.
+void WindingCell::markWork(double wall_s) {
+  if (wall_s - work_mark_.wall_s < 1.0) return;
+  const cws::WorkCount now = cws::PaceProfile::count(sim_->time(), wall_s, sim_->stepper());
+  const cws::NewtonCounts* newton = sim_->stepper().newtonCounts();
+  const long fallbacks = newton ? newton->fallback_stretches : 0;
+  slow_cause_ =
+      slowCause(work_mark_, now, fallbacks - fallback_mark_, newton ? newton->fallback_cause : "");
+  work_mark_ = now;
+  fallback_mark_ = fallbacks;
 }
 
 // Room for the points a step may draw in at the fastest feed (a few at
@@ -365,6 +385,7 @@ void WindingCell::advanceChunk() {
   const double now = wallNow();
   pace_window_.update(now, sim_->time(), pace_.target(), pace_.keeping(now, sim_->time()));
   keeping_pace_ = !pace_window_.slow();
+  markWork(now);
   // Behind by more than a quarter second: a stall (a slow start, a burst of
   // work), not a deficit to chase at full speed; the pace goes on from here.
   if (pace_.ahead(now, sim_->time()) < -0.25 * pace_.target()) pace_.restart(now, sim_->time());
@@ -428,6 +449,8 @@ void WindingCell::advanceReplay() {
     ROS_ERROR("winding_cell: the simulation stopped: %s (reset or restore to go on)", e.what());
   }
   if (end && sim_->time() >= *end - cws::PortTrajectory::timeTolerance(*end)) replay_done_ = true;
+  // (A replay follows the clock: its factor is measured, it has no target.)
+  pace_window_.update(wallNow(), sim_->time(), 0.0, true);
 }
 
 }  // namespace cws_ros

@@ -165,6 +165,13 @@ std::string WindingCell::cellState(std::string& message) const {
     message = "the core at rest until a speed setpoint (~start at_rest)";
     return S::AT_REST;
   }
+  if (!keeping_pace_) {
+    message =
+        "not keeping pace: real-time factor " + cws::formatNumber(pace_window_.factor(), "%.3g") +
+        " over the last second of wall time against the target " +
+        cws::formatNumber(pace_.target(), "%.3g") + (slow_cause_.empty() ? "" : "; " + slow_cause_);
+    return S::SLOW;
+  }
   message = "winding";
   return S::RUNNING;
 }
@@ -176,10 +183,16 @@ void WindingCell::publishStatus() {
   s.state = cellState(s.message);
   const JobErrorEstimator::Latest estimate =
       estimator_ ? estimator_->latest() : JobErrorEstimator::Latest{};
+  // (A slow cell's figures are sent again once a second of wall time.)
+  const double now = wallNow();
+  const bool slow_again =
+      s.state == coil_winding_sim::CellStatus::SLOW && now - status_wall_s_ >= 1.0;
   if (s.state == last_status_ && refused_ == last_refused_ &&
-      estimate.count == last_estimate_count_) {
+      estimate.count == last_estimate_count_ && !slow_again) {
     return;
   }
+  status_wall_s_ = now;
+  s.real_time_factor = realTimeFactor();
   last_status_ = s.state;
   last_refused_ = refused_;
   last_estimate_count_ = estimate.count;

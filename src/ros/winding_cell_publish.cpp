@@ -80,7 +80,7 @@ void WindingCell::publishState() {
   std::lock_guard<std::mutex> lock(sim_mutex_);
   const ros::Time t = stamp();
   Pace pace;
-  pace.real_time_factor = rate_.read(wallNow(), sim_->time());
+  pace.real_time_factor = realTimeFactor();
   pace.target_real_time_factor = pace_.target();
   pace.keeping_pace = keeping_pace_ || paused_ || finished();
   if (state_pub_.getNumSubscribers() > 0) state_pub_.publish(toWireState(*sim_, t, o_.frames));
@@ -122,8 +122,7 @@ void WindingCell::publishMarkers() {
   std::string words;
   overlay.state = cellState(words);
   std::replace(overlay.state.begin(), overlay.state.end(), '_', ' ');
-  // After the job, its mean pace (the measured one is 0 while it holds).
-  overlay.pace.real_time_factor = job_done_ ? jobRealTimeFactor() : rate_.last();
+  overlay.pace.real_time_factor = realTimeFactor();
   overlay.pace.target_real_time_factor = pace_.target();
   overlay.pace.keeping_pace = keeping_pace_ || paused_ || finished();
   overlay.tension_setpoint_N = tension_setpoint_;
@@ -134,7 +133,7 @@ void WindingCell::publishMarkers() {
 
 void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   std::lock_guard<std::mutex> lock(sim_mutex_);
-  const double rtf = rate_.last();
+  const double rtf = realTimeFactor();
   stat.add("simulated time [s]", sim_->time());
   stat.add("real-time factor", rtf);
   stat.add("target real-time factor", pace_.target());
@@ -168,7 +167,8 @@ void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
                   fallback_seen_, newton->fallback_cause);
   } else if (!keeping_pace_) {
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
-                  "not keeping pace: real-time factor %.3g, target %.3g", rtf, pace_.target());
+                  "slow: real-time factor %.3g over the last second, target %.3g; %s", rtf,
+                  pace_.target(), slow_cause_.c_str());
   } else if (at_rest_) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "at rest until a speed setpoint");
   } else {

@@ -248,7 +248,7 @@ void WindingCell::endWind(const std::string& how) {
 void WindingCell::publishWindFeedback() {
   if (!wind_.active || !wind_server_->isActive()) return;
   Pace pace;
-  pace.real_time_factor = rate_.last();
+  pace.real_time_factor = realTimeFactor();
   pace.target_real_time_factor = pace_.target();
   pace.keeping_pace = keeping_pace_;
   const coil_winding_sim::WindFeedback f =

@@ -39,12 +39,25 @@ TEST(Pace, AsFastAsPossibleNeverWaitsAndAlwaysKeepsPace) {
   EXPECT_TRUE(pace.keeping(1e6, 0.0));
 }
 
-TEST(Pace, MeasuredFactorBetweenReadings) {
-  cws_ros::RateMeter meter;
-  meter.restart(10.0, 1.0);
-  EXPECT_NEAR(meter.read(12.0, 2.0), 0.5, 1e-12);
-  EXPECT_NEAR(meter.read(12.0, 3.0), 0.5, 1e-12);  // no wall time: kept
-  EXPECT_NEAR(meter.read(13.0, 5.0), 2.0, 1e-12);
+// A slow cell's cause, from the integrator's work over the last stretch.
+TEST(Pace, ASlowCellNamesItsStepsAndNewtonsWork) {
+  cws::WorkCount from, to;
+  from.t_s = 1.0;
+  from.steps = 100;
+  to = from;
+  EXPECT_EQ(cws_ros::slowCause(from, to, 0, ""), "");  // no step: nothing to say
+  to.t_s = 1.0072;
+  to.steps = 200;  // 100 steps of 72 us
+  to.rejected = 3;
+  to.iterations = 810;
+  to.factorizations = 490;
+  EXPECT_EQ(cws_ros::slowCause(from, to, 0, ""),
+            "steps of 7.2e-05 s on average, 3 of 103 retried, 8.1 Newton iterations and 4.9 "
+            "factorizations a step");
+  to.iterations = to.factorizations = 0;  // an explicit method
+  EXPECT_EQ(cws_ros::slowCause(from, to, 1, "no convergence at 1e-7 s"),
+            "steps of 7.2e-05 s on average, 3 of 103 retried; explicit steps where Newton could "
+            "not go on (no convergence at 1e-7 s)");
 }
 
 TEST(ReplayClock, FollowsTheClockLessTheLagFromItsFirstValue) {
@@ -106,6 +119,16 @@ TEST(PaceWindow, SlowOnlyAfterASecondBelowTheTargetsFactor) {
   EXPECT_TRUE(run(0.8, false, 3.0, w));
   EXPECT_TRUE(w.slow());
   EXPECT_NEAR(w.factor(), 0.8, 1e-9);
+  // At 0.5 of the target, near the pace again after each restart of the
+  // pace (every quarter second, as the cell restarts it): slow all the same.
+  w.restart(0.0, 0.0);
+  bool slow = false;
+  for (double t = 0.01; t <= 3.0; t += 0.01) {
+    w.update(t, 0.5 * t, 1.0, std::fmod(t, 0.25) < 0.05);
+    slow |= w.slow();
+  }
+  EXPECT_TRUE(slow);
+  EXPECT_NEAR(w.factor(), 0.5, 1e-9);
   // As fast as possible (no target): never slow.
   w.restart(0.0, 0.0);
   for (double t = 0.01; t <= 3.0; t += 0.01) w.update(t, 0.1 * t, 0.0, false);

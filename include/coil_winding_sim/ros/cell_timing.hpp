@@ -13,6 +13,8 @@
 #include <optional>
 #include <string>
 
+#include "coil_winding_sim/core/run/pace_profile.hpp"
+
 namespace cws_ros {
 
 // Simulated time against wall time at a target real-time factor.
@@ -44,9 +46,10 @@ class PaceKeeper {
 
 // Whether a run keeps its pace, judged as Gazebo users read a real-time
 // factor: over the last second of wall time, not against every deficit
-// since the start. A run keeps pace while it is within 50 ms of the target
-// pace, or its factor over the last second (or more) is at least 95 % of
-// the target; it is slow once it has not kept pace for a second.
+// since the start. A run keeps pace while its factor over the last second
+// is at least 95 % of the target (in its first second: while it is within
+// 50 ms of the target pace); it is slow once it has not kept pace for a
+// second.
 class PaceWindow {
  public:
   void restart(double wall_s, double sim_s) {
@@ -70,25 +73,13 @@ class PaceWindow {
   bool slow_ = false;
 };
 
-// The real-time factor measured between two readings.
-class RateMeter {
- public:
-  void restart(double wall_s, double sim_s) {
-    wall_s_ = wall_s;
-    sim_s_ = sim_s;
-  }
-  // The factor since the last reading (kept when no wall time passed).
-  double read(double wall_s, double sim_s) {
-    const double dw = wall_s - wall_s_;
-    if (dw > 0.0) rtf_ = (sim_s - sim_s_) / dw;
-    restart(wall_s, sim_s);
-    return rtf_;
-  }
-  double last() const { return rtf_; }
-
- private:
-  double wall_s_ = 0.0, sim_s_ = 0.0, rtf_ = 0.0;
-};
+// Why a cell runs slower than its target, from the integrator's work over
+// a stretch of wall time (from, to: cws::PaceProfile::count): the mean
+// step, the steps retried, and for Newton steps the iterations and
+// factorizations per accepted step; with the explicit fallback's cause
+// when one began in the stretch. Empty when no step was accepted.
+std::string slowCause(const cws::WorkCount& from, const cws::WorkCount& to,
+                      long fallbacks_in_stretch, const std::string& fallback_cause);
 
 // The replay's target (~follow_clock): the simulated time may advance to
 // the clock since the origin less the lag (setpoints stamped up to there

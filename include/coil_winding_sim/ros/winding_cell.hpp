@@ -236,7 +236,18 @@ class WindingCell {
   double stamp_origin_s_ = 0.0;
   PaceKeeper pace_;
   PaceWindow pace_window_;
-  RateMeter rate_;
+  // The cell's real-time factor [-], the one figure of winding_metrics,
+  // cell_status, /diagnostics, rviz and the wind feedback: simulated over
+  // wall time in the last second of wall time (PaceWindow); 0 while the
+  // cell takes no steps (paused, held, stopped).
+  double realTimeFactor() const;
+  // The integrator's work at the start of the present second of wall time,
+  // and why the cell runs slow (slowCause over the last full second).
+  cws::WorkCount work_mark_;
+  long fallback_mark_ = 0;
+  std::string slow_cause_;
+  void markWork(double wall_s);
+  double status_wall_s_ = -1e300;  // wall time cell_status was last sent [s]
   // The last speed and tension applied (or, holding a snapshot, to apply).
   std::atomic<double> speed_setpoint_{0.0}, tension_setpoint_{0.0};
   // Limits of the scene in use: |speed| [rad/s], tension [N].
