@@ -143,6 +143,32 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
   return msg;
 }
 
+coil_winding_sim::CoilDone toCoilDone(const cws::Simulation& sim, const ros::Time& stamp,
+                                      const Frames& frames, int coil_number) {
+  coil_winding_sim::CoilDone d;
+  d.header.stamp = stamp;
+  d.header.frame_id = frames.world;
+  d.coil = coil_number;
+  d.duration = sim.time();
+  d.core_turns = std::abs(sim.coreTurns());
+  cws::CoilReport coil;
+  const bool coil_valid = coilOf(sim, coil);
+  const cws::BulgeReport b =
+      cws::headlineBulging(sim.model(), sim.scene(), coil_valid ? &coil : nullptr);
+  d.bulging_height = b.valid ? b.height_m : std::numeric_limits<double>::quiet_NaN();
+  d.build_up_height = b.valid ? b.build_up_m : std::numeric_limits<double>::quiet_NaN();
+  if (coil_valid) {
+    d.bulging_per_layer = coil.bulging_per_layer_m;
+    d.layers = coil.layers;
+    d.gaps = coil.gaps;
+    d.overlaps = coil.overlaps;
+  }
+  std::ostringstream summary;
+  cws::writeSummaryJson(sim, summary);
+  d.summary = summary.str();
+  return d;
+}
+
 coil_winding_sim::WindResult toWindResult(const cws::Simulation& sim, double start_s, double turns,
                                           double wall_s) {
   coil_winding_sim::WindResult r;

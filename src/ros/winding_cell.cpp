@@ -115,6 +115,8 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
   snapshot_srv_ = pnh_.advertiseService("snapshot", &WindingCell::onSnapshot, this);
   restore_srv_ = pnh_.advertiseService("restore", &WindingCell::onRestore, this);
   run_until_srv_ = pnh_.advertiseService("run_until", &WindingCell::onRunUntil, this);
+  change_coil_srv_ = pnh_.advertiseService("change_coil", &WindingCell::onChangeCoil, this);
+  coil_done_pub_ = nh_.advertise<coil_winding_sim::CoilDone>("coil_done", 1, true);
 
   state_rate_hz_ = o_.state_rate_hz;
   marker_rate_hz_ = o_.marker_rate_hz;
@@ -124,7 +126,8 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
   diagnostics_.add("simulation", this, &WindingCell::diagnose);
   // The line that says the cell is ready, with where to reach it.
   ROS_INFO(
-      "winding_cell: ready: action %s, services %s/{reset,pause,snapshot,restore,run_until}; "
+      "winding_cell: ready: action %s, services "
+      "%s/{reset,pause,snapshot,restore,run_until,change_coil}; "
       "scene '%s', %d points, target real-time factor %g%s, %s; %s",
       nh_.resolveName("wind").c_str(), pnh_.getNamespace().c_str(), o_.scene.c_str(),
       sim_->model().constants().n, pace_.target(), o_.publish_clock ? ", publishing /clock" : "",

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "coil_winding_sim/core/run/setpoint_limits.hpp"
+#include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/snapshot_bag.hpp"
 #include "coil_winding_sim/ros/snapshot_reader.hpp"
@@ -38,6 +39,50 @@ bool WindingCell::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Respon
     res.message = std::string("reset failed: ") + e.what();
   }
   return true;
+}
+
+bool WindingCell::onChangeCoil(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  std::lock_guard<std::mutex> lock(sim_mutex_);
+  if (o_.follow_clock) {
+    res.success = false;
+    res.message = "the cell replays a machine bag (~follow_clock): no coil change";
+    return true;
+  }
+  try {
+    res.message = changeCoil();
+    res.success = true;
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = std::string("coil change failed: ") + e.what();
+  }
+  return true;
+}
+
+std::string WindingCell::changeCoil() {
+  // The new bobbin first (a scene that cannot start leaves the coil on),
+  // its core at rest until a speed setpoint, trajectory or wind goal, as a
+  // machine waits after a bobbin change.
+  cws::Scene empty = scene_;
+  empty.core.start_at_speed = false;
+  auto fresh = std::make_unique<cws::Simulation>(empty);
+  const coil_winding_sim::CoilDone done = toCoilDone(*sim_, stamp(), o_.frames, coil_number_);
+  coil_done_pub_.publish(done);
+  const std::string b = std::isfinite(done.bulging_height)
+                            ? cws::formatNumber(1e3 * done.bulging_height, "%.4f") + " mm"
+                            : std::string("none");
+  const std::string said = "coil " + std::to_string(coil_number_) + " taken off after " +
+                           cws::formatNumber(done.core_turns, "%.4g") + " turns (" +
+                           std::to_string(done.layers) + " layers, bulging " + b +
+                           "; coil_done); coil " + std::to_string(coil_number_ + 1) +
+                           ": an empty bobbin, the core at rest until a speed setpoint or goal";
+  ++coil_number_;
+  replace(std::move(fresh));
+  at_rest_ = true;
+  speed_setpoint_ = 0.0;
+  sim_->apply(cws::Setpoint::coreSpeed(0.0));
+  tension_setpoint_ = scene_.process.tension;
+  ROS_INFO("winding_cell: %s", said.c_str());
+  return said;
 }
 
 bool WindingCell::onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {

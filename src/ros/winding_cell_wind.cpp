@@ -94,6 +94,19 @@ void WindingCell::takeWindRequests() {
 
 void WindingCell::startWind(const coil_winding_sim::WindGoal& goal) {
   std::string why = windGoalRefusal(goal, limits());
+  // A new coil first (its checks are then those of an empty bobbin).
+  if (why.empty() && goal.new_coil) {
+    if (o_.stop_at_end || o_.follow_clock) {
+      why = o_.follow_clock ? "the cell replays a machine bag (~follow_clock)"
+                            : "the cell runs the scene's job (~stop_at_end true)";
+    } else {
+      try {
+        changeCoil();
+      } catch (const std::exception& e) {
+        why = std::string("the coil change failed: ") + e.what();
+      }
+    }
+  }
   if (why.empty() && (o_.stop_at_end || o_.follow_clock)) {
     why = o_.follow_clock ? "the cell replays a machine bag (~follow_clock)"
                           : "the cell runs the scene's job (~stop_at_end true)";

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "coil_winding_sim/CoilDone.h"
 #include "coil_winding_sim/ErrorEstimate.h"
 #include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/WindAction.h"
@@ -49,6 +50,9 @@ bool coilOf(const cws::Simulation& sim, cws::CoilReport& out);
 // A wind goal's result (started at simulated time start_s [s], `turns`
 // turned, wall_s [s] of stepping): its figures, the coil's and the run's
 // summary (summary.json's JSON).
+// A coil taken off the cell: its figures now (coil: its number).
+coil_winding_sim::CoilDone toCoilDone(const cws::Simulation& sim, const ros::Time& stamp,
+                                      const Frames& frames, int coil);
 coil_winding_sim::WindResult toWindResult(const cws::Simulation& sim, double start_s, double turns,
                                           double wall_s);
 coil_winding_sim::WindFeedback toWindFeedback(const cws::Simulation& sim, double start_s,

@@ -172,6 +172,13 @@ class WindingCell {
 
   // ---- services (winding_cell_services.cpp)
   bool onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
+  // ~change_coil: the coil on the cell is taken off (its figures on
+  // coil_done) and an empty bobbin starts from the scene's start; the node,
+  // its clock and its recording run on.
+  bool onChangeCoil(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
+  // The change itself (lock held); returns what it says.
+  std::string changeCoil();
+  int coil_number_ = 1;  // the coil on the cell: 1 for the node's first
   bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
   bool onRunUntil(coil_winding_sim::RunUntil::Request& req,
                   coil_winding_sim::RunUntil::Response& res);
@@ -305,7 +312,9 @@ class WindingCell {
       tension_measured_pub_, port_command_pub_, port_position_pub_, profile_pub_;
   ros::Subscriber speed_sub_, tension_sub_, port_sub_, machine_spindle_sub_, machine_tension_sub_,
       machine_port_sub_, trajectory_sub_;
-  ros::ServiceServer reset_srv_, pause_srv_, snapshot_srv_, restore_srv_, run_until_srv_;
+  ros::ServiceServer reset_srv_, pause_srv_, snapshot_srv_, restore_srv_, run_until_srv_,
+      change_coil_srv_;
+  ros::Publisher coil_done_pub_;
   tf2_ros::TransformBroadcaster tf_;
   diagnostic_updater::Updater diagnostics_;
 
