@@ -10,6 +10,8 @@
 // A plain gtest (catkin_add_gtest): it runs under the devel space, so that
 // roslaunch finds the package; it starts no ROS node itself.
 #include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <rosgraph_msgs/Clock.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -34,15 +36,16 @@ struct Launch {
   std::string output;
 };
 
-// roslaunch (or `program`) of the cell with `args` from `cwd`, allowed 90 s
-// to end by itself.
+// roslaunch (or `program`) of the cell (or of the package's `file`) with
+// `args` from `cwd`, allowed 90 s to end by itself.
 Launch launch(const std::vector<std::string>& args, const fs::path& cwd = {},
-              const std::string& program = "roslaunch") {
+              const std::string& program = "roslaunch",
+              const std::string& file = "winding_cell.launch") {
   const fs::path dir = fs::temp_directory_path() / ("cws_scene_errors_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   const int port = cws_ros_test::freePort();
-  std::vector<std::string> all{"coil_winding_sim", "winding_cell.launch", "rviz:=false"};
+  std::vector<std::string> all{"coil_winding_sim", file, "rviz:=false"};
   all.insert(all.end(), args.begin(), args.end());
   const std::string log = (dir / "roslaunch.log").string();
   Launch l;
@@ -107,6 +110,39 @@ TEST(SceneErrors, TheCheckedLaunchFailsWhenTheCellFails) {
   ASSERT_TRUE(WIFEXITED(ok.status));
   EXPECT_EQ(WEXITSTATUS(ok.status), 0) << ok.output;
   EXPECT_NE(ok.output.find("job done: "), std::string::npos) << ok.output;
+}
+
+// replay.launch takes a bag path relative to the directory roslaunch runs
+// in, as winding_cell.launch takes a scene (rosbag play itself runs in
+// ROS_HOME, where it said "Error opening file"); a missing one fails the
+// checked launch, naming the absolute path tried.
+TEST(SceneErrors, AReplaysRelativeBagIsTheLaunchDirectorys) {
+  const fs::path cwd = fs::temp_directory_path() / ("cws_replay_cwd_" + std::to_string(getpid()));
+  fs::remove_all(cwd);
+  fs::create_directories(cwd / "bags");
+  {
+    ros::Time::init();
+    rosbag::Bag bag((cwd / "bags" / "short.bag").string(), rosbag::bagmode::Write);
+    for (int k = 1; k <= 5; ++k) {
+      rosgraph_msgs::Clock c;
+      c.clock = ros::Time(100.0 + 0.05 * k);
+      bag.write("/clock", c.clock, c);
+    }
+  }
+  const Launch ok = launch({"bag:=bags/short.bag"}, cwd, CWS_LAUNCH_CELL, "replay.launch");
+  ASSERT_TRUE(ok.ended) << ok.output;
+  ASSERT_TRUE(WIFEXITED(ok.status));
+  EXPECT_EQ(WEXITSTATUS(ok.status), 0) << ok.output;
+  EXPECT_EQ(ok.output.find("Error opening file"), std::string::npos) << ok.output;
+  EXPECT_NE(ok.output.find("Done."), std::string::npos) << ok.output;
+
+  const Launch missing = launch({"bag:=bags/none.bag"}, cwd, CWS_LAUNCH_CELL, "replay.launch");
+  ASSERT_TRUE(missing.ended) << missing.output;
+  ASSERT_TRUE(WIFEXITED(missing.status));
+  EXPECT_NE(WEXITSTATUS(missing.status), 0) << missing.output;
+  EXPECT_NE(missing.output.find((cwd / "bags/none.bag").string()), std::string::npos)
+      << missing.output;
+  fs::remove_all(cwd);
 }
 
 }  // namespace
