@@ -209,6 +209,7 @@ void WindingCell::replace(std::unique_ptr<cws::Simulation> next) {
   job_start_sim_s_ = sim_->time();
   job_run_wall_s_ = 0.0;
   job_wall_s_ = 0.0;
+  done_text_ = DoneText();
   if (estimator_) estimator_->startJob(*sim_);
 }
 

@@ -248,6 +248,7 @@ void WindingCell::endWind(const std::string& how) {
   wind_.active = false;
   job_done_ = true;
   job_wall_s_ = wind_.run_wall_s;
+  done_text_ = DoneText();
   job_start_sim_s_ = wind_.start_s;
   ROS_INFO("winding_cell: wind goal %s", r.message.c_str());
   if (how == "done") {

@@ -218,6 +218,13 @@ class WindingCell {
   double job_run_wall_s_ = 0.0;   // wall time winding since then [s]
   double job_wall_s_ = 0.0;       // the ended job's run_wall [s]
   double loop_wall_s_ = 0.0;      // the loop's last pass [s of wall time]
+  // The job-done words for the simulation and the time they were found for.
+  struct DoneText {
+    const cws::Simulation* first = nullptr;
+    double time_s = -1.0;
+    std::string text;
+  };
+  mutable DoneText done_text_;
   double jobRealTimeFactor() const {
     return job_wall_s_ > 0.0 ? (sim_->time() - job_start_sim_s_) / job_wall_s_ : 0.0;
   }
