@@ -72,8 +72,9 @@ std::string WindingCell::changeCoil() {
                             : std::string("none");
   const std::string said = "coil " + std::to_string(coil_number_) + " taken off after " +
                            cws::formatNumber(done.core_turns, "%.4g") + " turns (" +
-                           std::to_string(done.layers) + " layers, bulging " + b +
-                           "; coil_done); coil " + std::to_string(coil_number_ + 1) +
+                           (done.layers > 0 ? std::to_string(done.layers) + " layers, " : "") +
+                           "bulging " + b + "; coil_done); coil " +
+                           std::to_string(coil_number_ + 1) +
                            ": an empty bobbin, the core at rest until a speed setpoint or goal";
   ++coil_number_;
   replace(std::move(fresh));
