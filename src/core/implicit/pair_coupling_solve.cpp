@@ -14,14 +14,16 @@ void PairCouplingSolve::resize(int unknowns) {
 }
 
 void PairCouplingSolve::grow(int unknowns, int pairs) {
-  const int rows = static_cast<int>(r_.size()), have = static_cast<int>(pairs_.size());
+  // (Rows for `unknowns` and a block more: the band's padded size.)
+  constexpr int kMargin = SpatialAssembly::kPerPoint;
+  const int rows = std::max(0, static_cast<int>(r_.size()) - kMargin);
+  const int have = static_cast<int>(pairs_.size());
   if (unknowns <= rows && pairs <= have) return;
   const int cap = pairs <= have ? have : std::max(pairs, 2 * have);
-  // (Rows: the band's padded size, a block more than its unknowns at most.)
-  const int padded = unknowns <= rows ? rows : std::max(unknowns, 2 * rows);
+  const int room = unknowns <= rows ? rows : std::max(unknowns, 2 * rows);
   pairs_.resize(cap);
-  w_.setZero(padded + SpatialAssembly::kPerPoint, 3);
-  r_.setZero(padded + SpatialAssembly::kPerPoint);
+  w_.setZero(room + kMargin, 3);
+  r_.setZero(room + kMargin);
   s_.setZero(3 * cap, 3 * cap);
   g_.setZero(3 * cap);
   pivot_.assign(3 * cap, 0);
