@@ -143,6 +143,29 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
   return msg;
 }
 
+namespace {
+// A coil's figures now, as a wind result and coil_done give them: the
+// bulging and build-up, per layer, layers, gaps, overlaps and the summary.
+template <class Msg>
+void fillCoilFigures(const cws::Simulation& sim, Msg& m) {
+  cws::CoilReport coil;
+  const bool coil_valid = coilOf(sim, coil);
+  const cws::BulgeReport b =
+      cws::headlineBulging(sim.model(), sim.scene(), coil_valid ? &coil : nullptr);
+  m.bulging_height = b.valid ? b.height_m : std::numeric_limits<double>::quiet_NaN();
+  m.build_up_height = b.valid ? b.build_up_m : std::numeric_limits<double>::quiet_NaN();
+  if (coil_valid) {
+    m.bulging_per_layer = coil.bulging_per_layer_m;
+    m.layers = coil.layers;
+    m.gaps = coil.gaps;
+    m.overlaps = coil.overlaps;
+  }
+  std::ostringstream summary;
+  cws::writeSummaryJson(sim, summary);
+  m.summary = summary.str();
+}
+}  // namespace
+
 coil_winding_sim::CoilDone toCoilDone(const cws::Simulation& sim, const ros::Time& stamp,
                                       const Frames& frames, int coil_number) {
   coil_winding_sim::CoilDone d;
@@ -151,21 +174,7 @@ coil_winding_sim::CoilDone toCoilDone(const cws::Simulation& sim, const ros::Tim
   d.coil = coil_number;
   d.duration = sim.time();
   d.core_turns = std::abs(sim.coreTurns());
-  cws::CoilReport coil;
-  const bool coil_valid = coilOf(sim, coil);
-  const cws::BulgeReport b =
-      cws::headlineBulging(sim.model(), sim.scene(), coil_valid ? &coil : nullptr);
-  d.bulging_height = b.valid ? b.height_m : std::numeric_limits<double>::quiet_NaN();
-  d.build_up_height = b.valid ? b.build_up_m : std::numeric_limits<double>::quiet_NaN();
-  if (coil_valid) {
-    d.bulging_per_layer = coil.bulging_per_layer_m;
-    d.layers = coil.layers;
-    d.gaps = coil.gaps;
-    d.overlaps = coil.overlaps;
-  }
-  std::ostringstream summary;
-  cws::writeSummaryJson(sim, summary);
-  d.summary = summary.str();
+  fillCoilFigures(sim, d);
   return d;
 }
 
@@ -177,21 +186,7 @@ coil_winding_sim::WindResult toWindResult(const cws::Simulation& sim, double sta
   r.duration = sim.time() - start_s;
   r.wall_time = wall_s;
   r.real_time_factor = wall_s > 0.0 ? r.duration / wall_s : 0.0;
-  cws::CoilReport coil;
-  const bool coil_valid = coilOf(sim, coil);
-  const cws::BulgeReport b =
-      cws::headlineBulging(sim.model(), sim.scene(), coil_valid ? &coil : nullptr);
-  r.bulging_height = b.valid ? b.height_m : std::numeric_limits<double>::quiet_NaN();
-  r.build_up_height = b.valid ? b.build_up_m : std::numeric_limits<double>::quiet_NaN();
-  if (coil_valid) {
-    r.bulging_per_layer = coil.bulging_per_layer_m;
-    r.layers = coil.layers;
-    r.gaps = coil.gaps;
-    r.overlaps = coil.overlaps;
-  }
-  std::ostringstream summary;
-  cws::writeSummaryJson(sim, summary);
-  r.summary = summary.str();
+  fillCoilFigures(sim, r);
   return r;
 }
 
