@@ -136,8 +136,8 @@ std::string WindingCell::cellState(std::string& message) const {
   if (job_done_) {
     // (The held state does not change: its words are found once, not on
     // every pass of the loop, which asks for them to see if they changed;
-    // the bulging of a long coil took a fifth of a held cell's time.)
-    if (done_text_.first != sim_.get() || done_text_.time_s != sim_->time()) {
+    // the bulging of the coil kept a held cell at a quarter of a core.)
+    if (done_text_.sim != sim_.get() || done_text_.time_s != sim_->time()) {
       const cws::BulgeReport b = cws::headlineBulging(sim_->model(), sim_->scene());
       char text[320];
       std::snprintf(text, sizeof text,

@@ -220,7 +220,7 @@ class WindingCell {
   double loop_wall_s_ = 0.0;      // the loop's last pass [s of wall time]
   // The job-done words for the simulation and the time they were found for.
   struct DoneText {
-    const cws::Simulation* first = nullptr;
+    const cws::Simulation* sim = nullptr;
     double time_s = -1.0;
     std::string text;
   };
