@@ -245,9 +245,9 @@ TEST(Carry, DeferredPlacementEqualsPlacingEveryStep) {
 // mended but not the contact's re-stick.
 TEST(Carry, TakesOnWireAtRestUnderNewtonStepsAtHighSpeed) {
   const std::string two_layers = std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml";
-  cws::Simulation sim(cws::loadScene(
-      two_layers,
-      {"process.core_speed_rpm=3000", "solver.implicit_step=2e-4", "process.turns=20"}));
+  cws::Simulation sim(
+      cws::loadScene(two_layers, {"process.core_speed_rpm=3000", "solver.implicit_step=2e-4",
+                                  "solver.steps_per_revolution=0", "process.turns=20"}));
   runTo(sim, 0.3);
   const int integrated = sim.model().constants().n - 1 - sim.model().carriedPoints();
   std::printf("carry at 3000 rpm, bdf2 at 2e-4 s: %d of %d points integrated at t = 0.3 s\n",

@@ -148,12 +148,13 @@ struct SolverParams {
   double baumgarte_nu = 5000.0;  // constraint stabilization nu [1/s], eq. (6)
   // Implicit integrators (implicit_euler, bdf2, generalized_alpha): the
   // longest step [s], and the steps per core revolution at the core's speed
-  // [-] (the step is at most one revolution over this; 0: steps of
-  // implicit_step at any speed); Newton's convergence bound on the largest
-  // position update [m], its iteration limit, and how often a step is solved
-  // again after a contact, stick or slip flag changed.
+  // [-] (the step is at most one revolution over this: at 300, shorter
+  // than implicit_step above 2,000 rpm only; 0: steps of implicit_step at
+  // any speed); Newton's convergence bound on the largest position update
+  // [m], its iteration limit, and how often a step is solved again after a
+  // contact, stick or slip flag changed.
   double implicit_step = 1.0e-4;
-  double steps_per_revolution = 0.0;
+  double steps_per_revolution = 300.0;
   // Struck spans (docs/MODEL.md, "Steps through a struck span"): where the
   // core strikes the free span, a point of it landing at least
   // kStrikeGap points beyond the wound wire at a speed relative to the core
