@@ -54,8 +54,9 @@ void addCoilMarkers(const cws::Simulation& sim, const cws::CoilReport& r, const 
   visualization_msgs::Marker defects =
       marker(stamp, frames.world, "coil_defects", 0, visualization_msgs::Marker::SPHERE_LIST);
   defects.scale.x = defects.scale.y = defects.scale.z = 1.6 * diameter;
+  // (The live wire's turns: retired wire lies buried under them.)
   for (const cws::TurnReport& t : r.turns) {
-    for (int i = t.first_point; i < t.first_point + t.points; ++i) {
+    for (int i = std::max(t.first_point, m.retiredPoints()); i < t.first_point + t.points; ++i) {
       const geometry_msgs::Point p = point(m.point(i).p_world);
       layers.points.push_back(p);
       layers.colors.push_back(layerColor(r.point_layer[i]));
@@ -79,7 +80,7 @@ void addCoilMarkers(const cws::Simulation& sim, const cws::CoilReport& r, const 
 coil_winding_sim::WireState toWireState(const cws::Simulation& sim, const ros::Time& stamp,
                                         const Frames& frames) {
   const cws::WireModel& m = sim.model();
-  const int n = m.constants().n;
+  const int n = m.wirePoints();
   coil_winding_sim::WireState msg;
   msg.header.stamp = stamp;
   msg.header.frame_id = frames.world;
@@ -128,7 +129,7 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
   msg.steps_rejected = sim.stepper().counts().rejected;
   msg.step_size = sim.stepper().lastStep();
   msg.max_constraint_residual = m.maxConstraintResidual();
-  msg.points = m.constants().n;
+  msg.points = m.wirePoints();
   if (coil_valid) {
     msg.turns = coil.wound_turns();
     msg.turns_wound = coil.turns_wound;
@@ -205,22 +206,28 @@ coil_winding_sim::WindFeedback toWindFeedback(const cws::Simulation& sim, double
 
 visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros::Time& stamp,
                                           const Frames& frames, double force_scale_N,
-                                          std::size_t max_points_per_marker) {
+                                          std::size_t max_points_per_marker, int retired_from) {
   visualization_msgs::MarkerArray out;
   const cws::WireModel& m = sim.model();
-  const int n = m.constants().n;
+  const int n = m.wirePoints(), retired = m.retiredPoints();
   const double diameter = 2.0 * m.constants().radius;
   // The wire: consecutive strips share their end point.
   const std::size_t per = std::max<std::size_t>(2, max_points_per_marker);
   int id = 0;
   for (int start = 0; start < n - 1; start += static_cast<int>(per) - 1) {
-    visualization_msgs::Marker w =
-        marker(stamp, frames.world, "wire", id++, visualization_msgs::Marker::LINE_STRIP);
-    w.scale.x = diameter;
     const int end = std::min(n, start + static_cast<int>(per));
+    // Retired wire turns with the core: once in the core frame.
+    const bool rigid = end <= retired;
+    if (rigid && end - 1 < retired_from) {
+      ++id;
+      continue;
+    }
+    visualization_msgs::Marker w = marker(stamp, rigid ? frames.core : frames.world, "wire", id++,
+                                          visualization_msgs::Marker::LINE_STRIP);
+    w.scale.x = diameter;
     for (int i = start; i < end; ++i) {
       const cws::PointReport r = m.point(i);
-      w.points.push_back(point(r.p_world));
+      w.points.push_back(point(rigid ? m.pointCore(i) : r.p_world));
       w.colors.push_back(heat(r.axial_force_N / std::max(1e-9, force_scale_N)));
     }
     out.markers.push_back(w);
@@ -400,15 +407,14 @@ sensor_msgs::PointCloud2 toProfile(const cws::Simulation& sim, const ros::Time& 
   const cws::WireModel& m = sim.model();
   const cws::RotatingCore* core = m.core();
   // The wound part: up to the last point touching the core.
-  const int last = m.contact() ? m.lastInContact() : m.constants().n - 1;
+  const int last = m.contact() ? m.lastInContact() : m.wirePoints() - 1;
   // The first point: `turns` turns about the axis back from the last.
   int first = 0;
   if (core && turns > 0.0 && last > 0) {
-    const double t = sim.time();
-    Eigen::Vector3d a = core->pointCore(t, m.committed().p_world.col(last));
+    Eigen::Vector3d a = m.pointCore(last);
     double turned = 0.0;
     for (first = last; first > 0 && turned < 2.0 * M_PI * turns; --first) {
-      const Eigen::Vector3d b = core->pointCore(t, m.committed().p_world.col(first - 1));
+      const Eigen::Vector3d b = m.pointCore(first - 1);
       turned += std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.x() * b.x() + a.y() * b.y()));
       a = b;
     }
@@ -427,7 +433,7 @@ sensor_msgs::PointCloud2 toProfile(const cws::Simulation& sim, const ros::Time& 
   sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z"),
       h(cloud, "stand_off");
   for (int i = first; i < first + count; ++i, ++x, ++y, ++z, ++h) {
-    const Eigen::Vector3d p_core = core->pointCore(sim.time(), m.committed().p_world.col(i));
+    const Eigen::Vector3d p_core = m.pointCore(i);
     *x = static_cast<float>(p_core.x());
     *y = static_cast<float>(p_core.y());
     *z = static_cast<float>(p_core.z());

@@ -11,15 +11,17 @@ using namespace marker_style;
 
 int carriedBlock(const cws::Simulation& sim) {
   const cws::WireModel& m = sim.model();
-  // Point 0 (the fixed end on the core) and the carried points 1..c.
-  return m.core() && m.carriedPoints() > 0 ? m.carriedPoints() + 1 : 0;
+  // Point 0 (the fixed end on the core) and the carried points 1..c, the
+  // retired wire before them (whole-wire indices).
+  const int carried = m.retiredPoints() + m.carriedPoints();
+  return m.core() && carried > 0 ? carried + 1 : 0;
 }
 
 coil_winding_sim::WireStateCompact toWireStateCompact(const cws::Simulation& sim,
                                                       const ros::Time& stamp, const Frames& frames,
                                                       int carried_from) {
   const cws::WireModel& m = sim.model();
-  const int n = m.constants().n, carried = carriedBlock(sim);
+  const int n = m.wirePoints(), carried = carriedBlock(sim);
   coil_winding_sim::WireStateCompact msg;
   msg.header.stamp = stamp;
   msg.header.frame_id = frames.world;
@@ -32,9 +34,9 @@ coil_winding_sim::WireStateCompact toWireStateCompact(const cws::Simulation& sim
   msg.carried_xyz.reserve(3 * (carried - from));
   msg.carried_force.reserve(carried - from);
   for (int i = from; i < carried; ++i) {
-    const Eigen::Vector3d p = m.core()->pointCore(sim.time(), m.committed().p_world.col(i));
+    const Eigen::Vector3d p = m.pointCore(i);
     for (int a = 0; a < 3; ++a) msg.carried_xyz.push_back(static_cast<float>(p[a]));
-    msg.carried_force.push_back(static_cast<float>(m.axialForce(i == 0 ? 0 : i - 1)));
+    msg.carried_force.push_back(static_cast<float>(m.point(i).axial_force_N));
   }
   msg.free_first = static_cast<uint32_t>(carried);
   msg.free_xyz.reserve(3 * (n - carried));

@@ -117,8 +117,8 @@ visualization_msgs::MarkerArray toOverlayMarkers(const cws::Simulation& sim, con
   if (core && b.valid && o.profile_magnification > 0.0 && b.wound_points > 1) {
     profile.scale.x = 0.0003;
     profile.color = color(1.0, 1.0, 0.3);
-    for (int i = 0; i < b.wound_points && i < m.constants().n; ++i) {
-      const Eigen::Vector3d p = core->pointCore(sim.time(), m.point(i).p_world);
+    for (int i = 0; i < b.wound_points && i < m.wirePoints(); ++i) {
+      const Eigen::Vector3d p = m.pointCore(i);
       profile.points.push_back(
           point(p + (o.profile_magnification - 1.0) * m.standOff(i) * outward(p)));
     }

@@ -31,7 +31,9 @@ void loadReplay(const std::string& scene_path, const std::vector<std::string>& o
   if (!scene.physics.supply || scene.supply.max_points > 0) return;
   double omega = std::abs(cws::rpmToRadPerSec(scene.process.core_speed_rpm));
   for (const auto& [t, w] : rec.spindle_speed_rad_s) omega = std::max(omega, std::abs(w));
-  const double needed = scene.pointCapacityForAngle(omega * rec.duration_s());
+  double needed = scene.pointCapacityForAngle(omega * rec.duration_s());
+  // (Buried wire retires from the live arrays where the core carries it.)
+  if (scene.carriesWoundWire()) needed = std::min<double>(needed, cws::kAutoLivePoints);
   if (needed <= scene.pointCapacity()) return;
   std::vector<std::string> more = overrides;
   more.push_back("supply.max_points=" +

@@ -13,7 +13,7 @@
 
 namespace cws_ros {
 
-const char* const kSnapshotFormat = "coil_winding_sim/snapshot/4";
+const char* const kSnapshotFormat = "coil_winding_sim/snapshot/5";
 const char* const kSnapshotTopic = "/coil_winding_sim/snapshot";
 
 namespace {
@@ -56,6 +56,10 @@ coil_winding_sim::SimulationSnapshot toSnapshotMsg(const cws::SimulationState& s
   m.carried_points = s.model.carried;
   m.carried_poses = s.model.carried_pose;
   m.port_command = s.model.port_command;
+  m.retired_points = s.model.retired;
+  m.retired_wire = s.model.retired_points;
+  for (int i = 0; i < 4; ++i) m.retired_energy[i] = s.model.retired_energy[i];
+  for (int i = 0; i < 8; ++i) m.clamp_core[i] = s.model.clamp_core[i];
   m.next_step = s.next_step_s;
   m.last_step = s.last_step_s;
   m.steps_accepted = s.counts.accepted;
@@ -119,6 +123,10 @@ cws::SimulationState fromSnapshotMsg(const coil_winding_sim::SimulationSnapshot&
   s.model.carried = m.carried_points;
   s.model.carried_pose = m.carried_poses;
   s.model.port_command = m.port_command;
+  s.model.retired = m.retired_points;
+  s.model.retired_points = m.retired_wire;
+  for (int i = 0; i < 4; ++i) s.model.retired_energy[i] = m.retired_energy[i];
+  for (int i = 0; i < 8; ++i) s.model.clamp_core[i] = m.clamp_core[i];
   s.next_step_s = m.next_step;
   s.last_step_s = m.last_step;
   s.counts.accepted = m.steps_accepted;

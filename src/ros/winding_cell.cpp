@@ -315,10 +315,9 @@ namespace {
 constexpr int kStorageRoom = 64;
 }  // namespace
 
-bool WindingCell::storageFull() const {
-  if (!sim_->model().supply()) return false;
-  const cws::WireConstants& c = sim_->model().constants();
-  return c.n + kStorageRoom > c.capacity;
+bool WindingCell::storageFull() {
+  // (Buried wire retires from the live arrays first.)
+  return sim_->model().supply() && !sim_->makeRoom(kStorageRoom);
 }
 
 // The storage is full: the cell holds its state and says so once, on the

@@ -116,8 +116,20 @@ void WindingCell::publishMarkers() {
   if (send_delete_all_) {
     marker_pub_.publish(deleteAllMarkers(stamp(), o_.frames));
     send_delete_all_ = false;
+    retired_markers_sent_ = 0;
   }
-  marker_pub_.publish(toMarkers(*sim_, stamp(), o_.frames, force_max_N_));
+  // Retired wire's strips once (rigid on the core), all of them again every
+  // kCompactKeyframeS and for a new subscriber (the topic keeps one array).
+  const uint32_t listeners = marker_pub_.getNumSubscribers();
+  const double now = wallNow();
+  if (listeners > marker_subscribers_ || now >= marker_keyframe_s_) {
+    retired_markers_sent_ = 0;
+    marker_keyframe_s_ = now + kCompactKeyframeS;
+  }
+  marker_subscribers_ = listeners;
+  marker_pub_.publish(
+      toMarkers(*sim_, stamp(), o_.frames, force_max_N_, 10000, retired_markers_sent_));
+  retired_markers_sent_ = sim_->model().retiredPoints();
   Overlay overlay;
   std::string words;
   overlay.state = cellState(words);
@@ -139,7 +151,7 @@ void WindingCell::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("target real-time factor", pace_.target());
   stat.add("step size [s]", sim_->stepper().lastStep());
   stat.add("max constraint residual", sim_->model().maxConstraintResidual());
-  stat.add("points", sim_->model().constants().n);
+  stat.add("points", sim_->model().wirePoints());
   const cws::NewtonCounts* newton = sim_->stepper().newtonCounts();
   if (newton) stat.add("explicit fallback stretches", newton->fallback_stretches);
   stat.add("static friction", sim_->scene().contact.static_friction);

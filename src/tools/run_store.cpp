@@ -29,7 +29,7 @@ uint64_t coreBuildHash() {
 
 namespace {
 
-constexpr char kMagic[] = "cws-stability-checkpoint/1";
+constexpr char kMagic[] = "cws-stability-checkpoint/2";
 
 // Little binary writer and reader: numbers as their bytes, strings and
 // vectors with their length first.
@@ -106,6 +106,10 @@ void fields(Io& io, Checkpoint& c) {
   io.pod(m.carried);
   io.vec(m.carried_pose);
   io.vec(m.port_command);
+  io.pod(m.retired);
+  io.vec(m.retired_points);
+  for (double& v : m.retired_energy) io.pod(v);
+  for (double& v : m.clamp_core) io.pod(v);
   io.pod(s.next_step_s);
   io.pod(s.last_step_s);
   io.pod(s.counts.accepted);

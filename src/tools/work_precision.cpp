@@ -42,11 +42,10 @@ void execute(const std::string& scene_path, const std::vector<std::string>& base
     sim.run();
     cws::writeOutputs(sim, (fs::path(dir) / r.name).string());
     const cws::WireModel& m = sim.model();
-    r.points = m.constants().n;
+    r.points = m.wirePoints();
     r.p_core.resize(3, r.points);
     for (int i = 0; i < r.points; ++i) {
-      r.p_core.col(i) = m.core() ? m.core()->pointCore(sim.time(), m.committed().p_world.col(i))
-                                 : Eigen::Vector3d(m.committed().p_world.col(i));
+      r.p_core.col(i) = m.core() ? m.pointCore(i) : m.point(i).p_world;
     }
     const cws::BulgeReport b = cws::headlineBulging(m, sim.scene());
     r.bulging_m = b.valid ? b.height_m : 0.0;

@@ -1,6 +1,6 @@
 // rostest of the cell's default run (cell_until_stopped.test): without a job
 // end the cell winds on past the scene's process.turns (1.75) with no
-// job_done; when the wire's storage (~max_points 2000) is full it holds,
+// job_done; when the wire's storage (~max_points 450) is full it holds,
 // says so on cell_status, /diagnostics (WARN) and the console, refuses a
 // speed setpoint with a warning that says why and what to do, and ~reset
 // winds again.
@@ -85,7 +85,9 @@ TEST(CellUntilStopped, WindsPastTheJobHoldsWhenFullAndRefusesSetpoints) {
       << "turns while running: " << l.read(l.turns_running)
       << ", state: " << l.read(l.status).state;
 
-  // 2000 points hold about 30 turns of the paper's core: the cell holds.
+  // 450 points hold about 7 turns of the paper's core, less than the 8
+  // turns of wound wire that stay live (WireModel::keepTurns): the cell
+  // holds.
   ASSERT_TRUE(waitFor([&] { return l.read(l.status).state == S::FULL; }, 60.0))
       << "cell_status: '" << l.read(l.status).state << "'";
   const S full = l.read(l.status);

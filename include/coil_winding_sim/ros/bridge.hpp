@@ -65,12 +65,17 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
 
 // The wire as line strips coloured by axial force (blue 0 N .. red at
 // `force_scale_N`), the core's cylinders and faces (in the core frame) and
-// the supply port. Strips are split to stay within `max_points_per_marker`.
-// With wire contact, also the wound wire coloured by layer ("coil_layers")
-// and its overlaps and gaps ("coil_defects").
+// the supply port. Strips are split to stay within `max_points_per_marker`,
+// at fixed points of the whole wire: a strip of wire retired from the live
+// arrays (WireModel::retireBuriedWire) is rigid on the core and is sent in
+// the core frame, and only where it holds points from `retired_from` on
+// (whole-wire index; 0: every strip). With wire contact, also the live
+// wound wire coloured by layer ("coil_layers") and its overlaps and gaps
+// ("coil_defects").
 visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros::Time& stamp,
                                           const Frames& frames, double force_scale_N,
-                                          std::size_t max_points_per_marker = 10000);
+                                          std::size_t max_points_per_marker = 10000,
+                                          int retired_from = 0);
 // What the overlay shows besides the simulation.
 struct Overlay {
   std::string state;                   // the cell's state in words

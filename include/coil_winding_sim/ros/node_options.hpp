@@ -36,11 +36,11 @@ struct NodeOptions {
   // runs until it is stopped, feeding wire while the core turns.
   bool stop_at_end = false;
   bool exit_at_end = false;  // ~exit_at_end: exit (status 0) at the job's end
-  // ~max_points: the wire's storage [points] while the cell runs without a
-  // job end (it replaces the scene's supply.max_points); the cell holds
-  // when it is full. The default, the scene limit, is about 1,400 turns of
-  // the paper's core.
-  int max_points = cws::kMaxScenePoints;
+  // ~max_points: the storage of live points while the cell runs without a
+  // job end (it replaces the scene's supply.max_points). Wire buried under
+  // later turns retires from it (WireModel::retireBuriedWire), so a coil
+  // of any length fits; the cell holds only when the live wire fills it.
+  int max_points = cws::kAutoLivePoints;
   // ~start: "running" (winding at the scene's speed), "paused" (until
   // ~pause false) or "at_rest" (the core at 0 until a speed setpoint).
   std::string start = "running";

@@ -90,7 +90,7 @@ class WindingCell {
   // ~exit_at_end under roslaunch: asks the launch to end (SIGINT).
   static bool endParentLaunch();
   // The storage has no room for the points the next step may draw in.
-  bool storageFull() const;
+  bool storageFull();
   void holdFull();
   // ---- the job (winding_cell_job.cpp)
   bool jobEnded() const;
@@ -315,6 +315,11 @@ class WindingCell {
   uint32_t compact_subscribers_ = 0;
   double compact_keyframe_s_ = 0.0;
   static constexpr double kCompactKeyframeS = 10.0;
+  // wire_markers: the retired wire whose strips were sent (toMarkers), the
+  // subscribers then, and when every strip is next sent [s of wall time].
+  int retired_markers_sent_ = 0;
+  uint32_t marker_subscribers_ = 0;
+  double marker_keyframe_s_ = 0.0;
   ros::Publisher spindle_command_pub_, spindle_state_pub_, tension_command_pub_,
       tension_measured_pub_, port_command_pub_, port_position_pub_, profile_pub_;
   ros::Subscriber speed_sub_, tension_sub_, port_sub_, machine_spindle_sub_, machine_tension_sub_,

@@ -172,7 +172,7 @@ void Contact::commit(double t, const WireKinematics& k) {
     carried_elastic_ += 0.5 * p_.stiffness * depth_[x] * depth_[x];
   }
   carried_summed_ = std::max(carried_summed_, c_.first);
-  max_penetration_ = carried_max_penetration_;
+  max_penetration_ = std::max(carried_max_penetration_, retired_max_penetration_);
   elastic_committed_ = carried_elastic_;
   // An implicit step's last recheck found the surfaces at this state
   // already (its end state, at this time): they are read, not searched for.
@@ -198,7 +198,7 @@ void Contact::commit(double t, const WireKinematics& k) {
         max_penetration_ = std::max(max_penetration_, c.h);
         elastic_committed_ += 0.5 * p_.stiffness * c.h * c.h;
         if (c.surface >= wire_base_ && c.h > deepest_in_wire_.depth_m) {
-          deepest_in_wire_ = {c.h, i, c.surface - wire_base_};
+          deepest_in_wire_ = {c.h, i, c.surface - wire_base_ - c_.retired};
         }
       }
       friction_force_[x].setZero();
@@ -269,6 +269,50 @@ void Contact::shrink(const WireKinematics&) {
       anchor_core_[x].setZero();
       friction_force_[x].setZero();
     }
+  }
+}
+
+void Contact::retireFront(int k) {
+  const std::size_t drop = static_cast<std::size_t>(k) * slots_;
+  const std::size_t used = static_cast<std::size_t>(c_.n) * slots_;
+  // What the retired slots held: their deepest penetration stays in the
+  // run's figure, their springs' energy leaves the committed sums (the
+  // model books it as the retired wire's).
+  // (Point 0, the clamp, is in neither sum: the old point k, the new
+  // clamp, leaves them too.)
+  for (std::size_t x = slots_; x < std::min(drop + slots_, used); ++x) {
+    retired_max_penetration_ = std::max(retired_max_penetration_, depth_[x]);
+    const double e = 0.5 * p_.stiffness * depth_[x] * depth_[x];
+    elastic_committed_ -= e;
+    if (static_cast<int>(x / slots_) < carried_summed_) carried_elastic_ -= e;
+  }
+  carried_summed_ = std::max(1, carried_summed_ - k);
+  // (Surface ids of the carried wire number the whole wire's segments: they
+  // stay.)
+  dropFront(surface_, drop, used, -1);
+  dropFront(depth_, drop, used, 0.0);
+  dropFront(friction_force_, drop, used, Eigen::Vector3d::Zero().eval());
+  if (friction_) {
+    dropFront(stuck_, drop, used, char{0});
+    dropFront(anchor_core_, drop, used, Eigen::Vector3d::Zero().eval());
+    dropFront(slow_, drop, used, char{0});
+  }
+  dropFront(trial_surface_, drop, used, -1);
+  dropFront(trial_stuck_, drop, used, char{0});
+  dropFront(trial_sign_, drop, used, static_cast<signed char>(1));
+  dropFront(trial_releases_, drop, used, static_cast<signed char>(0));
+  if (deepest_in_wire_.point >= 0) {
+    deepest_in_wire_.point -= k;
+    deepest_in_wire_.segment = std::max(0, deepest_in_wire_.segment - k);
+  }
+  recheck_.valid = false;
+  // The carried wire's segments are hashed anew, numbered from the new
+  // front (in the order they were hashed: ascending).
+  if (carried_p_core_) {
+    carried_index_.clear();
+    indexed_segments_ = 0;
+    carried_reach_ = 0.0;
+    for (int i = 0; i < c_.n; ++i) near_[i].count = -1;
   }
 }
 

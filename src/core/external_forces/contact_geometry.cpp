@@ -247,12 +247,15 @@ int Contact::touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const 
   };
   Run all[kMaxHits];
   int m = 0;
+  // (Surface ids number the segments of the whole wire: they stay as
+  // buried wire retires, WireModel::retireBuriedWire.)
+  const int base = wire_base_ + c_.retired;
   for (int a = 0; a < hits; ++a) {
     if (m > 0 && hit[a] - hit[a - 1] <= kSameRun) {
-      if (depth[a] > all[m - 1].h) all[m - 1] = Run{wire_base_ + hit[a], depth[a], normal[a]};
+      if (depth[a] > all[m - 1].h) all[m - 1] = Run{base + hit[a], depth[a], normal[a]};
       continue;
     }
-    all[m++] = Run{wire_base_ + hit[a], depth[a], normal[a]};
+    all[m++] = Run{base + hit[a], depth[a], normal[a]};
   }
   // The deepest runs, in the world frame.
   std::sort(all, all + m, [](const Run& x, const Run& y) { return x.h > y.h; });

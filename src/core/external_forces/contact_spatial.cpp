@@ -39,7 +39,8 @@ bool Contact::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
   if (surface >= wire_base_) {
     // The nearest of the carried segments j-1..j+1 (as capsules): inside
     // one, the distance from its line; past its ends, from the end point.
-    const int j = surface - wire_base_;
+    // (A segment of retired wire, j < 0, is out of reach: no segment below.)
+    const int j = surface - wire_base_ - c_.retired;
     const int last = lastWireSegment(i);
     const Eigen::Vector3d p_core = rot_world_core_.transpose() * (p_world - core_.originWorld());
     // (Compared by their squared distances: one root, for the nearest.)

@@ -238,6 +238,27 @@ void FreeWireContact::shrink(const WireKinematics& /*k*/) {
   built_n_ = -1;
 }
 
+void FreeWireContact::retireFront(int k) {
+  // Pairs lie among integrated points, behind which the front retires.
+  for (Pair& pair : pairs_) {
+    pair.a -= k;
+    pair.b -= k;
+  }
+  const int b0 = std::max(0, built_first_ - 1);
+  if (built_first_ >= 0 && built_n_ > b0) {
+    // (Column by column, front first: the ranges overlap.)
+    for (int i = b0; i < built_n_; ++i) p_built_.col(i - k) = p_built_.col(i);
+    built_first_ -= k;
+    built_n_ -= k;
+  } else {
+    built_first_ = built_n_ = -1;
+  }
+  if (deepest_.point >= 0) {
+    deepest_.point -= k;
+    deepest_.segment -= k;
+  }
+}
+
 void FreeWireContact::restoreHistory(HistoryReader& /*in*/) {
   pairs_.clear();
   built_first_ = built_n_ = -1;

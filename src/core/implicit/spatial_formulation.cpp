@@ -308,4 +308,13 @@ void SpatialFormulation::store(double h, Eigen::VectorXd& y) {
   for (ForceEffect* e : effects_) e->adoptFlags();
 }
 
+void SpatialFormulation::retireFront(int k) {
+  // The frame constraints' accepted multipliers start the next solve, also
+  // a new point's (what its column held). (Column by column from the
+  // front: the ranges overlap.)
+  const int cols = static_cast<int>(mu_accepted_.cols());
+  for (int i = k; i < cols; ++i) mu_accepted_.col(i - k) = mu_accepted_.col(i);
+  mu_accepted_.rightCols(std::min(k, cols)).setZero();
+}
+
 }  // namespace cws

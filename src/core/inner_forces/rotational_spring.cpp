@@ -21,7 +21,8 @@ RotationalSpring::RotationalSpring(const char* name, const WireConstants& c,
 }
 
 double RotationalSpring::jointLength(int j) const {
-  return j == 0 ? 0.5 * c_.segment_length : c_.segment_length;
+  // (Joint 0 of the whole wire, at the fixed end, stands for half a segment.)
+  return j + c_.retired == 0 ? 0.5 * c_.segment_length : c_.segment_length;
 }
 
 Eigen::Vector3d RotationalSpring::darboux(const WireKinematics& k, int j) const {
@@ -286,6 +287,16 @@ void RotationalSpring::shrink(const WireKinematics& k) {
     line_[idx] = line_committed_[idx] = TwoLineLaw::kElastic;
     x_committed_[idx] = 0.0;
   }
+}
+
+void RotationalSpring::retireFront(int k) {
+  if (!plastic_) return;
+  const std::size_t drop = static_cast<std::size_t>(k) * count_;
+  const std::size_t used = static_cast<std::size_t>(c_.n - 1) * count_;
+  dropFront(upper_, drop, used, law_.initialUpper());
+  dropFront(x_committed_, drop, used, 0.0);
+  dropFront(line_, drop, used, static_cast<signed char>(TwoLineLaw::kElastic));
+  dropFront(line_committed_, drop, used, static_cast<signed char>(TwoLineLaw::kElastic));
 }
 
 double RotationalSpring::elasticEnergy(const WireKinematics& k) const {

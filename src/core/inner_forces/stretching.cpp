@@ -186,6 +186,15 @@ void Stretching::shrink(const WireKinematics& k) {
   x_committed_[j] = 0.0;
 }
 
+void Stretching::retireFront(int k) {
+  if (!plastic_) return;
+  const std::size_t drop = k, used = c_.n - 1;
+  dropFront(upper_, drop, used, law_.initialUpper());
+  dropFront(x_committed_, drop, used, 0.0);
+  dropFront(line_, drop, used, static_cast<signed char>(TwoLineLaw::kElastic));
+  dropFront(line_committed_, drop, used, static_cast<signed char>(TwoLineLaw::kElastic));
+}
+
 void Stretching::preload(const WireKinematics& k) {
   if (!plastic_) return;
   for (int j = 0; j + 1 < c_.n; ++j) loadVirgin(k, j);

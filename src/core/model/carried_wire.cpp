@@ -61,7 +61,7 @@ double CarriedWire::energyChange(const RotatingCore& core, const WireConstants& 
   inertia_first_ = c.first;
   // Rigid turning about the core axis: 1/2 (M r^2 + I) omega^2 a point.
   const double w0 = core.omega(t0), w1 = core.omega(t1);
-  return 0.5 * (w1 * w1 - w0 * w0) * inertia_;
+  return 0.5 * (w1 * w1 - w0 * w0) * (inertia_ + retired_inertia_);
 }
 
 double CarriedWire::standOff(const CoreSection& section, double radius, int i) const {
@@ -72,6 +72,18 @@ double CarriedWire::standOff(const CoreSection& section, double radius, int i) c
     stand_off_known_[i] = 1;
   }
   return stand_off_[i];
+}
+
+void CarriedWire::retireFront(int k, int used, const WireConstants& c) {
+  for (int i = 1; i <= k && i < used; ++i) {
+    retired_inertia_ += c.point_mass * p_core_[i].head<2>().squaredNorm() + c.point_inertia;
+  }
+  const std::size_t drop = k, n = used;
+  dropFront(p_core_, drop, n, Eigen::Vector3d::Zero().eval());
+  dropFront(q_core_, drop, n, Eigen::Vector4d::Zero().eval());
+  dropFront(stand_off_, drop, n, 0.0);
+  dropFront(stand_off_known_, drop, n, static_cast<unsigned char>(0));
+  inertia_first_ = -1;
 }
 
 void CarriedWire::forgetSums() { inertia_first_ = -1; }

@@ -58,8 +58,7 @@ WireModel::WireModel(const Scene& s)
                                     : Eigen::Vector3d::Zero()),
       // Wire can be carried only where friction holds it on a core that also
       // holds the fixed end; elsewhere the option has no effect.
-      carry_(s.solver.carry_stuck_wire && s.physics.contact && s.physics.friction &&
-             s.start.frame == "core"),
+      carry_(s.carriesWoundWire()),
       carried_(c_.capacity, carry_) {
   // The core exists only for scenes that touch it, draw wire onto it or hold
   // the wire on it.
@@ -68,6 +67,12 @@ WireModel::WireModel(const Scene& s)
     core_ = std::make_unique<RotatingCore>(s.core, omega_cmd);
   }
   if (s.physics.planar) planar_normal_world_ = s.core.axis_world.normalized();
+  // Carried wire kept live behind the integrated wire: two layers of turns
+  // and four more (a new turn lies on the layer below it, and at a flange or
+  // a stalled traverse on the turns just wound), at least eight turns.
+  const double pitch = std::abs(s.process.traverse_pitch);
+  const double turns_per_layer = pitch > 0.0 ? s.process.winding_width / pitch : 0.0;
+  keep_turns_ = std::max(8.0, 2.0 * turns_per_layer + 4.0);
   if (core_ && !(s.core.cylinders.empty() && s.core.faces.empty())) {
     section_ = std::make_unique<CoreSection>(s.core);
   }
@@ -94,6 +99,8 @@ WireModel::WireModel(const Scene& s)
   } else {
     q0_ = quat::fromZetaDirection(s.start.direction);
   }
+  p0_start_ = p0_;
+  q0_start_ = q0_;
   Eigen::Vector3d p0_world, v0_world, a0_world;
   Eigen::Vector4d q0_world, qd0_world;
   clamp(0.0, p0_world, v0_world, a0_world, q0_world, qd0_world);
@@ -295,10 +302,16 @@ double WireModel::fedLength() const {
 }
 
 void WireModel::appendPoint(double t, Eigen::VectorXd& y) {
+  // Full storage: buried wire leaves the live arrays, where there is any.
+  if (c_.n >= c_.capacity) retireBuriedWire(y);
   if (c_.n >= c_.capacity) {
     std::ostringstream msg;
     msg << "at t = " << t << " s the wire drawn in needs more than " << c_.capacity
-        << " points: raise supply.max_points";
+        << " live points: raise supply.max_points";
+    if (carry_) {
+      msg << " (the wound wire more than " << keep_turns_
+          << " turns behind the free span retires from them; less than that lies wound)";
+    }
     // A wire that has run away is drawn in too: say so rather than blame
     // the storage (the residual bound of docs/STABILITY.md).
     const double residual = constraints_.maxResidual(committed_);
@@ -402,6 +415,13 @@ EnergyReport WireModel::energy(const Eigen::VectorXd& y) const {
     r.elastic += e->elasticEnergy(k);
     r.plastic += e->plasticWork(k);
   }
+  // Retired wire: turning rigidly with the core, its deformation fixed.
+  if (c_.retired > 0) {
+    const double w = core_->omega(committed_time_);
+    r.kinetic += 0.5 * carried_.retiredInertia() * w * w;
+    r.elastic += retired_.elastic_J;
+    r.plastic += retired_.plastic_J;
+  }
   r.work_done = y[0];
   r.viscous = y[1];
   return r;
@@ -409,12 +429,34 @@ EnergyReport WireModel::energy(const Eigen::VectorXd& y) const {
 
 double WireModel::axialForce(int j) const { return stretching_->axialForce(committed_, j); }
 
-PointReport WireModel::point(int i) const {
+PointReport WireModel::point(int w) const {
+  if (w >= c_.retired) return livePoint(w - c_.retired);
+  const RetiredPoint& q = retired_[w];
+  PointReport r;
+  r.p_world = core_->pointWorld(committed_time_, q.p_core);
+  r.axial_force_N = q.axial_force_N;
+  r.curvature_1pm = q.curvature_1pm;
+  r.plastic_curvature_1pm = q.plastic_curvature_1pm;
+  r.twist_rad_per_m = q.twist_rad_per_m;
+  r.in_contact = q.in_contact;
+  r.stick = q.stick;
+  return r;
+}
+
+Eigen::Vector3d WireModel::pointCore(int w) const {
+  if (w < c_.retired) return retired_[w].p_core;
+  placeCarriedWire();
+  return core_->pointCore(committed_time_, committed_.p_world.col(w - c_.retired));
+}
+
+PointReport WireModel::livePoint(int i) const {
   placeCarriedWire();
   PointReport r;
   const WireKinematics& k = committed_;
   r.p_world = k.p_world.col(i);
-  r.axial_force_N = axialForce(i == 0 ? 0 : i - 1);
+  // (Point 0 reports segment 0, or where wire retired, the retired segment
+  // ending at it.)
+  r.axial_force_N = i > 0 ? axialForce(i - 1) : c_.retired > 0 ? clamp_axial_force_ : axialForce(0);
   if (contact_) {
     r.in_contact = contact_->inContact(i);
     r.stick = contact_->stuck(i);

@@ -29,6 +29,17 @@ ModelState WireModel::saveState(const Eigen::VectorXd& y) const {
     m.carried_pose.insert(m.carried_pose.end(), p.data(), p.data() + 3);
     m.carried_pose.insert(m.carried_pose.end(), q.data(), q.data() + 4);
   }
+  m.retired = c_.retired;
+  if (c_.retired > 0) {
+    retired_.exportPoints(m.retired_points);
+    m.retired_energy[0] = retired_.elastic_J;
+    m.retired_energy[1] = retired_.plastic_J;
+    m.retired_energy[2] = carried_.retiredInertia();
+    m.retired_energy[3] = contact_ ? contact_->retiredMaxPenetration() : 0.0;
+    std::copy(p0_.data(), p0_.data() + 3, m.clamp_core);
+    std::copy(q0_.data(), q0_.data() + 4, m.clamp_core + 3);
+    m.clamp_core[7] = clamp_axial_force_;
+  }
   return m;
 }
 
@@ -61,6 +72,26 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
   for (double v : m.carried_pose) {
     if (!std::isfinite(v)) throw std::runtime_error("snapshot carried poses are not finite");
   }
+  if (m.retired < 0 || (m.retired > 0 && !carry_)) {
+    throw std::runtime_error("snapshot has " + std::to_string(m.retired) +
+                             " retired points; this scene retires " +
+                             (carry_ ? "0 or more" : "none (it carries no wound wire)"));
+  }
+  if (m.retired_points.size() != static_cast<std::size_t>(RetiredWire::kValuesPerPoint) *
+                                     static_cast<std::size_t>(m.retired)) {
+    throw std::runtime_error("snapshot has " + std::to_string(m.retired_points.size()) +
+                             " retired-wire values for " + std::to_string(m.retired) +
+                             " retired points (" + std::to_string(RetiredWire::kValuesPerPoint) +
+                             " each)");
+  }
+  for (double v : m.retired_energy) {
+    if (!std::isfinite(v)) throw std::runtime_error("snapshot retired-wire energy is not finite");
+  }
+  for (double v : m.clamp_core) {
+    if (!std::isfinite(v)) throw std::runtime_error("snapshot clamp pose is not finite");
+  }
+  RetiredWire retired;
+  retired.importPoints(m.retired_points);
   if (!supply_ && !m.port_command.empty()) {
     throw std::runtime_error("snapshot commands a supply port; this scene has no supply");
   }
@@ -72,6 +103,23 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
     }
   }
   c_.n = m.points;
+  // Retired wire first: the laws' joint lengths count from the whole wire's
+  // fixed end.
+  c_.retired = m.retired;
+  retired_ = std::move(retired);
+  retired_.elastic_J = m.retired_energy[0];
+  retired_.plastic_J = m.retired_energy[1];
+  carried_.setRetiredInertia(m.retired_energy[2]);
+  if (contact_) contact_->setRetiredMaxPenetration(m.retired_energy[3]);
+  if (m.retired > 0) {
+    p0_ = Eigen::Map<const Eigen::Vector3d>(m.clamp_core);
+    q0_ = Eigen::Map<const Eigen::Vector4d>(m.clamp_core + 3);
+    clamp_axial_force_ = m.clamp_core[7];
+  } else {
+    clamp_axial_force_ = 0.0;
+    p0_ = p0_start_;
+    q0_ = q0_start_;
+  }
   y.head(size()) = Eigen::Map<const Eigen::VectorXd>(m.y.data(), size());
   HistoryReader in(m.history);
   for (ForceEffect* e : all_) e->restoreHistory(in);

@@ -145,11 +145,18 @@ void WireModel::placeCarriedWire(Eigen::VectorXd& y) const {
   carried_state_placed_ = true;
 }
 
-double WireModel::standOff(int i) const {
+double WireModel::standOff(int w) const {
+  return w < c_.retired ? retired_[w].stand_off_m : liveStandOff(w - c_.retired);
+}
+
+double WireModel::liveStandOff(int i) const {
   // A carried point's stand-off is fixed while the core carries it: found
   // once (CoreSection::signedDistance is a search over directions), not at
   // every report of the whole wire.
-  if (carry_ && i >= 1 && i < c_.first) return carried_.standOff(*section_, c_.radius, i);
+  // (Point 0 is carried too where wire retired: the clamp on the core.)
+  if (carry_ && (i >= 1 || c_.retired > 0) && i < c_.first) {
+    return carried_.standOff(*section_, c_.radius, i);
+  }
   placeCarriedWire();
   const Eigen::Vector3d p_core = core_->pointCore(committed_time_, committed_.p_world.col(i));
   return section_->signedDistance(p_core.head<2>()) - c_.radius;
@@ -161,7 +168,11 @@ int WireModel::lastInContact() const {
   for (int i = 1; i < c_.n; ++i) {
     if (contact_->inContact(i)) last = i;
   }
-  return last;
+  if (last >= 0) return c_.retired + last;
+  for (int w = c_.retired - 1; w >= 1; --w) {
+    if (retired_[w].in_contact) return w;
+  }
+  return -1;
 }
 
 BulgeReport WireModel::bulging() const {
@@ -173,16 +184,23 @@ BulgeReport WireModel::bulging() const {
   b.valid = true;
   b.wound_points = last_contact + 1;
   b.height_m = 0.0;
-  for (int i = 0; i <= last_contact; ++i) {
-    const double h = standOff(i);
+  // Retired wire: its largest stand-off was found as it retired.
+  int w = 0;
+  if (c_.retired > 0 && last_contact >= c_.retired) {
+    b.height_m = retired_.max_stand_off_m;
+    b.index = retired_.max_stand_off_point;
+    w = c_.retired;
+  }
+  for (; w <= last_contact; ++w) {
+    const double h = standOff(w);
     if (h > b.height_m || b.index < 0) {
       b.height_m = std::max(0.0, h);
-      b.index = i;
+      b.index = w;
     }
   }
   b.build_up_m = b.height_m;
   b.arc_length_m = b.index * c_.segment_length;
-  b.p_core = core_->pointCore(committed_time_, committed_.p_world.col(b.index));
+  b.p_core = pointCore(b.index);
   return b;
 }
 

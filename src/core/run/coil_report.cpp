@@ -25,13 +25,13 @@ std::vector<int> layersOf(const WireModel& m, const std::vector<Eigen::Vector3d>
   std::vector<int> layer(last + 1, 1);
   for (int i = 1; i <= last; ++i) {
     layer[i] = layer[i - 1];
-    if (contact.surface(i, 0) >= 0) {
+    if (m.contactSurface(i, 0) >= 0) {
       layer[i] = 1;  // on the core
       continue;
     }
     int on = 0;
     for (int slot = 1; slot < contact.slots(); ++slot) {
-      const int j = contact.surface(i, slot) - contact.wireSurface();
+      const int j = m.contactSurface(i, slot) - contact.wireSurface();
       if (j < 0 || j + 1 >= i) continue;
       // Resting on it: the line from the wire touched to the point is
       // nearer the radial plane than the axis (in a groove it is 30 deg off
@@ -53,15 +53,10 @@ std::vector<int> layersOf(const WireModel& m, const std::vector<Eigen::Vector3d>
 CoilReport reportCoil(const WireModel& m, const Scene& s) {
   CoilReport r;
   if (!m.contact() || !m.core() || s.core.cylinders.empty()) return r;
-  int last = -1;
-  for (int i = 1; i < m.constants().n; ++i) {
-    if (m.contact()->inContact(i)) last = i;
-  }
+  const int last = m.lastInContact();
   if (last < 1) return r;
   r.valid = true;
   const double d = s.wire.diameter, rise = 0.5 * std::sqrt(3.0) * d;
-  const WireKinematics& k = m.committed();
-  const double t = m.committedTime();
   const Eigen::Vector3d axis = s.core.axis_world.normalized();
   const double axial0 = (s.supply.port_position_world - s.core.position_world).dot(axis);
 
@@ -71,7 +66,7 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
   r.point_turn.assign(last + 1, 1);
   double unwrapped = 0.0, previous = 0.0;
   for (int i = 0; i <= last; ++i) {
-    const Eigen::Vector3d p = p_core[i] = m.core()->pointCore(t, k.p_world.col(i));
+    const Eigen::Vector3d p = p_core[i] = m.pointCore(i);
     stand_off[i] = m.standOff(i);
     axial[i] = p.z() - axial0;
     const double a = std::atan2(p.y(), p.x());
@@ -176,7 +171,7 @@ BulgeReport headlineBulging(const WireModel& m, const Scene& s, const CoilReport
   b.height_m = coil->bulging_m;
   b.index = coil->bulging_index;
   b.arc_length_m = b.index * m.constants().segment_length;
-  b.p_core = m.core()->pointCore(m.committedTime(), m.committed().p_world.col(b.index));
+  b.p_core = m.pointCore(b.index);
   return b;
 }
 

@@ -23,16 +23,15 @@ bool newtonSteps(const Scene& scene) {
 
 // Point i at the end of a run, in the core frame where there is a core.
 Eigen::Vector3d pointOf(const Simulation& sim, int i) {
-  const Eigen::Vector3d p = sim.model().committed().p_world.col(i);
-  const RotatingCore* core = sim.model().core();
-  return core ? core->pointCore(sim.time(), p) : p;
+  const WireModel& m = sim.model();
+  return m.core() ? m.pointCore(i) : m.point(i).p_world;
 }
 
 // How many points the wound curve of a run holds: to its last point on the core
 // (the whole wire where nothing is wound).
 int woundCount(const Simulation& sim) {
   const BulgeReport b = sim.model().bulging();
-  const int n = sim.model().constants().n;
+  const int n = sim.model().wirePoints();
   return b.valid && b.wound_points >= 2 ? std::min(b.wound_points, n) : n;
 }
 

@@ -127,7 +127,7 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
   } else {
     out << "null,\n";
   }
-  out << "  \"nodes\": " << sim.model().constants().n << ",\n"
+  out << "  \"nodes\": " << sim.model().wirePoints() << ",\n"
       << "  \"segment_length_m\": " << num(sim.model().constants().segment_length) << ",\n"
       << "  \"max_constraint_residual\": " << num(sim.maxConstraintResidual()) << ",\n"
       << "  \"kinetic_energy_J\": " << num(e.kinetic) << ",\n"
@@ -157,7 +157,8 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
       << ",\n"
       << "  \"max_penetration_ratio\": "
       << (m.contact() ? num(sim.maxPenetration() / radius) : std::string("null")) << ",\n"
-      << "  \"carried_points\": " << m.carriedPoints() << ",\n";
+      << "  \"carried_points\": " << m.retiredPoints() + m.carriedPoints() << ",\n"
+      << "  \"retired_points\": " << m.retiredPoints() << ",\n";
   if (estimate) {
     out << "  \"error_estimate\": {\"refinement\": \"" << estimate->refinement << "\", "
         << "\"scale\": " << num(estimate->scale) << ", "
@@ -236,7 +237,7 @@ void writeWireCsv(const Simulation& sim, std::ostream& out) {
   out << std::setprecision(12);
   // Turn and layer of the wound wire (0 beyond it, or without a coil).
   const CoilReport coil = reportCoil(sim.model(), sim.scene());
-  for (int i = 0; i < sim.model().constants().n; ++i) {
+  for (int i = 0; i < sim.model().wirePoints(); ++i) {
     const PointReport r = sim.model().point(i);
     const bool wound = i < static_cast<int>(coil.point_turn.size());
     out << i << ',' << r.p_world.x() << ',' << r.p_world.y() << ',' << r.p_world.z() << ','
@@ -249,8 +250,8 @@ void writeWireCsv(const Simulation& sim, std::ostream& out) {
 void writeShapeCsv(const Simulation& sim, std::ostream& out) {
   const WireModel& m = sim.model();
   out << "index,x_core,y_core,z_core,stand_off_m,in_contact,stick\n" << std::setprecision(12);
-  for (int i = 0; i < m.constants().n; ++i) {
-    const Eigen::Vector3d p = m.core()->pointCore(sim.time(), m.committed().p_world.col(i));
+  for (int i = 0; i < m.wirePoints(); ++i) {
+    const Eigen::Vector3d p = m.pointCore(i);
     const PointReport r = m.point(i);
     out << i << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << m.standOff(i) << ','
         << int(r.in_contact) << ',' << int(r.stick) << '\n';

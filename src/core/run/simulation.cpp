@@ -73,6 +73,12 @@ void Simulation::setCoreSpeed(double omega) {
   if (ramps) stepper_->kink();
 }
 
+bool Simulation::makeRoom(int points) {
+  const WireConstants& c = model_->constants();
+  if (c.n + points > c.capacity) model_->retireBuriedWire(y_);
+  return c.n + points <= c.capacity;
+}
+
 void Simulation::setSupplyTension(double tension) {
   const std::string why = tensionRefusal(SetpointLimits::of(scene_.process), tension);
   if (!why.empty()) throw std::invalid_argument(tensionText(tension) + " " + why);

@@ -69,7 +69,15 @@ double Scene::pointCapacity() const {
   for (const ProcessCommand& c : process.commands) {
     if (c.core_speed_rpm) rpm = std::max(rpm, std::abs(*c.core_speed_rpm));
   }
-  return pointCapacityForAngle(rpmToRadPerSec(rpm) * endTime());
+  const double estimate = pointCapacityForAngle(rpmToRadPerSec(rpm) * endTime());
+  // Where buried wire retires from the live arrays, a long job needs no more
+  // live points than a few hundred turns hold.
+  if (carriesWoundWire()) return std::min(estimate, std::max(n, double{kAutoLivePoints}));
+  return estimate;
+}
+
+bool Scene::carriesWoundWire() const {
+  return solver.carry_stuck_wire && physics.contact && physics.friction && start.frame == "core";
 }
 
 double Scene::pointCapacityForAngle(double core_angle_rad) const {

@@ -253,7 +253,8 @@ std::vector<SceneKey> declareKeys() {
                                                     "port p_s at t = 0, world frame"),
       key<&S::supply, &Supply::max_points>("supply.max_points", "-",
                                            KeyRange{KeyRange::kPointCount, {}, 0, std::nullopt, ""},
-                                           "storage for this many points; 0: estimated"),
+                                           "storage for this many live points (buried wire "
+                                           "retires beyond them); 0: estimated"),
 
       key<&S::gravity, &GravityParams::acceleration_world>(
           "gravity.acceleration", "m/s^2", kAny, "gravitational acceleration, world frame"),

@@ -16,6 +16,7 @@ ImplicitStepper::ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme s
   // resolves solver.fixed_step: auto).
   if (p.fixed_step && *p.fixed_step > 0.0)
     explicit_ = std::make_unique<SymplecticEuler>(p, sys.capacity());
+  retired_seen_ = sys.pointsRetired();
   NewtonModelView* model = model_ = sys.newtonModel();
   if (!model)
     throw std::invalid_argument(std::string(name()) + ": the system has no Newton formulation");
@@ -85,6 +86,7 @@ void ImplicitStepper::restore(double next_step, double last_step, const StepCoun
   h_last_ = last_step;
   counts_ = counts;
   have_prev_ = false;  // a continued run restarts BDF2 with one Euler step
+  retired_seen_ = -1;
   fallback_until_ = -1.0;
   strike_until_ = -1.0;
 }
@@ -116,6 +118,25 @@ void ImplicitStepper::explicitStep(OdeSystem& sys, double& t, Eigen::VectorXd& y
   }
 }
 
+void ImplicitStepper::retirePast(int k) {
+  formulation_->retireFront(k);
+  if (!have_prev_ || k <= 0 || k >= first_prev_) {
+    have_prev_ = false;
+    return;
+  }
+  // (Column by column from the front: the ranges overlap.)
+  for (int i = first_prev_; i < n_prev_; ++i) {
+    x_prev_.col(i - k) = x_prev_.col(i);
+    v_prev_.col(i - k) = v_prev_.col(i);
+    if (scheme_ == Scheme::kGeneralizedAlpha) {
+      v_hat_prev_.col(i - k) = v_hat_prev_.col(i);
+      a_pseudo_prev_.col(i - k) = a_pseudo_prev_.col(i);
+    }
+  }
+  first_prev_ -= k;
+  n_prev_ -= k;
+}
+
 void ImplicitStepper::kink() {
   h_ = std::min(h_, kStartFraction * longest_);
   have_prev_ = false;
@@ -139,6 +160,13 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
   if (t_limit - t <= kLandRounding * std::max(1.0, std::abs(t))) {
     t = t_limit;
     return;
+  }
+  // Buried wire retired at the last accepted step (WireModel::
+  // retireBuriedWire): the past moves with the live arrays.
+  const long retired = sys.pointsRetired();
+  if (retired != retired_seen_) {
+    if (retired_seen_ >= 0) retirePast(static_cast<int>(retired - retired_seen_));
+    retired_seen_ = retired;
   }
   // A stretch of explicit steps under way (the fallback below).
   if (t < fallback_until_) {

@@ -49,6 +49,10 @@ class Contact : public ForceEffect {
   void adoptFlags() override;
   void commit(double t, const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
+  void retireFront(int k) override;
+  // The deepest penetration of retired wire [m] (WireModel's snapshot).
+  double retiredMaxPenetration() const { return retired_max_penetration_; }
+  void setRetiredMaxPenetration(double h) { retired_max_penetration_ = h; }
   void appendHistory(std::vector<double>& out) const override;
   void restoreHistory(HistoryReader& in) override;
   // Energy in the normal springs at the last commit [J].
@@ -88,7 +92,8 @@ class Contact : public ForceEffect {
     return false;
   }
   // The surface of point i's slot s at the last commit (-1: none), and the
-  // first id of the carried wire's segments (segment j: wireSurface() + j).
+  // first id of the carried wire's segments (segment j of the whole wire,
+  // retired points included: wireSurface() + j).
   int surface(int i, int s = 0) const { return surface_[i * slots_ + s]; }
   int wireSurface() const { return wire_base_; }
   // Penetration [m] of point i's slot s at the last commit.
@@ -323,6 +328,7 @@ class Contact : public ForceEffect {
   std::vector<Eigen::Vector3d> friction_force_;  // output only
   std::vector<double> depth_;                    // committed penetration [m]
   double max_penetration_ = 0.0;
+  double retired_max_penetration_ = 0.0;  // of the retired slots [m]
   WireDepth deepest_in_wire_;
   double elastic_committed_ = 0.0;
   // The carried points' share of the two above, summed over points

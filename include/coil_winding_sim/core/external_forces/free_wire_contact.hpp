@@ -57,6 +57,7 @@ class FreeWireContact : public ForceEffect {
   bool recheckSpatialFlags(const SpatialState& s) override;
   void commit(double t, const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
+  void retireFront(int k) override;
   // No history (no stick): the neighbour list is built anew after a restore.
   void restoreHistory(HistoryReader& in) override;
   double elasticEnergy(const WireKinematics& /*k*/) const override { return elastic_committed_; }

@@ -50,6 +50,10 @@ class NewtonFormulation {
   virtual void store(double h, Eigen::VectorXd& y) = 0;
   // The velocity of the core's material by the scheme of the last solve.
   virtual const CarriedRate& coreRate() const = 0;
+  // Points 0..k-1 left the model's live arrays (WireModel::
+  // retireBuriedWire): what the formulation keeps per point from one step
+  // to the next moves k points to the front.
+  virtual void retireFront(int /*k*/) {}
 };
 
 }  // namespace cws

@@ -40,6 +40,7 @@ class SpatialFormulation : public NewtonFormulation {
   NewtonStats solve(const OneLegStep& step, const Eigen::MatrixXd& x_hat,
                     const Eigen::MatrixXd& v_hat, const Eigen::MatrixXd& x_guess) override;
   void store(double h, Eigen::VectorXd& y) override;
+  void retireFront(int k) override;
   const CarriedRate& coreRate() const override { return state_.carried; }
   double largestMoveFrom(const Eigen::MatrixXd& x) const override {
     double most = 0.0;

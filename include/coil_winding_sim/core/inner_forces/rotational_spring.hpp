@@ -41,6 +41,7 @@ class RotationalSpring : public ForceEffect {
   bool recheckSpatialFlags(const SpatialState& s) override;
   void commit(double t, const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
+  void retireFront(int k) override;
   void appendHistory(std::vector<double>& out) const override;
   void restoreHistory(HistoryReader& in) override;
   double elasticEnergy(const WireKinematics& k) const override;

@@ -27,6 +27,7 @@ class Stretching : public ForceEffect {
   void commit(double t, const WireKinematics& k) override;
   void grow(const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
+  void retireFront(int k) override;
   // Every segment of a virgin wire was stretched to its present strain along
   // the loading curve (a wire that starts under the supply tension).
   void preload(const WireKinematics& k);

@@ -44,6 +44,15 @@ class CarriedWire {
   // Point i's stand-off from the winding surface [m] (found once while it
   // is carried; `radius` the wire's [m]).
   double standOff(const CoreSection& section, double radius, int i) const;
+  // Points 0..k-1 retire (WireModel::retireBuriedWire; `used` points in
+  // use, c the wire's constants): the poses of the rest move to the front;
+  // the moment of inertia of old points 1..k (k becomes the clamp) stays
+  // in the core's work on the carried wire.
+  void retireFront(int k, int used, const WireConstants& c);
+  // Moment of inertia about the core axis of the retired wire [kg m^2]
+  // (and its restore from a snapshot).
+  double retiredInertia() const { return retired_inertia_; }
+  void setRetiredInertia(double inertia) { retired_inertia_ = inertia; }
   // Points changed (a release, a restored snapshot): the energy's sum and
   // the stand-offs are found anew, the core's pose too.
   void forgetSums();
@@ -60,6 +69,7 @@ class CarriedWire {
   // points 1..inertia_first_-1 (a cache for energyChange; -1: sum anew).
   mutable int inertia_first_ = -1;
   mutable double inertia_ = 0.0;
+  double retired_inertia_ = 0.0;  // [kg m^2]
   // The core's pose at the time of the last place() (NaN: none yet).
   double frame_time_ = std::numeric_limits<double>::quiet_NaN();
   Eigen::Matrix3d rot_;

@@ -25,6 +25,7 @@
 #include "coil_winding_sim/core/model/core_geometry.hpp"
 #include "coil_winding_sim/core/model/make_effects.hpp"
 #include "coil_winding_sim/core/model/newton_model_view.hpp"
+#include "coil_winding_sim/core/model/retired_wire.hpp"
 #include "coil_winding_sim/core/model/rotating_core.hpp"
 #include "coil_winding_sim/core/model/wire_types.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
@@ -85,6 +86,16 @@ struct ModelState {
   double port_distance0_m = 0.0;
   int carried = 0;                   // points the core carries (solver.carry_stuck_wire)
   std::vector<double> carried_pose;  // per carried point: p_core [m] (3), q_core (4)
+  // Wire retired from the live arrays in front of point 0 (RetiredWire):
+  // its points (RetiredWire::kValuesPerPoint each), its recoverable energy
+  // and plastic work [J], its moment of inertia about the core axis
+  // [kg m^2] and deepest penetration [m], and the pose of the clamp that
+  // holds the live wire's point 0 on the core (p_core [m] (3), q_core (4)).
+  int retired = 0;
+  std::vector<double> retired_points;
+  double retired_energy[4] = {0, 0, 0, 0};  // elastic, plastic, inertia, penetration
+  // The axial force [N] of the retired segment ending at point 0 last.
+  double clamp_core[8] = {0, 0, 0, 1, 0, 0, 0, 0};
   // Commanded port path ahead (PortTrajectory::exportState: t_s, x, y, z
   // per sample); empty: the port follows process.traverse_pitch.
   std::vector<double> port_command;
@@ -153,13 +164,29 @@ class WireModel : public OdeSystem, public NewtonModelView {
 
   EnergyReport energy(const Eigen::VectorXd& y) const;
   double maxConstraintResidual() const { return constraints_.maxResidual(committed_); }
-  PointReport point(int i) const;
-  double axialForce(int j) const;  // segment j at the last accepted step [N]
+
+  // The whole wire, from its fixed end: the points retired from the live
+  // arrays (retireBuriedWire), then the live points 0..n-1, so that live
+  // point i is whole-wire point retiredPoints() + i. The reports below take
+  // whole-wire indices w.
+  int wirePoints() const { return c_.retired + c_.n; }
+  int retiredPoints() const { return c_.retired; }
+  const RetiredWire& retiredWire() const { return retired_; }
+  PointReport point(int w) const;
+  // Point w's position in the core frame at the last accepted step [m]
+  // (needs a core).
+  Eigen::Vector3d pointCore(int w) const;
+  // The surface point w touched in contact slot s at the last accepted step
+  // (Contact::surface; retired wire: when it retired); -1: none.
+  int contactSurface(int w, int s) const {
+    return w < c_.retired ? retired_[w].surface[s] : contact_->surface(w - c_.retired, s);
+  }
+  double axialForce(int j) const;  // live segment j at the last accepted step [N]
   // The wire's axial force at the supply port [N]: the last segment's, what
   // a load cell at the nozzle measures (a scene with a supply).
   double portAxialForce() const { return axialForce(c_.n - 2); }
-  // The last point touching the core at the last accepted step; -1: none,
-  // or a scene without contact.
+  // The last point touching the core at the last accepted step (whole-wire
+  // index); -1: none, or a scene without contact.
   int lastInContact() const;
 
   // History state of all effects, concatenated (empty without plasticity).
@@ -199,8 +226,9 @@ class WireModel : public OdeSystem, public NewtonModelView {
   double fedLength() const;
   // Bulging of the wound wire at the last accepted step (needs contact).
   BulgeReport bulging() const;
-  // Stand-off of point i from the winding surface [m] (needs a core).
-  double standOff(int i) const;
+  // Stand-off of whole-wire point w from the winding surface [m] (needs a
+  // core).
+  double standOff(int w) const;
   // Points 1..carriedPoints() move rigidly with the core and are not
   // integrated (solver.carry_stuck_wire); 0 otherwise.
   int carriedPoints() const { return c_.first - 1; }
@@ -218,7 +246,26 @@ class WireModel : public OdeSystem, public NewtonModelView {
   void placeCarriedWire() const;
   void placeCarriedWire(Eigen::VectorXd& y) const;
 
+  // Buried wire leaves the live arrays: when the wire's storage is full
+  // (appendPoint), the carried points more than keepTurns() core turns of
+  // wire behind the first integrated point retire into the compact
+  // RetiredWire store, and the live arrays are numbered from the next one,
+  // which becomes the clamp on the core. Nothing integrated reaches that
+  // wire: later turns lie on the layers above it. Returns how many points
+  // retired (0: none can).
+  int retireBuriedWire(Eigen::VectorXd& y);
+  double keepTurns() const { return keep_turns_; }
+  // Counts the points retired since the start (steppers that keep a past
+  // per point move it with the live arrays: OdeSystem::pointsRetired).
+  long pointsRetired() const override { return c_.retired; }
+
  private:
+  // Live point i's stand-off [m].
+  double liveStandOff(int i) const;
+  PointReport livePoint(int i) const;
+  // How many points may retire now: the carried wire more than keepTurns()
+  // turns about the core axis behind the first integrated point (0: none).
+  int retirablePoints() const;
   // Clamp state of point 0 and frame 0 at time t (world frame).
   void clamp(double t, Eigen::Vector3d& p0_world, Eigen::Vector3d& v0_world,
              Eigen::Vector3d& a0_world, Eigen::Vector4d& q0, Eigen::Vector4d& qd0) const;
@@ -250,6 +297,9 @@ class WireModel : public OdeSystem, public NewtonModelView {
   bool clamp_in_core_;
   Eigen::Vector3d p0_;  // clamp position, world or core frame [m]
   Eigen::Vector4d q0_;  // clamp orientation, world or core frame
+  // The scene's clamp (p0_, q0_ hold a carried point once wire retired).
+  Eigen::Vector3d p0_start_;
+  Eigen::Vector4d q0_start_;
   Eigen::Vector3d planar_normal_world_ = Eigen::Vector3d::Zero();  // zero: 3-D
   std::unique_ptr<RotatingCore> core_;
   Contact* contact_ = nullptr;
@@ -267,7 +317,10 @@ class WireModel : public OdeSystem, public NewtonModelView {
   double committed_time_ = 0.0;  // [s]
   double port_distance0_ = 0.0;  // [m] at t = 0
   bool carry_ = false;
-  CarriedWire carried_;  // the wound wire the core carries (solver.carry_stuck_wire)
+  CarriedWire carried_;             // the wound wire the core carries (solver.carry_stuck_wire)
+  RetiredWire retired_;             // buried wire retired from the live arrays
+  double clamp_axial_force_ = 0.0;  // [N] the retired segment ending at point 0
+  double keep_turns_ = 0.0;         // carried turns kept live behind the integrated wire
   bool carried_deferred_ = false;
   // Carried poses at committed_time_ in committed_ and in the state vector.
   bool carried_kinematics_placed_ = true;

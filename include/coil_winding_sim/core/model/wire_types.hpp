@@ -9,6 +9,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -28,7 +30,11 @@ struct WireConstants {
   // clamp, and wound wire the core carries, solver.carry_stuck_wire); the
   // effects skip what lies wholly among them.
   int first = 1;
-  int capacity = 0;             // most mass points the run may reach
+  int capacity = 0;  // most mass points the live arrays hold
+  // Points retired in front of point 0 (WireModel::retireBuriedWire): buried
+  // wound wire kept compactly, so that point i here is point retired + i of
+  // the wire from its fixed end.
+  int retired = 0;
   double segment_length = 0.0;  // natural length l [m]
   double point_mass = 0.0;      // M = rho L / n [kg], eq. (1); rho l with a supply
   double point_inertia = 0.0;   // 2/5 M r^2 [kg m^2], eq. (2)
@@ -36,6 +42,16 @@ struct WireConstants {
   double line_density = 0.0;    // [kg/m]
   double point_length = 0.0;    // wire length a point stands for, M / rho [m]
 };
+
+// Moves entries drop..used-1 of v to the front and fills the `drop` entries
+// after them with `fill` (ForceEffect::retireFront's arrays; no allocation).
+template <class T>
+void dropFront(std::vector<T>& v, std::size_t drop, std::size_t used, const T& fill) {
+  if (drop == 0) return;
+  drop = std::min(drop, used);
+  std::move(v.begin() + drop, v.begin() + used, v.begin());
+  std::fill(v.begin() + (used - drop), v.begin() + used, fill);
+}
 
 // Positions, velocities, quaternions and quaternion rates of all n points
 // (column i is point i; point 0 is the clamped end).
@@ -202,6 +218,12 @@ class ForceEffect {
   // plastic work done in them stays counted. Runs between steps, before n
   // shrinks.
   virtual void shrink(const WireKinematics& /*k*/) {}
+  // Points 0..k-1, carried wire buried under later turns, leave the live
+  // arrays (WireModel::retireBuriedWire): drop the state of those points,
+  // of segments and joints 0..k-1, and number the rest from 0. The new
+  // point 0 (carried) becomes the clamp. Runs between steps, before the
+  // model's counts change; the model keeps the retired energy.
+  virtual void retireFront(int /*k*/) {}
   // Appends the history state (yield points and the work bookkeeping) to
   // `out`; nothing for an effect without history. For snapshots and tests.
   virtual void appendHistory(std::vector<double>& /*out*/) const {}

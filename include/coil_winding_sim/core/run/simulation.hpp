@@ -125,6 +125,10 @@ class Simulation {
   // integrator's work in it (pace_profile.hpp).
   const PaceStretch& slowestStretch() const { return pace_.slowest(); }
   const Scene& scene() const { return scene_; }
+  // Room for `points` more live points: buried wire retires from the live
+  // arrays where the storage would not hold them (WireModel::
+  // retireBuriedWire). Between steps; false: it still would not.
+  bool makeRoom(int points);
   const WireModel& model() const { return *model_; }
   WireModel& model() { return *model_; }
   const TimeStepper& stepper() const { return *stepper_; }

@@ -18,6 +18,11 @@ namespace cws {
 // (about 25 kB per point with rosenbrock2's banded Jacobian, 2.5 kB with
 // rkf45), so validateScene refuses more instead of exhausting memory.
 constexpr int kMaxScenePoints = 100000;
+// The live points a job's estimate asks for at most where buried wire
+// retires from the live arrays (Scene::carriesWoundWire,
+// WireModel::retireBuriedWire): the wire older than that lives on in a
+// compact store of about 100 bytes a point.
+constexpr int kAutoLivePoints = 30000;
 
 // A scene that cannot be run. key() names the offending YAML key path.
 class SceneError : public std::runtime_error {
@@ -289,6 +294,10 @@ struct Scene {
   // endTime().
   double initialPoints() const;
   double pointCapacity() const;
+  // Does the core carry wound wire rigidly (solver.carry_stuck_wire, where
+  // friction holds it on a core that also holds the fixed end)? Only then
+  // can buried wire retire from the live arrays.
+  bool carriesWoundWire() const;
   // The points a run that turns the core by core_angle_rad [rad] needs
   // (supply.max_points aside): a replay's commands set the angle.
   double pointCapacityForAngle(double core_angle_rad) const;

@@ -95,6 +95,12 @@ class ImplicitStepper : public TimeStepper {
   int n_prev_ = 0;
   int first_prev_ = 0;  // the first integrated point of the last step
   bool have_prev_ = false;
+  // The model's retired points (OdeSystem::pointsRetired) the past above is
+  // numbered after; -1: not known (a restore).
+  long retired_seen_ = -1;
+  // Moves the past of the last step to the live arrays' numbering after k
+  // points retired from their front.
+  void retirePast(int k);
   // Generalized-alpha: the last accepted step's v_hat and kappa (its end's
   // acceleration is kappa (v - v_hat)), the pseudo-acceleration at its
   // start and its gamma; the present step's acceleration and

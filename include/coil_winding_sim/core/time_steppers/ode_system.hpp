@@ -57,6 +57,10 @@ class OdeSystem {
   // Called once per accepted step with the new time and state (capacity()
   // long). The system may grow here, writing its new components into y.
   virtual void acceptStep(double t, Eigen::VectorXd& y) = 0;
+  // Points dropped from the front of the state since the start (a model
+  // that retires buried wire, WireModel::retireBuriedWire): a stepper that
+  // keeps a past per point moves it by the change.
+  virtual long pointsRetired() const { return 0; }
 };
 
 // The step size fell below its floor, or the state stopped being finite.

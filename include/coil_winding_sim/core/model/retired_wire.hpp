@@ -1,0 +1,57 @@
+// Wound wire retired from the live arrays (WireModel::retireBuriedWire):
+// carried wire buried under later turns, which nothing integrated can reach
+// any more. It turns rigidly with the core, so its pose in the core frame
+// is all its motion; its report figures are those it had when it retired.
+// About 100 bytes a point, where a live point takes some 1.6 kB of state,
+// Newton system and contact slots: a coil of 10,000 turns fits.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace cws {
+
+struct RetiredPoint {
+  Eigen::Vector3d p_core = Eigen::Vector3d::Zero();  // position, core frame [m]
+  double stand_off_m = 0.0;                          // from the winding surface [m]
+  double axial_force_N = 0.0;                        // segment ending at the point
+  double curvature_1pm = 0.0;                        // |bending curvature| [1/m]
+  double plastic_curvature_1pm = 0.0;                // |permanent curvature| [1/m]
+  double twist_rad_per_m = 0.0;                      // twist rate [rad/m]
+  bool in_contact = false, stick = false;
+  // The contact's surface per slot at retirement (Contact::surface; -1:
+  // none), for the layers the coil report finds.
+  static constexpr int kSlots = 6;
+  int surface[kSlots] = {-1, -1, -1, -1, -1, -1};
+};
+
+class RetiredWire {
+ public:
+  // Room for `points` retired points without allocating (more grow the
+  // store at a retirement, between steps).
+  void reserve(int points) { points_.reserve(points); }
+  int size() const { return static_cast<int>(points_.size()); }
+  int capacity() const { return static_cast<int>(points_.capacity()); }
+  const RetiredPoint& operator[](int i) const { return points_[i]; }
+  void append(const RetiredPoint& p) { points_.push_back(p); }
+
+  // The retired wire's recoverable energy and plastic work [J] (constant:
+  // it no longer deforms).
+  double elastic_J = 0.0, plastic_J = 0.0;
+  // Its largest stand-off from the winding surface [m] and the point (-1:
+  // none), for the bulging report.
+  double max_stand_off_m = 0.0;
+  int max_stand_off_point = -1;
+
+  // Snapshot form: kValuesPerPoint numbers per point.
+  static constexpr int kValuesPerPoint = 9 + RetiredPoint::kSlots;
+  void exportPoints(std::vector<double>& out) const;
+  // Throws std::runtime_error naming what is wrong (the store is unchanged).
+  void importPoints(const std::vector<double>& in);
+  void clear();
+
+ private:
+  std::vector<RetiredPoint> points_;
+};
+
+}  // namespace cws
