@@ -433,13 +433,8 @@ PointReport WireModel::point(int w) const {
   if (w >= c_.retired) return livePoint(w - c_.retired);
   const RetiredPoint& q = retired_[w];
   PointReport r;
+  static_cast<PointFigures&>(r) = q;
   r.p_world = core_->pointWorld(committed_time_, q.p_core);
-  r.axial_force_N = q.axial_force_N;
-  r.curvature_1pm = q.curvature_1pm;
-  r.plastic_curvature_1pm = q.plastic_curvature_1pm;
-  r.twist_rad_per_m = q.twist_rad_per_m;
-  r.in_contact = q.in_contact;
-  r.stick = q.stick;
   return r;
 }
 

@@ -44,17 +44,11 @@ int WireModel::retireBuriedWire(Eigen::VectorXd& y) {
     retired_.reserve(std::max(2 * retired_.size(), retired_.size() + k));
   }
   for (int i = 0; i < k; ++i) {
-    const PointReport r = livePoint(i);
     RetiredPoint q;
+    static_cast<PointFigures&>(q) = livePoint(i);
     // (Wire is carried only where the clamp is on the core: p0_ is core frame.)
     q.p_core = i == 0 ? p0_ : carried_.positionCore(i);
     q.stand_off_m = section_ ? liveStandOff(i) : 0.0;
-    q.axial_force_N = r.axial_force_N;
-    q.curvature_1pm = r.curvature_1pm;
-    q.plastic_curvature_1pm = r.plastic_curvature_1pm;
-    q.twist_rad_per_m = r.twist_rad_per_m;
-    q.in_contact = r.in_contact;
-    q.stick = r.stick;
     static_assert(Contact::kMaxSlots <= RetiredPoint::kSlots, "a retired point keeps every slot");
     if (contact_) {
       for (int s = 0; s < contact_->slots(); ++s) q.surface[s] = contact_->surface(i, s);

@@ -11,14 +11,20 @@
 
 namespace cws {
 
-struct RetiredPoint {
+// A point's figures in the reports (wire.csv, the markers).
+struct PointFigures {
+  double axial_force_N = 0.0;          // segment ending at the point (point 0: segment 0)
+  double curvature_1pm = 0.0;          // |bending curvature| at the point's joint
+  double plastic_curvature_1pm = 0.0;  // |permanent bending curvature| there
+  double twist_rad_per_m = 0.0;        // twist rate there
+  bool in_contact = false;             // touching the core or what it carries
+  bool stick = false;                  // held by static friction
+};
+
+// A retired point: its figures when it retired, and where it lies.
+struct RetiredPoint : PointFigures {
   Eigen::Vector3d p_core = Eigen::Vector3d::Zero();  // position, core frame [m]
   double stand_off_m = 0.0;                          // from the winding surface [m]
-  double axial_force_N = 0.0;                        // segment ending at the point
-  double curvature_1pm = 0.0;                        // |bending curvature| [1/m]
-  double plastic_curvature_1pm = 0.0;                // |permanent curvature| [1/m]
-  double twist_rad_per_m = 0.0;                      // twist rate [rad/m]
-  bool in_contact = false, stick = false;
   // The contact's surface per slot at retirement (Contact::surface; -1:
   // none), for the layers the coil report finds.
   static constexpr int kSlots = 6;

@@ -47,15 +47,10 @@ struct EnergyReport {
   double imbalance() const { return kinetic + elastic + dissipated() - work_done; }
 };
 
-// Per point values for output (wire.csv); index i is point i.
-struct PointReport {
+// Per point values for output (wire.csv): where the point is [m], world
+// frame, and its figures (RetiredWire's PointFigures).
+struct PointReport : PointFigures {
   Eigen::Vector3d p_world;
-  double axial_force_N = 0.0;          // segment ending at i (point 0: segment 0)
-  double curvature_1pm = 0.0;          // |bending curvature| at joint i
-  double plastic_curvature_1pm = 0.0;  // |permanent bending curvature| at joint i
-  double twist_rad_per_m = 0.0;        // twist rate at joint i
-  bool in_contact = false;             // touching a core cylinder
-  bool stick = false;                  // held by static friction
 };
 
 // Bulging (wire lifting off the core): the stand-off of the wound wire's
