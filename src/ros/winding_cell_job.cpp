@@ -156,7 +156,9 @@ std::string WindingCell::cellState(std::string& message) const {
   if (storage_full_) {
     const cws::WireConstants& c = sim_->model().constants();
     message = "holding: the wire's storage is full (" + std::to_string(c.n) + " of " +
-              std::to_string(c.capacity) + " points, ~max_points) after " +
+              std::to_string(c.capacity) + " live points, ~max_points: the last " +
+              cws::formatNumber(sim_->model().keepTurns(), "%.3g") +
+              " turns of wound wire stay live, older wire retires) after " +
               cws::formatNumber(std::abs(sim_->coreTurns()), "%.4g") +
               " turns; reset or restore to wind again, or start the cell with a larger "
               "~max_points (at most " +

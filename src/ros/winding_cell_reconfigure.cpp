@@ -104,7 +104,8 @@ void WindingCell::onReconfigure(Config& c) {
   if (c.damping_translational != applied_.damping_translational ||
       c.damping_rotational != applied_.damping_rotational) {
     try {
-      sim_->setDamping(cws::DampingParams{c.damping_translational, c.damping_rotational});
+      // (Through apply: logged, so that a job's error estimate repeats it.)
+      sim_->apply(cws::Setpoint::damping(c.damping_translational, c.damping_rotational));
       scene_.damping = sim_->scene().damping;
     } catch (const cws::SceneError& e) {
       refused.push_back(std::string("damping: ") + e.what());

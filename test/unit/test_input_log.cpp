@@ -71,6 +71,35 @@ TEST(InputLog, ReplayIsTheRunThatReceivedTheInputs) {
   EXPECT_GT(moved, 1e-4);
 }
 
+// A damping change (the node's dynamic_reconfigure sets one) is an input
+// like the others: logged, and repeated by a replay.
+TEST(InputLog, ADampingChangeIsLoggedAndReplayed) {
+  const cws::Scene scene = cws::loadScene(
+      kDefault, {"solver.integrator=bdf2", "process.duration=0.02", "physics.damping=true",
+                 "damping.translational=1", "damping.rotational=1e-6"});
+  cws::Simulation by_hand(scene);
+  stepTo(by_hand, 0.006);
+  by_hand.apply(cws::Setpoint::damping(20.0, 2e-5));
+  stepTo(by_hand, scene.endTime());
+  ASSERT_EQ(by_hand.inputs().size(), 1u);
+  EXPECT_EQ(by_hand.inputs().inputs()[0].setpoint.kind, cws::Setpoint::Kind::kDamping);
+  EXPECT_STREQ(by_hand.inputs().inputs()[0].setpoint.name(), "damping");
+  EXPECT_EQ(by_hand.scene().damping.translational, 20.0);
+
+  cws::Simulation replayed(scene);
+  ASSERT_TRUE(by_hand.inputs().replay(replayed, scene.endTime()));
+  EXPECT_EQ((replayed.state() - by_hand.state()).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(replayed.scene().damping.rotational, 2e-5);
+
+  // Without it the run ends elsewhere: the change acts.
+  cws::Simulation without(scene);
+  stepTo(without, scene.endTime());
+  EXPECT_GT((without.state() - by_hand.state()).cwiseAbs().maxCoeff(), 0.0);
+  // A refused value is not logged.
+  EXPECT_THROW(by_hand.apply(cws::Setpoint::damping(-1.0, 0.0)), cws::SceneError);
+  EXPECT_EQ(by_hand.inputs().size(), 1u);
+}
+
 TEST(InputLog, ASimulationThatKeepsNoInputsLogsNone) {
   cws::Simulation sim(shortCase());
   sim.keepInputs(false);

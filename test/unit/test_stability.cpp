@@ -220,7 +220,8 @@ TEST(Stability, StorageLimitNamesItsKey) {
     ADD_FAILURE() << "one turn was expected to need more than 40 points";
   } catch (const cws::IntegrationError& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find("needs more than 40 points: raise supply.max_points"), std::string::npos)
+    EXPECT_NE(msg.find("needs more than 40 live points: raise supply.max_points"),
+              std::string::npos)
         << msg;
     EXPECT_EQ(msg.find("diverged"), std::string::npos) << msg;
     EXPECT_EQ(sim.model().constants().n, 40);

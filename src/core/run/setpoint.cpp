@@ -20,12 +20,16 @@ void Setpoint::applyTo(Simulation& sim) const {
     case Kind::kFriction:
       sim.setFriction(value, value2);
       return;
+    case Kind::kDamping:
+      sim.setDamping(DampingParams{value, value2});
+      return;
   }
 }
 
 const char* Setpoint::name() const {
   // In the order of Kind's values.
-  static const char* const kNames[] = {"core speed", "supply tension", "port position", "friction"};
+  static const char* const kNames[] = {"core speed", "supply tension", "port position", "friction",
+                                       "damping"};
   const auto i = static_cast<std::size_t>(kind);
   return i < sizeof kNames / sizeof kNames[0] ? kNames[i] : "setpoint";
 }

@@ -64,16 +64,21 @@ double Scene::pointCapacity() const {
   const double n = initialPoints();
   if (!physics.supply) return n;
   if (supply.max_points > 0) return std::max(n, static_cast<double>(supply.max_points));
+  const double estimate = wirePointsEstimate();
+  // Where buried wire retires from the live arrays, a long job needs no more
+  // live points than a few hundred turns hold.
+  if (carriesWoundWire()) return std::min(estimate, std::max(n, double{kAutoLivePoints}));
+  return estimate;
+}
+
+double Scene::wirePointsEstimate() const {
+  if (!physics.supply) return initialPoints();
   // At the fastest core speed the job commands.
   double rpm = std::abs(process.core_speed_rpm);
   for (const ProcessCommand& c : process.commands) {
     if (c.core_speed_rpm) rpm = std::max(rpm, std::abs(*c.core_speed_rpm));
   }
-  const double estimate = pointCapacityForAngle(rpmToRadPerSec(rpm) * endTime());
-  // Where buried wire retires from the live arrays, a long job needs no more
-  // live points than a few hundred turns hold.
-  if (carriesWoundWire()) return std::min(estimate, std::max(n, double{kAutoLivePoints}));
-  return estimate;
+  return pointCapacityForAngle(rpmToRadPerSec(rpm) * endTime());
 }
 
 bool Scene::carriesWoundWire() const {

@@ -313,6 +313,16 @@ void supplyStorage(const Scene& s) {
                                               " is above the limit of " +
                                               std::to_string(kMaxScenePoints) + " points");
   }
+  // Wire that retires from the live points keeps a record of about 100
+  // bytes a point: the whole wire's points are bounded too.
+  const double wire = s.wirePointsEstimate();
+  if (s.carriesWoundWire() && !(wire <= kMaxWirePoints)) {
+    throw SceneError(s.process.duration ? "process.duration" : "process.turns",
+                     "the wire drawn in during the run needs an estimated " + fmt(wire) +
+                         " points, more than the limit of " + fmt(kMaxWirePoints) +
+                         " a run may wind (the estimate comes from " + kSupplyEstimateKeys +
+                         "); shorten the run");
+  }
   const double capacity = s.pointCapacity();
   if (!(capacity <= kMaxScenePoints)) {
     throw SceneError(s.process.duration ? "process.duration" : "process.turns",

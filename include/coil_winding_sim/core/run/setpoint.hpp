@@ -19,6 +19,7 @@ struct Setpoint {
     kSupplyTension,  // value [N]
     kPortPosition,   // p_world [m] reached at the time `value` [s]
     kFriction,       // value static, value2 kinetic coefficient [-]
+    kDamping,        // value translational [N s/m^2], value2 rotational [N m s/m]
   };
   Kind kind = Kind::kCoreSpeed;
   double value = 0.0;
@@ -32,6 +33,9 @@ struct Setpoint {
   }
   static Setpoint friction(double mu_static, double mu_kinetic) {
     return {Kind::kFriction, mu_static, mu_kinetic};
+  }
+  static Setpoint damping(double translational, double rotational) {
+    return {Kind::kDamping, translational, rotational};
   }
 
   // Applies it to `sim` now; throws what the simulation's setter throws

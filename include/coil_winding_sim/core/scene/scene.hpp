@@ -23,6 +23,9 @@ constexpr int kMaxScenePoints = 100000;
 // WireModel::retireBuriedWire): the wire older than that lives on in a
 // compact store of about 100 bytes a point.
 constexpr int kAutoLivePoints = 30000;
+// The most points of wire a job may wind, retired ones included: about
+// 1 GB of their records, some 170,000 turns of the paper's core.
+constexpr double kMaxWirePoints = 1.0e7;
 
 // A scene that cannot be run. key() names the offending YAML key path.
 class SceneError : public std::runtime_error {
@@ -294,6 +297,10 @@ struct Scene {
   // endTime().
   double initialPoints() const;
   double pointCapacity() const;
+  // The points of the whole wire at the job's end (retired ones included),
+  // estimated from the core's size, the fastest commanded speed and the
+  // job's length.
+  double wirePointsEstimate() const;
   // Does the core carry wound wire rigidly (solver.carry_stuck_wire, where
   // friction holds it on a core that also holds the fixed end)? Only then
   // can buried wire retire from the live arrays.
