@@ -184,19 +184,23 @@ std::string WindingCell::cellState(std::string& message) const {
   return S::RUNNING;
 }
 
-// cell_status (latched), whenever the state changes.
+// cell_status (latched), whenever the state changes, and once a second
+// while the cell winds.
 void WindingCell::publishStatus() {
   std::lock_guard<std::mutex> lock(sim_mutex_);
   coil_winding_sim::CellStatus s;
   s.state = cellState(s.message);
   const JobErrorEstimator::Latest estimate =
       estimator_ ? estimator_->latest() : JobErrorEstimator::Latest{};
-  // (A slow cell's figures are sent again once a second of wall time.)
+  // (A winding cell's figures are sent again once a second of wall time:
+  // its real-time factor is the one of winding_metrics and /diagnostics,
+  // not the one it had when its state last changed.)
   const double now = wallNow();
-  const bool slow_again =
-      s.state == coil_winding_sim::CellStatus::SLOW && now - status_wall_s_ >= 1.0;
+  const bool winding = s.state == coil_winding_sim::CellStatus::SLOW ||
+                       s.state == coil_winding_sim::CellStatus::RUNNING;
+  const bool again = winding && now - status_wall_s_ >= 1.0;
   if (s.state == last_status_ && refused_ == last_refused_ &&
-      estimate.count == last_estimate_count_ && !slow_again) {
+      estimate.count == last_estimate_count_ && !again) {
     return;
   }
   status_wall_s_ = now;
