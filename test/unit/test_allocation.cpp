@@ -108,6 +108,27 @@ TEST(Allocation, WireContactStepsAllocateNothing) {
   EXPECT_GT(sim.model().carriedPoints(), carried0 + 50) << "the core should take on wire";
 }
 
+// Steps through which buried wire retires from the live arrays (a live
+// storage of 1,300 points on a five-layer coil, RetiredWire.*): the
+// retired wire's records were reserved for the job, the rest moves in place.
+TEST(Allocation, RetiringStepsAllocateNothing) {
+  cws::Simulation sim(
+      cws::loadScene(std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml",
+                     {"process.winding_width=6e-3", "process.layers=5", "process.turns=27",
+                      "core.flange_height=8e-3", "supply.max_points=1300"}));
+  while (sim.model().constants().n < 1200) sim.step(sim.endTime());
+  ASSERT_EQ(sim.model().retiredPoints(), 0);
+  allocations = 0;
+  counting = true;
+  while (sim.model().retiredPoints() == 0 && sim.time() < sim.endTime()) sim.step(sim.endTime());
+  for (int i = 0; i < 500; ++i) sim.step(sim.endTime());
+  counting = false;
+  std::printf("allocation: retiring, %ld allocations, %d points retired\n", allocations.load(),
+              sim.model().retiredPoints());
+  EXPECT_GT(sim.model().retiredPoints(), 0);
+  EXPECT_EQ(allocations.load(), 0);
+}
+
 // Contact between free segments in a Newton step (the couplings outside
 // the band, solved through the Woodbury identity): implicit_euler on the
 // stability matrix's two-layer coil, whose third turn lands on the second

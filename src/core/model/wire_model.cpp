@@ -77,6 +77,13 @@ WireModel::WireModel(const Scene& s)
     section_ = std::make_unique<CoreSection>(s.core);
   }
 
+  // The retired wire's records for the job's whole wire, reserved (only
+  // written pages take memory): a job with an end never grows the store
+  // within a step; a cell that runs until stopped grows it by doubling.
+  if (carry_) {
+    retired_.reserve(
+        static_cast<int>(std::clamp(s.wirePointsEstimate() - c_.capacity, 0.0, kMaxWirePoints)));
+  }
   effects_ = makeEffects(s, EffectContext{c_, core_.get(), &carried_.positionsCore()});
   all_ = effects_.list();
   stretching_ = effects_.find<Stretching>();
