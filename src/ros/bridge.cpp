@@ -9,9 +9,9 @@
 #include <limits>
 #include <sstream>
 
-#include "coil_winding_sim/core/model/core_geometry.hpp"
 #include "coil_winding_sim/core/run/coil_report.hpp"
 #include "coil_winding_sim/core/run/output.hpp"
+#include "coil_winding_sim/core/scene/core_geometry.hpp"
 #include "marker_style.hpp"
 
 namespace cws_ros {

@@ -22,7 +22,7 @@
 
 #include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/WireTension.h"
-#include "coil_winding_sim/core/text_format.hpp"
+#include "coil_winding_sim/core/base/text_format.hpp"
 
 namespace cws_ros {
 

@@ -9,7 +9,7 @@
 #include <mutex>
 #include <new>
 
-#include "coil_winding_sim/core/checksum.hpp"
+#include "coil_winding_sim/core/base/checksum.hpp"
 
 namespace cws_ros {
 

@@ -8,9 +8,9 @@
 #include <deque>
 #include <limits>
 
+#include "coil_winding_sim/core/base/text_format.hpp"
 #include "coil_winding_sim/core/external_forces/supply.hpp"
-#include "coil_winding_sim/core/run/setpoint_limits.hpp"
-#include "coil_winding_sim/core/text_format.hpp"
+#include "coil_winding_sim/core/scene/setpoint_limits.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/winding_cell.hpp"
 

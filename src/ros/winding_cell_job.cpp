@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <limits>
 
-#include "coil_winding_sim/core/text_format.hpp"
+#include "coil_winding_sim/core/base/text_format.hpp"
 #include "coil_winding_sim/ros/winding_cell.hpp"
 
 namespace cws_ros {

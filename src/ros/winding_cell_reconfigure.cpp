@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/text_format.hpp"
+#include "coil_winding_sim/core/base/text_format.hpp"
 #include "coil_winding_sim/ros/winding_cell.hpp"
 
 namespace cws_ros {

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "coil_winding_sim/core/run/setpoint_limits.hpp"
-#include "coil_winding_sim/core/text_format.hpp"
+#include "coil_winding_sim/core/base/text_format.hpp"
+#include "coil_winding_sim/core/scene/setpoint_limits.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/winding_cell.hpp"
 

@@ -12,10 +12,10 @@
 #include <sstream>
 
 #include "calibration_solver.hpp"
+#include "coil_winding_sim/core/base/text_format.hpp"
 #include "coil_winding_sim/core/run/output.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/core/scene/scene_keys.hpp"
-#include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/ros/machine_bag.hpp"
 #include "coil_winding_sim/ros/offline_replay.hpp"
 #include "run_store.hpp"

@@ -10,9 +10,9 @@
 #include <sstream>
 
 #include "calibrate.hpp"
+#include "coil_winding_sim/core/base/text_format.hpp"
 #include "coil_winding_sim/core/run/output.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
-#include "coil_winding_sim/core/text_format.hpp"
 #include "coil_winding_sim/ros/node_options.hpp"
 #include "coil_winding_sim/ros/offline_replay.hpp"
 #include "run_store.hpp"

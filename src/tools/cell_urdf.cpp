@@ -7,7 +7,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/machine/rotating_core.hpp"
 
 namespace cws_tools {
 

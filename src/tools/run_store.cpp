@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "coil_winding_sim/core/checksum.hpp"
+#include "coil_winding_sim/core/base/checksum.hpp"
 #include "coil_winding_sim/core/run/output.hpp"
 
 namespace cws_tools {

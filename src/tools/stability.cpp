@@ -11,14 +11,14 @@
 #include <iterator>
 #include <sstream>
 
+#include "coil_winding_sim/core/base/text_format.hpp"
 #include "coil_winding_sim/core/run/command_schedule.hpp"
 #include "coil_winding_sim/core/run/output.hpp"
 #include "coil_winding_sim/core/run/run_checks.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
+#include "coil_winding_sim/core/scene/integrators.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/core/scene/stability_cases.hpp"
-#include "coil_winding_sim/core/text_format.hpp"
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "run_store.hpp"
 #include "stability_report.hpp"
 #include "sweep.hpp"

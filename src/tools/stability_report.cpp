@@ -7,8 +7,8 @@
 #include <sstream>
 #include <thread>
 
+#include "coil_winding_sim/core/base/text_format.hpp"
 #include "coil_winding_sim/core/run/output.hpp"
-#include "coil_winding_sim/core/text_format.hpp"
 
 namespace cws_tools {
 

@@ -15,10 +15,10 @@
 #include <map>
 #include <sstream>
 
+#include "coil_winding_sim/core/base/text_format.hpp"
 #include "coil_winding_sim/core/run/output.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
-#include "coil_winding_sim/core/text_format.hpp"
 #include "run_store.hpp"
 
 namespace cws_tools {

@@ -29,11 +29,11 @@
 
 #include "calibrate.hpp"
 #include "cell_urdf.hpp"
+#include "coil_winding_sim/core/base/text_format.hpp"
 #include "coil_winding_sim/core/run/output.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
+#include "coil_winding_sim/core/scene/integrators.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
-#include "coil_winding_sim/core/text_format.hpp"
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "coil_winding_sim/ros/offline_replay.hpp"
 #include "stability.hpp"
 #include "study.hpp"

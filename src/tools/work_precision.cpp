@@ -12,7 +12,7 @@
 
 #include "coil_winding_sim/core/run/output.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
+#include "coil_winding_sim/core/scene/integrators.hpp"
 #include "parallel.hpp"
 
 namespace cws_tools {

@@ -21,8 +21,8 @@
 
 #include <random>
 
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
 #include "coil_winding_sim/core/implicit/pair_coupling_solve.hpp"
-#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/linear_algebra/block_tridiagonal_lu.hpp"
 
 namespace {

@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "coil_winding_sim/core/scene/integrators.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
 #include "temp_dir_test.hpp"
 
 namespace cli_test {

@@ -25,9 +25,9 @@
 #include <typeinfo>
 #include <vector>
 
+#include "coil_winding_sim/core/base/ode_system.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
-#include "coil_winding_sim/core/time_steppers/ode_system.hpp"
 #include "temp_dir_test.hpp"
 
 namespace scene_fuzz {

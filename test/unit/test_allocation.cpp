@@ -7,9 +7,9 @@
 #include <new>
 #include <string>
 
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
 #include "coil_winding_sim/core/external_forces/free_wire_contact.hpp"
 #include "coil_winding_sim/core/implicit/pair_coupling_solve.hpp"
-#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 
 // GCC sees the replaced operator delete free() what operator new got from

@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "coil_winding_sim/core/model/core_geometry.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
+#include "coil_winding_sim/core/scene/core_geometry.hpp"
 
 #ifdef CWS_SOURCE_DIR
 namespace {

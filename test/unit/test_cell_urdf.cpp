@@ -15,7 +15,7 @@
 #include <string>
 
 #include "cell_urdf.hpp"
-#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/machine/rotating_core.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "coil_winding_sim/core/model/core_geometry.hpp"
+#include "coil_winding_sim/core/scene/core_geometry.hpp"
 
 namespace {
 // The paper's case: 5 mm cylinders at the corners of a 15 mm x 5 mm

@@ -9,11 +9,11 @@
 #include <random>
 #include <string>
 
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/external_forces/free_wire_contact.hpp"
 #include "coil_winding_sim/core/implicit/pair_coupling_solve.hpp"
-#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
-#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/machine/rotating_core.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 #ifdef CWS_SOURCE_DIR

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/model/hysteresis.hpp"
+#include "coil_winding_sim/core/base/hysteresis.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace {

@@ -4,7 +4,7 @@
 
 #include "coil_winding_sim/core/run/error_estimate.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
+#include "coil_winding_sim/core/scene/integrators.hpp"
 #include "wire_test_support.hpp"
 
 #ifdef CWS_SOURCE_DIR

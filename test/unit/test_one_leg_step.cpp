@@ -8,8 +8,8 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "coil_winding_sim/core/implicit/one_leg_step.hpp"
-#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/assembly/one_leg_step.hpp"
+#include "coil_winding_sim/core/machine/rotating_core.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "coil_winding_sim/core/model/traverse_profile.hpp"
+#include "coil_winding_sim/core/machine/traverse_profile.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 

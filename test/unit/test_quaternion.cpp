@@ -5,7 +5,7 @@
 #include <Eigen/Geometry>
 #include <random>
 
-#include "coil_winding_sim/core/model/quaternion.hpp"
+#include "coil_winding_sim/core/base/quaternion.hpp"
 
 namespace {
 

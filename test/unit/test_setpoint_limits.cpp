@@ -7,9 +7,9 @@
 #include <limits>
 #include <string>
 
-#include "coil_winding_sim/core/run/setpoint_limits.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
+#include "coil_winding_sim/core/scene/setpoint_limits.hpp"
 
 namespace {
 const std::string kDefault = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";

@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "coil_winding_sim/core/base/quaternion.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
-#include "coil_winding_sim/core/model/quaternion.hpp"
 #include "coil_winding_sim/core/run/run_checks.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 #include "coil_winding_sim/core/scene/stability_cases.hpp"

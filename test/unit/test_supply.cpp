@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <string>
 
-#include "coil_winding_sim/core/model/quaternion.hpp"
+#include "coil_winding_sim/core/base/quaternion.hpp"
 #include "wire_test_support.hpp"
 
 namespace {

@@ -8,8 +8,8 @@
 #include <cmath>
 
 #include "cli_test_support.hpp"
+#include "coil_winding_sim/core/base/text_format.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
-#include "coil_winding_sim/core/text_format.hpp"
 #include "sweep.hpp"
 #include "sweep_plan.hpp"
 

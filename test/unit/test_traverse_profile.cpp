@@ -7,7 +7,7 @@
 #include <string>
 
 #include "coil_winding_sim/core/external_forces/supply.hpp"
-#include "coil_winding_sim/core/model/traverse_profile.hpp"
+#include "coil_winding_sim/core/machine/traverse_profile.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 
 namespace {

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
-#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 #ifdef CWS_SOURCE_DIR

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "coil_winding_sim/core/model/quaternion.hpp"
+#include "coil_winding_sim/core/base/quaternion.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 
 namespace cws_test {

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "coil_winding_sim/core/run/recording_misfit.hpp"
-#include "coil_winding_sim/core/run/setpoint_limits.hpp"
+#include "coil_winding_sim/core/scene/setpoint_limits.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 
 namespace cws_ros {

@@ -3,8 +3,8 @@
 // (5) at acceleration level with Baumgarte's stabilization, an implicit
 // step holds (5) exactly at its end. (4), the unit norm, needs no row: the
 // step moves each quaternion by a rotation (SpatialAssembly's frames).
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
-#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 
 namespace cws {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "coil_winding_sim/core/external_forces/elastic_slip.hpp"
-#include "coil_winding_sim/core/model/core_geometry.hpp"
+#include "coil_winding_sim/core/scene/core_geometry.hpp"
 
 namespace cws {
 

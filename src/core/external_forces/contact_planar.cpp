@@ -6,8 +6,8 @@
 // contact are 3-D), so a slot's index is its point's.
 #include <cmath>
 
+#include "coil_winding_sim/core/assembly/planar_assembly.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
-#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
 
 namespace cws {
 

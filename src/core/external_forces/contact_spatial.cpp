@@ -9,10 +9,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
+#include "coil_winding_sim/core/base/quaternion.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/external_forces/elastic_slip.hpp"
-#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
-#include "coil_winding_sim/core/model/quaternion.hpp"
 
 namespace cws {
 

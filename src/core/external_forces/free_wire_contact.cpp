@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
 
 namespace cws {
 

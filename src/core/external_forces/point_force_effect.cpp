@@ -1,7 +1,7 @@
 #include "coil_winding_sim/core/external_forces/point_force_effect.hpp"
 
-#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
-#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
+#include "coil_winding_sim/core/assembly/planar_assembly.hpp"
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
 
 namespace cws {
 

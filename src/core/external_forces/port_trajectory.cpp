@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "coil_winding_sim/core/text_format.hpp"
+#include "coil_winding_sim/core/base/text_format.hpp"
 
 namespace cws {
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "coil_winding_sim/core/base/quaternion.hpp"
 #include "coil_winding_sim/core/implicit/newton_iteration.hpp"
-#include "coil_winding_sim/core/model/quaternion.hpp"
 
 namespace cws {
 

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
-#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
-#include "coil_winding_sim/core/model/quaternion.hpp"
+#include "coil_winding_sim/core/assembly/planar_assembly.hpp"
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
+#include "coil_winding_sim/core/base/quaternion.hpp"
 
 namespace cws {
 

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
-#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
+#include "coil_winding_sim/core/assembly/planar_assembly.hpp"
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
 
 namespace cws {
 

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 
-#include "coil_winding_sim/core/model/core_geometry.hpp"
-#include "coil_winding_sim/core/model/quaternion.hpp"
-#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/base/quaternion.hpp"
+#include "coil_winding_sim/core/machine/rotating_core.hpp"
+#include "coil_winding_sim/core/scene/core_geometry.hpp"
 
 namespace cws {
 

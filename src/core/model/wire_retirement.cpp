@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "coil_winding_sim/core/external_forces/contact.hpp"
-#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/machine/rotating_core.hpp"
 #include "coil_winding_sim/core/model/wire_model.hpp"
 
 namespace cws {

@@ -7,11 +7,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "coil_winding_sim/core/base/quaternion.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
-#include "coil_winding_sim/core/model/core_geometry.hpp"
-#include "coil_winding_sim/core/model/quaternion.hpp"
-#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/machine/rotating_core.hpp"
 #include "coil_winding_sim/core/model/wire_model.hpp"
+#include "coil_winding_sim/core/scene/core_geometry.hpp"
 
 namespace cws {
 

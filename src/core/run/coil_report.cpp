@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "coil_winding_sim/core/external_forces/contact.hpp"
-#include "coil_winding_sim/core/model/traverse_profile.hpp"
+#include "coil_winding_sim/core/machine/traverse_profile.hpp"
 #include "coil_winding_sim/core/model/wire_model.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 

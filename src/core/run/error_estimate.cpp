@@ -8,7 +8,7 @@
 #include "coil_winding_sim/core/run/coil_report.hpp"
 #include "coil_winding_sim/core/run/input_log.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
+#include "coil_winding_sim/core/scene/integrators.hpp"
 
 namespace cws {
 

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
+#include "coil_winding_sim/core/scene/integrators.hpp"
 
 namespace cws {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
+#include "coil_winding_sim/core/scene/integrators.hpp"
 
 namespace cws {
 

@@ -1,6 +1,6 @@
 #include "coil_winding_sim/core/run/setpoint_inbox.hpp"
 
-#include "coil_winding_sim/core/text_format.hpp"
+#include "coil_winding_sim/core/base/text_format.hpp"
 
 namespace cws {
 

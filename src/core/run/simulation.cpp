@@ -8,8 +8,8 @@
 
 #include "coil_winding_sim/core/external_forces/free_wire_contact.hpp"
 #include "coil_winding_sim/core/run/run_checks.hpp"
-#include "coil_winding_sim/core/run/setpoint_limits.hpp"
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
+#include "coil_winding_sim/core/scene/integrators.hpp"
+#include "coil_winding_sim/core/scene/setpoint_limits.hpp"
 
 namespace cws {
 

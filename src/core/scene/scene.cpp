@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "coil_winding_sim/core/model/quaternion.hpp"
+#include "coil_winding_sim/core/base/quaternion.hpp"
 #include "scene_detail.hpp"
 
 namespace cws {

@@ -10,7 +10,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
+#include "coil_winding_sim/core/scene/integrators.hpp"
 #include "scene_detail.hpp"
 
 namespace cws {

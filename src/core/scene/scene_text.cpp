@@ -2,7 +2,7 @@
 // shows them.
 #include <cstdio>
 
-#include "coil_winding_sim/core/text_format.hpp"
+#include "coil_winding_sim/core/base/text_format.hpp"
 #include "scene_detail.hpp"
 
 namespace cws::detail {

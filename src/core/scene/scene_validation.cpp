@@ -5,9 +5,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "coil_winding_sim/core/model/core_geometry.hpp"
-#include "coil_winding_sim/core/run/setpoint_limits.hpp"
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
+#include "coil_winding_sim/core/scene/core_geometry.hpp"
+#include "coil_winding_sim/core/scene/integrators.hpp"
+#include "coil_winding_sim/core/scene/setpoint_limits.hpp"
 #include "scene_detail.hpp"
 
 namespace cws {

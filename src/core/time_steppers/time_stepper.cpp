@@ -4,7 +4,10 @@
 #include <cmath>
 #include <sstream>
 
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
+#include "coil_winding_sim/core/time_steppers/implicit_stepper.hpp"
+#include "coil_winding_sim/core/time_steppers/rkf45.hpp"
+#include "coil_winding_sim/core/time_steppers/rosenbrock2.hpp"
+#include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
 
 namespace cws {
 
@@ -31,9 +34,20 @@ void throwStepFloor(const char* method, double min_step, double t, double e, dou
 }
 
 std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, OdeSystem& sys) {
-  const IntegratorInfo* info = findIntegrator(p.integrator);
-  if (!info) throw std::invalid_argument("unknown integrator '" + p.integrator + "'");
-  return info->make(p, sys);
+  // The stepper of each integrator of the scene's catalogue
+  // (scene/integrators.hpp), by its name there.
+  const std::string& name = p.integrator;
+  if (name == "rkf45") return std::make_unique<Rkf45>(p, sys.capacity());
+  if (name == "symplectic_euler") return std::make_unique<SymplecticEuler>(p, sys.capacity());
+  if (name == "rosenbrock2") return std::make_unique<Rosenbrock2>(p, sys);
+  using Scheme = ImplicitStepper::Scheme;
+  if (name == "implicit_euler")
+    return std::make_unique<ImplicitStepper>(p, sys, Scheme::kBackwardEuler);
+  if (name == "bdf2") return std::make_unique<ImplicitStepper>(p, sys, Scheme::kBdf2);
+  if (name == "generalized_alpha") {
+    return std::make_unique<ImplicitStepper>(p, sys, Scheme::kGeneralizedAlpha);
+  }
+  throw std::invalid_argument("unknown integrator '" + name + "'");
 }
 
 }  // namespace cws

@@ -36,8 +36,8 @@
 
 #include <vector>
 
-#include "coil_winding_sim/core/model/quaternion.hpp"
-#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/base/quaternion.hpp"
+#include "coil_winding_sim/core/base/wire_types.hpp"
 
 namespace cws {
 

@@ -13,9 +13,9 @@
 #include <limits>
 #include <vector>
 
+#include "coil_winding_sim/core/base/wire_types.hpp"
 #include "coil_winding_sim/core/external_forces/carried_wire_index.hpp"
-#include "coil_winding_sim/core/model/rotating_core.hpp"
-#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/machine/rotating_core.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {

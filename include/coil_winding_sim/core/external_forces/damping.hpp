@@ -2,7 +2,7 @@
 // translational and rotational, proportional to the length a point stands for.
 #pragma once
 
-#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/base/wire_types.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/base/wire_types.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {

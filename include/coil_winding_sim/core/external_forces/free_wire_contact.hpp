@@ -38,8 +38,8 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "coil_winding_sim/core/base/wire_types.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
-#include "coil_winding_sim/core/model/wire_types.hpp"
 
 namespace cws {
 

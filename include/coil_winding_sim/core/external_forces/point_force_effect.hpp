@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/base/wire_types.hpp"
 
 namespace cws {
 

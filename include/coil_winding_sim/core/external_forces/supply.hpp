@@ -14,12 +14,12 @@
 // samples instead.
 #pragma once
 
+#include "coil_winding_sim/core/base/hysteresis.hpp"
+#include "coil_winding_sim/core/base/wire_types.hpp"
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
 #include "coil_winding_sim/core/external_forces/port_trajectory.hpp"
-#include "coil_winding_sim/core/model/hysteresis.hpp"
-#include "coil_winding_sim/core/model/rotating_core.hpp"
-#include "coil_winding_sim/core/model/traverse_profile.hpp"
-#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/machine/rotating_core.hpp"
+#include "coil_winding_sim/core/machine/traverse_profile.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {

@@ -9,7 +9,7 @@
 
 #include <Eigen/Core>
 
-#include "coil_winding_sim/core/implicit/one_leg_step.hpp"
+#include "coil_winding_sim/core/assembly/one_leg_step.hpp"
 
 namespace cws {
 

@@ -15,7 +15,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
 
 namespace cws {
 

@@ -17,9 +17,9 @@
 #include <algorithm>
 #include <vector>
 
+#include "coil_winding_sim/core/assembly/planar_assembly.hpp"
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
 #include "coil_winding_sim/core/implicit/newton_iteration.hpp"
-#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
 #include "coil_winding_sim/core/model/newton_model_view.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 

@@ -13,11 +13,11 @@
 #include <algorithm>
 #include <vector>
 
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
 #include "coil_winding_sim/core/implicit/newton_formulation.hpp"
 #include "coil_winding_sim/core/implicit/newton_iteration.hpp"
 #include "coil_winding_sim/core/implicit/pair_coupling_solve.hpp"
 #include "coil_winding_sim/core/implicit/secant_steps.hpp"
-#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
 #include "coil_winding_sim/core/model/newton_model_view.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 

@@ -3,8 +3,8 @@
 
 #include <vector>
 
-#include "coil_winding_sim/core/model/hysteresis.hpp"
-#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/base/hysteresis.hpp"
+#include "coil_winding_sim/core/base/wire_types.hpp"
 
 namespace cws {
 

@@ -10,7 +10,7 @@
 #include <limits>
 #include <vector>
 
-#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/base/wire_types.hpp"
 
 namespace cws {
 

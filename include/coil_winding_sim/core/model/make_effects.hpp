@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/base/wire_types.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {

@@ -15,21 +15,21 @@
 #include <memory>
 #include <vector>
 
+#include "coil_winding_sim/core/base/ode_system.hpp"
+#include "coil_winding_sim/core/base/wire_types.hpp"
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/external_forces/supply.hpp"
 #include "coil_winding_sim/core/inner_forces/bending.hpp"
 #include "coil_winding_sim/core/inner_forces/stretching.hpp"
 #include "coil_winding_sim/core/inner_forces/twisting.hpp"
+#include "coil_winding_sim/core/machine/rotating_core.hpp"
 #include "coil_winding_sim/core/model/carried_wire.hpp"
-#include "coil_winding_sim/core/model/core_geometry.hpp"
 #include "coil_winding_sim/core/model/make_effects.hpp"
 #include "coil_winding_sim/core/model/newton_model_view.hpp"
 #include "coil_winding_sim/core/model/retired_wire.hpp"
-#include "coil_winding_sim/core/model/rotating_core.hpp"
-#include "coil_winding_sim/core/model/wire_types.hpp"
+#include "coil_winding_sim/core/scene/core_geometry.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
-#include "coil_winding_sim/core/time_steppers/ode_system.hpp"
 
 namespace cws {
 

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "coil_winding_sim/core/base/hysteresis.hpp"
+
 namespace cws {
 
 // The most mass points a scene may ask for. Storage grows with the points
@@ -43,12 +45,6 @@ class SceneError : public std::runtime_error {
 // Two-line (bilinear, kinematic-hardening) law of one deformation mode, per
 // unit length: generalized strain x (strain [-], curvature [1/m] or twist
 // [rad/m]) against generalized stress (force [N] or moment [N m]).
-struct HysteresisParams {
-  double elastic_rigidity = 0.0;  // slope of the elastic line [N] or [N m^2]
-  double plastic_rigidity = 0.0;  // slope of the plastic lines, <= elastic
-  double yield = 0.0;             // first yield, strain [-], [1/m] or [rad/m]
-};
-
 struct WireParams {
   double diameter = 1.0e-3;                          // [m]
   double line_density = 7.02e-3;                     // [kg/m] (Table 1, corrected)

@@ -4,8 +4,8 @@
 #include <memory>
 #include <string>
 
+#include "coil_winding_sim/core/base/ode_system.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
-#include "coil_winding_sim/core/time_steppers/ode_system.hpp"
 
 namespace cws {
 

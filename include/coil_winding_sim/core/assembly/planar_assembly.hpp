@@ -15,7 +15,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "coil_winding_sim/core/implicit/one_leg_step.hpp"
+#include "coil_winding_sim/core/assembly/one_leg_step.hpp"
 #include "coil_winding_sim/core/linear_algebra/block_tridiagonal_lu.hpp"
 
 namespace cws {

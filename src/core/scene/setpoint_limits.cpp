@@ -1,8 +1,8 @@
-#include "coil_winding_sim/core/run/setpoint_limits.hpp"
+#include "coil_winding_sim/core/scene/setpoint_limits.hpp"
 
 #include <cmath>
 
-#include "coil_winding_sim/core/text_format.hpp"
+#include "coil_winding_sim/core/base/text_format.hpp"
 
 namespace cws {
 

@@ -22,7 +22,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "coil_winding_sim/core/model/quaternion.hpp"
+#include "coil_winding_sim/core/base/quaternion.hpp"
 
 namespace cws {
 

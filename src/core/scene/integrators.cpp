@@ -1,38 +1,13 @@
-#include "coil_winding_sim/core/time_steppers/integrators.hpp"
-
-#include "coil_winding_sim/core/time_steppers/implicit_stepper.hpp"
-#include "coil_winding_sim/core/time_steppers/rkf45.hpp"
-#include "coil_winding_sim/core/time_steppers/rosenbrock2.hpp"
-#include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
+#include "coil_winding_sim/core/scene/integrators.hpp"
 
 namespace cws {
 
 namespace {
-std::unique_ptr<TimeStepper> makeRkf45(const SolverParams& p, OdeSystem& sys) {
-  return std::make_unique<Rkf45>(p, sys.capacity());
-}
-std::unique_ptr<TimeStepper> makeSymplecticEuler(const SolverParams& p, OdeSystem& sys) {
-  return std::make_unique<SymplecticEuler>(p, sys.capacity());
-}
-std::unique_ptr<TimeStepper> makeRosenbrock2(const SolverParams& p, OdeSystem& sys) {
-  return std::make_unique<Rosenbrock2>(p, sys);
-}
-std::unique_ptr<TimeStepper> makeImplicitEuler(const SolverParams& p, OdeSystem& sys) {
-  return std::make_unique<ImplicitStepper>(p, sys, ImplicitStepper::Scheme::kBackwardEuler);
-}
-std::unique_ptr<TimeStepper> makeBdf2(const SolverParams& p, OdeSystem& sys) {
-  return std::make_unique<ImplicitStepper>(p, sys, ImplicitStepper::Scheme::kBdf2);
-}
-
-std::unique_ptr<TimeStepper> makeGeneralizedAlpha(const SolverParams& p, OdeSystem& sys) {
-  return std::make_unique<ImplicitStepper>(p, sys, ImplicitStepper::Scheme::kGeneralizedAlpha);
-}
-// A row: name, description, the solver keys it reads and its maker; the
-// caller sets its traits by name on the row returned.
+// A row: name, description and the solver keys it reads; the caller sets
+// its traits by name on the row returned.
 IntegratorInfo& row(std::vector<IntegratorInfo>& r, const char* name, const char* description,
-                    std::vector<const char*> keys,
-                    std::unique_ptr<TimeStepper> (*make)(const SolverParams&, OdeSystem&)) {
-  r.push_back({name, description, std::move(keys), make});
+                    std::vector<const char*> keys) {
+  r.push_back({name, description, std::move(keys)});
   return r.back();
 }
 
@@ -41,14 +16,13 @@ std::vector<IntegratorInfo> registry() {
   const std::vector<const char*> adaptive = {"rtol",     "atol",         "min_step",
                                              "max_step", "initial_step", "baumgarte_nu"};
   row(r, "rkf45", "the paper's Runge-Kutta-Fehlberg 4(5), error-controlled; the reference",
-      adaptive, makeRkf45)
+      adaptive)
       .error_controlled = true;
   row(r, "symplectic_euler", "fixed-step semi-implicit Euler below the explicit limit l / c",
-      {"fixed_step", "baumgarte_nu"}, makeSymplecticEuler)
+      {"fixed_step", "baumgarte_nu"})
       .explicit_fixed_step = true;
   row(r, "rosenbrock2",
-      "linearly implicit Rosenbrock-W, banded Jacobian; stiff scenes without friction", adaptive,
-      makeRosenbrock2)
+      "linearly implicit Rosenbrock-W, banded Jacobian; stiff scenes without friction", adaptive)
       .error_controlled = true;
   // The Newton-step methods' keys (generalized_alpha adds rho_infinity).
   const std::vector<const char*> newton = {
@@ -59,13 +33,12 @@ std::vector<IntegratorInfo> registry() {
   std::vector<const char*> alpha = newton;
   alpha.insert(alpha.begin() + 2, "rho_infinity");
   const std::size_t first_newton = r.size();
-  row(r, "implicit_euler", "backward Euler with Newton steps (first order, L-stable)", newton,
-      makeImplicitEuler);
-  row(r, "bdf2", "variable-step BDF2 with Newton steps (second order, L-stable)", newton, makeBdf2);
+  row(r, "implicit_euler", "backward Euler with Newton steps (first order, L-stable)", newton);
+  row(r, "bdf2", "variable-step BDF2 with Newton steps (second order, L-stable)", newton);
   row(r, "generalized_alpha",
       "generalized-alpha with Newton steps (second order, high frequencies damped to "
       "rho_infinity)",
-      alpha, makeGeneralizedAlpha);
+      alpha);
   for (std::size_t k = first_newton; k < r.size(); ++k) {
     r[k].newton_steps = true;
     r[k].numerically_dissipative = true;

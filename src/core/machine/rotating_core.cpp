@@ -1,10 +1,10 @@
-#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/machine/rotating_core.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "coil_winding_sim/core/model/quaternion.hpp"
+#include "coil_winding_sim/core/base/quaternion.hpp"
 
 namespace cws {
 

@@ -1,4 +1,4 @@
-#include "coil_winding_sim/core/implicit/planar_assembly.hpp"
+#include "coil_winding_sim/core/assembly/planar_assembly.hpp"
 
 namespace cws {
 

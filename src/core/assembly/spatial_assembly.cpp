@@ -1,8 +1,8 @@
-#include "coil_winding_sim/core/implicit/spatial_assembly.hpp"
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
 
 #include <algorithm>
 
-#include "coil_winding_sim/core/model/quaternion.hpp"
+#include "coil_winding_sim/core/base/quaternion.hpp"
 
 namespace cws {
 

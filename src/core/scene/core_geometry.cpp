@@ -1,4 +1,4 @@
-#include "coil_winding_sim/core/model/core_geometry.hpp"
+#include "coil_winding_sim/core/scene/core_geometry.hpp"
 
 #include <algorithm>
 #include <cmath>

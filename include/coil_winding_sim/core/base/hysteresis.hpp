@@ -16,9 +16,14 @@
 // Fig. 5). The only state is x_u.
 #pragma once
 
-#include "coil_winding_sim/core/scene/scene.hpp"
-
 namespace cws {
+
+// One law's numbers (the scene's wire.stretch, wire.bend, wire.torsion).
+struct HysteresisParams {
+  double elastic_rigidity = 0.0;  // slope of the elastic line [N] or [N m^2]
+  double plastic_rigidity = 0.0;  // slope of the plastic lines, <= elastic
+  double yield = 0.0;             // first yield, strain [-], [1/m] or [rad/m]
+};
 
 class TwoLineLaw {
  public:

@@ -1,9 +1,9 @@
-#include "coil_winding_sim/core/implicit/one_leg_step.hpp"
+#include "coil_winding_sim/core/assembly/one_leg_step.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "coil_winding_sim/core/model/rotating_core.hpp"
+#include "coil_winding_sim/core/machine/rotating_core.hpp"
 
 namespace cws {
 

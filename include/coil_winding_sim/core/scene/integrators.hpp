@@ -1,11 +1,12 @@
-// The one registry of time integrators: each one's name (solver.integrator),
-// a line of description, the solver keys it reads, the scenes it takes and
-// how it is built. Scene validation, the stepper factory, the simulation's
-// messages and the tools read it; adding an integrator adds one entry here
-// and its file in this folder.
+// The one catalogue of time integrators a scene may name: each one's name
+// (solver.integrator), a line of description, the solver keys it reads and
+// its traits (the scenes it takes). Scene validation, the simulation's
+// messages and the tools read it. The steppers themselves live above, in
+// time_steppers/ (makeTimeStepper builds the one named here): adding an
+// integrator adds its row here, its file there and its line in
+// makeTimeStepper.
 #pragma once
 
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,14 +14,10 @@
 
 namespace cws {
 
-class OdeSystem;
-class TimeStepper;
-
 struct IntegratorInfo {
   const char* name;
   const char* description;
   std::vector<const char*> keys;  // the solver keys it reads
-  std::unique_ptr<TimeStepper> (*make)(const SolverParams& p, OdeSystem& sys) = nullptr;
   // Its traits, each set by name in its row (integrators.cpp).
   // Fixed step solver.fixed_step, explicit: refused above the stability
   // limit l / c.
