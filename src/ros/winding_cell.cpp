@@ -89,9 +89,9 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
   status_pub_ = nh_.advertise<coil_winding_sim::CellStatus>("cell_status", 1, true);
   joints_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
   if (o_.publish_clock) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
-  speed_sub_ = nh_.subscribe("core_speed_setpoint", 100, &WindingCell::onSpeed, this);
-  tension_sub_ = nh_.subscribe("tension_setpoint", 100, &WindingCell::onTension, this);
-  port_sub_ = nh_.subscribe("port_position_setpoint", 100, &WindingCell::onPort, this);
+  for (const cws::SetpointRow& row : cws::setpointTable()) {
+    if (*row.topic) setpoint_subs_.push_back(subscribeSetpoint(row));
+  }
   trajectory_sub_ = nh_.subscribe("joint_trajectory", 100, &WindingCell::onTrajectory, this);
   if (o_.machine_inputs) {
     // The machine's commands (docs/MACHINE_INTERFACE.md) as setpoints.

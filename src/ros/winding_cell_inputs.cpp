@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <deque>
 #include <limits>
+#include <stdexcept>
 
 #include "coil_winding_sim/core/base/text_format.hpp"
 #include "coil_winding_sim/core/external_forces/supply.hpp"
@@ -26,16 +27,39 @@ ros::Time rosTime(std::int64_t ns) {
 }
 }  // namespace
 
-void WindingCell::onSpeed(const coil_winding_sim::CoreSpeedSetpoint::ConstPtr& msg) {
-  speedInput("core_speed_setpoint", msg->angular_velocity, msg->header.stamp);
-}
-
-void WindingCell::onTension(const coil_winding_sim::TensionSetpoint::ConstPtr& msg) {
-  tensionInput("tension_setpoint", msg->tension, msg->header.stamp);
-}
-
-void WindingCell::onPort(const geometry_msgs::PointStamped::ConstPtr& msg) {
-  portInput("port_position_setpoint", *msg);
+// The setpoint topics, one per row of the setpoint table that names one
+// (cws::setpointTable): each row's message and field is read here, the
+// value checked and queued as every setpoint is.
+ros::Subscriber WindingCell::subscribeSetpoint(const cws::SetpointRow& row) {
+  const std::string topic = row.topic;
+  switch (row.kind) {
+    case cws::Setpoint::Kind::kCoreSpeed:
+      return nh_.subscribe<coil_winding_sim::CoreSpeedSetpoint>(
+          topic, 100,
+          boost::function<void(const coil_winding_sim::CoreSpeedSetpoint::ConstPtr&)>(
+              [this, topic](const coil_winding_sim::CoreSpeedSetpoint::ConstPtr& msg) {
+                valueInput(topic, cws::Setpoint::coreSpeed(msg->angular_velocity),
+                           msg->header.stamp);
+              }));
+    case cws::Setpoint::Kind::kSupplyTension:
+      return nh_.subscribe<coil_winding_sim::TensionSetpoint>(
+          topic, 100,
+          boost::function<void(const coil_winding_sim::TensionSetpoint::ConstPtr&)>(
+              [this, topic](const coil_winding_sim::TensionSetpoint::ConstPtr& msg) {
+                valueInput(topic, cws::Setpoint::supplyTension(msg->tension), msg->header.stamp);
+              }));
+    case cws::Setpoint::Kind::kPortPosition:
+      return nh_.subscribe<geometry_msgs::PointStamped>(
+          topic, 100,
+          boost::function<void(const geometry_msgs::PointStamped::ConstPtr&)>(
+              [this, topic](const geometry_msgs::PointStamped::ConstPtr& msg) {
+                portInput(topic, *msg);
+              }));
+    default:
+      break;
+  }
+  throw std::logic_error(std::string("the setpoint table names topic ") + topic + " for " +
+                         row.name + ", but the node reads no message for it");
 }
 
 // The machine's commands (~machine_inputs): converted by the bridge, then
@@ -49,11 +73,12 @@ void WindingCell::onMachineSpindle(const sensor_msgs::JointState::ConstPtr& msg)
                                       cws::formatNumber(speed_setpoint_) + " rad/s");
     return;
   }
-  speedInput(topic, w, msg->header.stamp);
+  valueInput(topic, cws::Setpoint::coreSpeed(w), msg->header.stamp);
 }
 
 void WindingCell::onMachineTension(const coil_winding_sim::TensionSetpoint::ConstPtr& msg) {
-  tensionInput("machine/tension/command", msg->tension, msg->header.stamp);
+  valueInput("machine/tension/command", cws::Setpoint::supplyTension(msg->tension),
+             msg->header.stamp);
 }
 
 void WindingCell::onMachinePort(const geometry_msgs::PointStamped::ConstPtr& msg) {
@@ -63,31 +88,27 @@ void WindingCell::onMachinePort(const geometry_msgs::PointStamped::ConstPtr& msg
 // The scene's limits, without the simulation's lock.
 cws::SetpointLimits WindingCell::limits() const { return {max_speed_, max_tension_}; }
 
-void WindingCell::speedInput(const std::string& topic, double w, const ros::Time& stamp) {
-  if (refusedWhileHolding(topic, cws::formatNumber(w) + " rad/s")) return;
-  const std::string why = cws::coreSpeedRefusal(limits(), w);
-  if (!why.empty()) {
-    warn(warningsOf(topic).value, "refused " + topic + " " + cws::formatNumber(w) +
-                                      " rad/s, which " + why + "; keeping " +
-                                      cws::formatNumber(speed_setpoint_) + " rad/s");
-    return;
-  }
-  if (admitStamp(topic, stamp))
-    inbox_.put({topic, nanoseconds(stamp), cws::Setpoint::coreSpeed(w)});
+// The value in use of a setpoint the node keeps (speed, tension) [its unit].
+double WindingCell::inUse(cws::Setpoint::Kind kind) const {
+  return kind == cws::Setpoint::Kind::kCoreSpeed ? speed_setpoint_.load()
+                                                 : tension_setpoint_.load();
 }
 
-void WindingCell::tensionInput(const std::string& topic, double f, const ros::Time& stamp) {
-  if (refusedWhileHolding(topic, cws::formatNumber(f) + " N")) return;
-  const std::string why = cws::tensionRefusal(limits(), f);
+// A value setpoint (core speed, tension): checked against its row's limit
+// now, queued at its stamp's simulated time.
+void WindingCell::valueInput(const std::string& topic, const cws::Setpoint& setpoint,
+                             const ros::Time& stamp) {
+  const cws::SetpointRow& row = cws::setpointRow(setpoint.kind);
+  const std::string value = cws::formatNumber(setpoint.value) + " " + row.unit;
+  if (refusedWhileHolding(topic, value)) return;
+  const std::string why = row.refusal ? row.refusal(limits(), setpoint) : "";
   if (!why.empty()) {
-    warn(warningsOf(topic).value, "refused " + topic + " " + cws::formatNumber(f) + " N, which " +
-                                      why + "; keeping " + cws::formatNumber(tension_setpoint_) +
-                                      " N");
+    warn(warningsOf(topic).value, "refused " + topic + " " + value + ", which " + why +
+                                      "; keeping " + cws::formatNumber(inUse(setpoint.kind)) + " " +
+                                      row.unit);
     return;
   }
-  if (admitStamp(topic, stamp)) {
-    inbox_.put({topic, nanoseconds(stamp), cws::Setpoint::supplyTension(f)});
-  }
+  if (admitStamp(topic, stamp)) inbox_.put({topic, nanoseconds(stamp), setpoint});
 }
 
 // A port position: finite, in the world frame, stamps as for the other

@@ -47,7 +47,8 @@ void expectStepsAllocateNothing(const std::string& integrator, int steps, bool c
     const Eigen::Vector3d p0_world = sim.model().supply()->port(sim.time()).p_world;
     for (int k = 1; k <= 200; ++k) {
       // Away from the core (in the plane): more wire is drawn in.
-      sim.setPortCommand(p0_world + Eigen::Vector3d(0.0, -1e-5 * k, 0.0), sim.time() + 2e-5 * k);
+      sim.apply(cws::Setpoint::portPosition(p0_world + Eigen::Vector3d(0.0, -1e-5 * k, 0.0),
+                                            sim.time() + 2e-5 * k));
     }
   }
   // The counter counts: one allocation seen.

@@ -131,7 +131,7 @@ std::pair<int, int> carriedAroundATensionJump(const std::string& damping_ratio) 
   cws::Simulation sim(cws::loadScene(kDefault, keys));
   runTo(sim, 0.035);
   const int carried = sim.model().carriedPoints();
-  sim.setSupplyTension(300.0);
+  sim.apply(cws::Setpoint::supplyTension(300.0));
   int least = carried;
   for (double t = sim.time(); t < 0.040; t += 1e-4) {
     runTo(sim, t);
@@ -217,8 +217,8 @@ TEST(Carry, DeferredPlacementEqualsPlacingEveryStep) {
   // Read every 0.2 ms (each read places the deferred wire).
   for (double t = 2e-4; t < 0.0601; t += 2e-4) same(t);
   most_points = deferred.model().constants().n;
-  deferred.setCoreSpeed(-1200.0 * M_PI / 30.0);
-  eager.setCoreSpeed(-1200.0 * M_PI / 30.0);
+  deferred.apply(cws::Setpoint::coreSpeed(-1200.0 * M_PI / 30.0));
+  eager.apply(cws::Setpoint::coreSpeed(-1200.0 * M_PI / 30.0));
   for (double t = 0.0602; t < 0.090; t += 2e-4) {
     same(t);
     fewest_points_after = std::min(fewest_points_after, deferred.model().constants().n);

@@ -202,13 +202,13 @@ TEST(Friction, CoefficientsChangedMidRunActFromTheNextStep) {
   const double mu_d = sim.scene().contact.kinetic_friction;
   EXPECT_NEAR(sim.model().axialForce(0) / (mu_d * normalForce(sim)), 1.0, 0.01);
   try {
-    sim.setFriction(0.1, 0.3);
+    sim.apply(cws::Setpoint::friction(0.1, 0.3));
     ADD_FAILURE() << "kinetic above static was taken";
   } catch (const cws::SceneError& e) {
     EXPECT_EQ(e.key(), "contact.kinetic_friction");
   }
   EXPECT_EQ(sim.scene().contact.kinetic_friction, mu_d);
-  sim.setFriction(0.6, 0.45);
+  sim.apply(cws::Setpoint::friction(0.6, 0.45));
   sim.run();  // to 0.06 s
   EXPECT_EQ(sim.scene().contact.kinetic_friction, 0.45);
   EXPECT_NE(sim.saveState().scene_yaml.find("kinetic_friction: 0.45"), std::string::npos);
@@ -216,10 +216,10 @@ TEST(Friction, CoefficientsChangedMidRunActFromTheNextStep) {
   std::printf("after the change: axial %.5f N, mu_d N %.5f N\n", axial, 0.45 * n);
   EXPECT_NEAR(axial / (0.45 * n), 1.0, 0.01);
   // Damping changes the same way; a scene without friction refuses it.
-  sim.setDamping(cws::DampingParams{8.0, 2e-6});
+  sim.apply(cws::Setpoint::damping(8.0, 2e-6));
   EXPECT_EQ(sim.scene().damping.translational, 8.0);
   cws::Scene plain = pressedTip(0.05, 0.01);
   plain.physics.friction = false;
   cws::Simulation frictionless(plain);
-  EXPECT_THROW(frictionless.setFriction(0.3, 0.2), cws::SceneError);
+  EXPECT_THROW(frictionless.apply(cws::Setpoint::friction(0.3, 0.2)), cws::SceneError);
 }

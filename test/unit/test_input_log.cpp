@@ -180,7 +180,7 @@ TEST(InputLog, EstimateFromInputsIsTheRefinedRunWithTheSameInputs) {
   std::string what;
   cws::Simulation refined(cws::refinedScene(scene, what));
   stepTo(refined, 0.006);
-  refined.setSupplyTension(60.0);
+  refined.apply(cws::Setpoint::supplyTension(60.0));
   stepTo(refined, scene.endTime());
   const cws::ErrorEstimate by_hand = cws::compareWithRefined(job, refined, what);
   EXPECT_EQ(e->shape_error_rel_diameter, by_hand.shape_error_rel_diameter);

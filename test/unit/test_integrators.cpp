@@ -155,7 +155,7 @@ TEST(ImplicitSteps, FollowTheCoreRevolution) {
                  "solver.implicit_step=4e-4", "process.duration=0.05"}));
   while (sim.time() < 0.005) sim.step(sim.endTime());
   EXPECT_DOUBLE_EQ(sim.stepper().lastStep(), 4e-4);
-  sim.setCoreSpeed(3000.0 * 2.0 * kPi / 60.0);
+  sim.apply(cws::Setpoint::coreSpeed(3000.0 * 2.0 * kPi / 60.0));
   sim.step(sim.endTime());
   EXPECT_NEAR(sim.stepper().lastStep(), 4e-5 / 64.0, 1e-15);
   while (sim.time() < 0.03) sim.step(sim.endTime());

@@ -89,7 +89,7 @@ TEST(PortCommand, PortIsTheInterpolationOfTheSamplesAndStepsEndAtThem) {
                                  {1.61e-3, p0 + Eigen::Vector3d(5e-4, -1e-3, 3e-4)},
                                  {2.0e-3, p0 + Eigen::Vector3d(5e-4, 0.0, 0.0)}};
   for (std::size_t k = 1; k < samples.size(); ++k) {
-    sim.setPortCommand(samples[k].p_world, samples[k].t_s);
+    sim.apply(cws::Setpoint::portPosition(samples[k].p_world, samples[k].t_s));
   }
   ASSERT_TRUE(sim.portCommanded());
   EXPECT_EQ(sim.portCommandEnd(), 2.0e-3);
@@ -128,7 +128,7 @@ TEST(PortCommand, FirstCommandStartsWhereTheTraversingPortIs) {
   while (sim.time() < 5e-4) sim.step(5e-4);
   const Eigen::Vector3d before = sim.model().supply()->port(sim.time()).p_world;
   EXPECT_GT(before.z(), 0.0);
-  sim.setPortCommand(before + Eigen::Vector3d(0.0, 0.0, 1e-4), 8e-4);
+  sim.apply(cws::Setpoint::portPosition(before + Eigen::Vector3d(0.0, 0.0, 1e-4), 8e-4));
   const cws::PortMotion m = sim.model().supply()->port(sim.time());
   EXPECT_EQ(m.p_world, before);
   EXPECT_NEAR(m.v_world.z(), 1e-4 / (8e-4 - sim.time()), 1e-12);
@@ -153,7 +153,8 @@ TEST(PortCommand, CommandedTraverseLawWindsLikeTheLaw) {
   const Eigen::Vector3d axis(0.0, 0.0, 1.0);
   for (int k = 1; k <= 22; ++k) {
     const double t = t1 + 5.0e-4 * k;
-    cmd.setPortCommand(p0 + pitch / (2.0 * kPi) * omega * (t - 0.5 * t_i) * axis, t);
+    cmd.apply(
+        cws::Setpoint::portPosition(p0 + pitch / (2.0 * kPi) * omega * (t - 0.5 * t_i) * axis, t));
   }
   while (law.time() < law.endTime()) law.step(law.endTime());
   while (cmd.time() < cmd.endTime()) cmd.step(cmd.endTime());
@@ -181,13 +182,13 @@ TEST(PortCommand, BadCommandsAreRefusedAndTheRunGoesOn) {
   cws::Simulation sim(drum3d(1.0e-3, 0.0));
   const Eigen::Vector3d p0 = sim.scene().supply.port_position_world;
   while (sim.time() < 2e-4) sim.step(2e-4);
-  sim.setPortCommand(p0 + Eigen::Vector3d(0.0, 0.0, 1e-4), 5e-4);
+  sim.apply(cws::Setpoint::portPosition(p0 + Eigen::Vector3d(0.0, 0.0, 1e-4), 5e-4));
   const double nan = std::numeric_limits<double>::quiet_NaN();
   auto expectRefused = [&](const Eigen::Vector3d& p, double t, const std::string& words) {
     const cws::PortMotion before = sim.model().supply()->port(sim.time());
     const double end = sim.portCommandEnd();
     try {
-      sim.setPortCommand(p, t);
+      sim.apply(cws::Setpoint::portPosition(p, t));
       ADD_FAILURE() << "accepted (" << p.transpose() << ") at " << t << " s";
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find(words), std::string::npos)
@@ -212,13 +213,14 @@ TEST(PortCommand, BadCommandsAreRefusedAndTheRunGoesOn) {
   plain.wire.length = 0.01;
   plain.wire.segment_length = 0.002;
   cws::Simulation no_supply(plain);
-  EXPECT_THROW(no_supply.setPortCommand(p0, 1e-3), std::invalid_argument);
+  EXPECT_THROW(no_supply.apply(cws::Setpoint::portPosition(p0, 1e-3)), std::invalid_argument);
 }
 
 TEST(PortCommand, SnapshotCarriesTheCommandedPath) {
   cws::Simulation a(drum3d(1.5e-3, 0.0));
   const Eigen::Vector3d p0 = a.scene().supply.port_position_world;
-  for (int k = 1; k <= 6; ++k) a.setPortCommand(p0 + Eigen::Vector3d(0.0, 0.0, 5e-5 * k), 2e-4 * k);
+  for (int k = 1; k <= 6; ++k)
+    a.apply(cws::Setpoint::portPosition(p0 + Eigen::Vector3d(0.0, 0.0, 5e-5 * k), 2e-4 * k));
   while (a.time() < 5e-4) a.step(5e-4);
   const cws::SimulationState st = a.saveState();
   ASSERT_FALSE(st.model.port_command.empty());

@@ -17,9 +17,9 @@ const std::string kDefault = std::string(CWS_SOURCE_DIR) + "/config/scenes/defau
 std::string refusalOf(cws::Simulation& sim, bool tension, double value) {
   try {
     if (tension) {
-      sim.setSupplyTension(value);
+      sim.apply(cws::Setpoint::supplyTension(value));
     } else {
-      sim.setCoreSpeed(value);
+      sim.apply(cws::Setpoint::coreSpeed(value));
     }
   } catch (const std::invalid_argument& e) {
     return e.what();

@@ -25,8 +25,8 @@ void continuedRunMatches(const std::string& law_key) {
   cws::Simulation a(
       cws::loadScene(path, {"process.turns=0.1", "solver.integrator=symplectic_euler", law_key}));
   runTo(a, 0.004);
-  a.setCoreSpeed(50.0);
-  a.setSupplyTension(45.0);
+  a.apply(cws::Setpoint::coreSpeed(50.0));
+  a.apply(cws::Setpoint::supplyTension(45.0));
   runTo(a, 0.006);
   const cws::SimulationState st = a.saveState();
   auto b = cws::Simulation::fromState(st);

@@ -378,7 +378,7 @@ TEST(Stability, ReversalDrawsWireBackThroughThePort) {
   const double step = cws::fixedStep(sim.scene());
   const double l = sim.scene().wire.segment_length;
   while (sim.time() < 0.025) sim.step(0.025);
-  sim.setCoreSpeed(-1200.0 * 2.0 * M_PI / 60.0);
+  sim.apply(cws::Setpoint::coreSpeed(-1200.0 * 2.0 * M_PI / 60.0));
   const int n_reversed = sim.model().constants().n;
   int n_least = n_reversed;
   const double fed_reversed = sim.model().fedLength();

@@ -144,9 +144,8 @@ class WindingCell {
   struct TopicWarnings {
     WallThrottle value, ahead, order;
   };
-  void onSpeed(const coil_winding_sim::CoreSpeedSetpoint::ConstPtr& msg);
-  void onTension(const coil_winding_sim::TensionSetpoint::ConstPtr& msg);
-  void onPort(const geometry_msgs::PointStamped::ConstPtr& msg);
+  // The topic of a row of the setpoint table, subscribed.
+  ros::Subscriber subscribeSetpoint(const cws::SetpointRow& row);
   void onMachineSpindle(const sensor_msgs::JointState::ConstPtr& msg);
   void onMachineTension(const coil_winding_sim::TensionSetpoint::ConstPtr& msg);
   void onMachinePort(const geometry_msgs::PointStamped::ConstPtr& msg);
@@ -154,8 +153,8 @@ class WindingCell {
   // The simulated time a stamp on the node's clock stands for [s] (lock
   // held; zero: now).
   double simTimeOf(const ros::Time& stamp) const;
-  void speedInput(const std::string& topic, double w, const ros::Time& stamp);
-  void tensionInput(const std::string& topic, double f, const ros::Time& stamp);
+  double inUse(cws::Setpoint::Kind kind) const;
+  void valueInput(const std::string& topic, const cws::Setpoint& setpoint, const ros::Time& stamp);
   void portInput(const std::string& topic, const geometry_msgs::PointStamped& msg);
   // A setpoint that arrives while the cell holds (a finished job, a full
   // storage) is refused with a warning saying why and what to do.
@@ -322,8 +321,8 @@ class WindingCell {
   double marker_keyframe_s_ = 0.0;
   ros::Publisher spindle_command_pub_, spindle_state_pub_, tension_command_pub_,
       tension_measured_pub_, port_command_pub_, port_position_pub_, profile_pub_;
-  ros::Subscriber speed_sub_, tension_sub_, port_sub_, machine_spindle_sub_, machine_tension_sub_,
-      machine_port_sub_, trajectory_sub_;
+  std::vector<ros::Subscriber> setpoint_subs_;  // one per topic of the setpoint table
+  ros::Subscriber machine_spindle_sub_, machine_tension_sub_, machine_port_sub_, trajectory_sub_;
   ros::ServiceServer reset_srv_, pause_srv_, snapshot_srv_, restore_srv_, run_until_srv_,
       change_coil_srv_;
   ros::Publisher coil_done_pub_;

@@ -1,37 +1,50 @@
 #include "coil_winding_sim/core/run/setpoint.hpp"
 
-#include <cstddef>
-
+#include "coil_winding_sim/core/base/text_format.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 
 namespace cws {
 
-void Setpoint::applyTo(Simulation& sim) const {
-  switch (kind) {
-    case Kind::kCoreSpeed:
-      sim.setCoreSpeed(value);
-      return;
-    case Kind::kSupplyTension:
-      sim.setSupplyTension(value);
-      return;
-    case Kind::kPortPosition:
-      sim.setPortCommand(p_world, value);
-      return;
-    case Kind::kFriction:
-      sim.setFriction(value, value2);
-      return;
-    case Kind::kDamping:
-      sim.setDamping(DampingParams{value, value2});
-      return;
-  }
+const std::vector<SetpointRow>& setpointTable() {
+  // (The targets are the simulation's private setters: this function is
+  // its friend, and so are the lambdas within it.)
+  static const std::vector<SetpointRow> rows = {
+      {Setpoint::Kind::kCoreSpeed, "core speed", "rad/s", "process.max_core_speed_rpm",
+       [](const SetpointLimits& l, const Setpoint& sp) { return coreSpeedRefusal(l, sp.value); },
+       [](Simulation& sim, const Setpoint& sp) { sim.setCoreSpeed(sp.value); },
+       "core[3] (the core's speed command)", "core_speed_setpoint", "angular_velocity"},
+      {Setpoint::Kind::kSupplyTension, "tension", "N", "process.max_tension",
+       [](const SetpointLimits& l, const Setpoint& sp) { return tensionRefusal(l, sp.value); },
+       [](Simulation& sim, const Setpoint& sp) { sim.setSupplyTension(sp.value); }, "tension",
+       "tension_setpoint", "tension"},
+      {Setpoint::Kind::kPortPosition, "port position", "s", "", nullptr,
+       [](Simulation& sim, const Setpoint& sp) { sim.setPortCommand(sp.p_world, sp.value); },
+       "port_command", "port_position_setpoint", "point"},
+      {Setpoint::Kind::kFriction, "friction", "",
+       "contact.static_friction, contact.kinetic_friction", nullptr,
+       [](Simulation& sim, const Setpoint& sp) { sim.setFriction(sp.value, sp.value2); },
+       "scene_yaml (contact.static_friction, contact.kinetic_friction)", "", ""},
+      {Setpoint::Kind::kDamping, "damping", "N s/m^2", "damping.translational, damping.rotational",
+       nullptr,
+       [](Simulation& sim, const Setpoint& sp) {
+         sim.setDamping(DampingParams{sp.value, sp.value2});
+       },
+       "scene_yaml (damping.translational, damping.rotational)", "", ""},
+  };
+  return rows;
 }
 
-const char* Setpoint::name() const {
-  // In the order of Kind's values.
-  static const char* const kNames[] = {"core speed", "supply tension", "port position", "friction",
-                                       "damping"};
-  const auto i = static_cast<std::size_t>(kind);
-  return i < sizeof kNames / sizeof kNames[0] ? kNames[i] : "setpoint";
+const SetpointRow& setpointRow(Setpoint::Kind kind) {
+  return setpointTable().at(static_cast<std::size_t>(kind));
+}
+
+const char* Setpoint::name() const { return setpointRow(kind).name; }
+
+std::string setpointRefusal(const SetpointLimits& limits, const Setpoint& sp) {
+  const SetpointRow& row = setpointRow(sp.kind);
+  const std::string why = row.refusal ? row.refusal(limits, sp) : "";
+  if (why.empty()) return why;
+  return std::string(row.name) + " " + formatNumber(sp.value) + " " + row.unit + " " + why;
 }
 
 }  // namespace cws

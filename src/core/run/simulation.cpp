@@ -43,7 +43,7 @@ Simulation::Simulation(const Scene& scene) : scene_(validated(scene)) {
 }
 
 void Simulation::applyDueCommands() {
-  commands_.takeDue(t_, [&](double, const Setpoint& c) { c.applyTo(*this); });
+  commands_.takeDue(t_, [&](double, const Setpoint& c) { applyUnlogged(c); });
 }
 
 double Simulation::coreTurns() const {
@@ -64,9 +64,13 @@ void Simulation::afterStep() {
   }
 }
 
+void Simulation::applyUnlogged(const Setpoint& setpoint) {
+  const std::string why = setpointRefusal(SetpointLimits::of(scene_.process), setpoint);
+  if (!why.empty()) throw std::invalid_argument(why);
+  setpointRow(setpoint.kind).target(*this, setpoint);
+}
+
 void Simulation::setCoreSpeed(double omega) {
-  const std::string why = coreSpeedRefusal(SetpointLimits::of(scene_.process), omega);
-  if (!why.empty()) throw std::invalid_argument(coreSpeedText(omega) + " " + why);
   const RotatingCore* core = model_->core();
   const bool ramps = core && omega != core->command();
   model_->setCoreSpeed(omega);
@@ -79,11 +83,7 @@ bool Simulation::makeRoom(int points) {
   return c.n + points <= c.capacity;
 }
 
-void Simulation::setSupplyTension(double tension) {
-  const std::string why = tensionRefusal(SetpointLimits::of(scene_.process), tension);
-  if (!why.empty()) throw std::invalid_argument(tensionText(tension) + " " + why);
-  model_->setSupplyTension(tension);
-}
+void Simulation::setSupplyTension(double tension) { model_->setSupplyTension(tension); }
 
 SimulationState Simulation::saveState() const {
   SimulationState st;

@@ -1,13 +1,20 @@
 // One input to a running simulation: what a machine or a user sets while
-// it runs. Each kind knows how it is applied to a Simulation (applyTo) and
-// how it is named in logs; Simulation::apply applies one and logs it
-// (InputLog), so that a run can be repeated with the inputs it accepted
-// (the error estimate, snapshots). Adding a setpoint: its Kind, its
-// factory, its case in applyTo and in name() (src/core/run/setpoint.cpp), and
-// where the node receives it.
+// it runs, and the table of every kind (setpointTable): its name and unit,
+// the scene key that limits it, the model target it drives, and where a
+// snapshot and the node carry it. Simulation::apply is the one way a
+// setpoint reaches the model: it checks the row's limit, drives its target
+// and logs it (InputLog), so that a run can be repeated with the inputs it
+// accepted (the error estimate, snapshots). Adding a setpoint: its Kind and
+// factory here, its row in setpointTable (src/core/run/setpoint.cpp), the
+// model's target, and its message if it needs a new one (the node
+// subscribes to a row's topic: winding_cell.cpp).
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "coil_winding_sim/core/scene/setpoint_limits.hpp"
 
 namespace cws {
 
@@ -38,11 +45,38 @@ struct Setpoint {
     return {Kind::kDamping, translational, rotational};
   }
 
-  // Applies it to `sim` now; throws what the simulation's setter throws
-  // for a value it refuses (std::invalid_argument, SceneError).
-  void applyTo(Simulation& sim) const;
-  // Its name in messages and logs, e.g. "core speed".
+  // Its name in messages and logs, e.g. "core speed" (its row's).
   const char* name() const;
 };
+
+// One kind of setpoint.
+struct SetpointRow {
+  Setpoint::Kind kind;
+  const char* name;  // in messages and logs: "core speed"
+  const char* unit;  // of Setpoint::value: "rad/s"
+  // The scene keys that bound it ("": none but the model's own checks).
+  const char* limit_key;
+  // Why `sp` is refused under `limits`, as a predicate ("is above
+  // process.max_tension = 300 N"); empty: allowed. Null: no limit.
+  std::string (*refusal)(const SetpointLimits& limits, const Setpoint& sp);
+  // Drives the model's target (the simulation's private setter); throws
+  // what the model refuses (std::invalid_argument, SceneError), with the
+  // run unchanged.
+  void (*target)(Simulation& sim, const Setpoint& sp);
+  // Where a snapshot keeps it: a field of SimulationSnapshot.msg, or the
+  // scene key the resolved scene carries.
+  const char* snapshot_field;
+  // The node's topic that sets it and its message's field ("": none; the
+  // node subscribes to every topic named here).
+  const char* topic;
+  const char* message_field;
+};
+
+// Every kind, in the order of Kind's values.
+const std::vector<SetpointRow>& setpointTable();
+const SetpointRow& setpointRow(Setpoint::Kind kind);
+// Empty when `sp` is allowed under `limits`; else what is wrong with it,
+// with its subject: "core speed 700 rad/s is beyond +-628.3 rad/s (...)".
+std::string setpointRefusal(const SetpointLimits& limits, const Setpoint& sp);
 
 }  // namespace cws

@@ -11,6 +11,7 @@
 #include "coil_winding_sim/core/run/command_schedule.hpp"
 #include "coil_winding_sim/core/run/input_log.hpp"
 #include "coil_winding_sim/core/run/pace_profile.hpp"
+#include "coil_winding_sim/core/run/setpoint.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
 
@@ -40,11 +41,14 @@ class Simulation {
   SimulationState saveState() const;
   static std::unique_ptr<Simulation> fromState(const SimulationState& state);
 
-  // Applies a setpoint now (Setpoint::applyTo) and, once accepted, logs it
-  // at the present time in inputs(); a refused one throws as its setter
-  // does and is not logged.
+  // Applies a setpoint now and, once accepted, logs it at the present time
+  // in inputs(): the one way a setpoint reaches the model. A value beyond
+  // its row's limit (setpointRow(kind).refusal) throws
+  // std::invalid_argument naming the limit's key; what the model refuses
+  // throws as its target does (setpoint.hpp); a refused one is not logged
+  // and leaves the run unchanged.
   void apply(const Setpoint& setpoint) {
-    setpoint.applyTo(*this);
+    applyUnlogged(setpoint);
     if (keep_inputs_) inputs_.record(t_, setpoint);
   }
   // The setpoints this run accepted through apply(), in order.
@@ -54,26 +58,6 @@ class Simulation {
   // setpoint (64 bytes each).
   void keepInputs(bool keep) { keep_inputs_ = keep; }
 
-  // The setters behind the setpoints (not logged; apply() logs).
-  // Setpoints, effective from the present time on: core angular velocity
-  // [rad/s] (reached at the scene's acceleration limit) and supply tension
-  // [N]. Ignored when the scene has no core / no supply. A value beyond the
-  // scene's limits throws std::invalid_argument naming the limit
-  // (setpoint_limits.hpp); the run is unchanged then.
-  void setCoreSpeed(double omega);
-  void setSupplyTension(double tension);
-  // Commanded supply-port position p_world [m, world frame] at simulated
-  // time t_s [s]: the port moves on straight lines between the commanded
-  // samples (constant velocity between them) and holds the last one; the
-  // first command starts from where the port is and replaces the traverse
-  // law (process.traverse_pitch). Steps end at sample times. Samples may lie
-  // ahead of the present time (PortTrajectory::kCapacity of them).
-  // Throws std::invalid_argument naming what is wrong (a non-finite value, a
-  // stamp before the simulated time or the last sample, a jump, a port
-  // inside the turning core, no supply); the run is unchanged then.
-  void setPortCommand(const Eigen::Vector3d& p_world, double t_s) {
-    model_->setPortCommand(p_world, t_s);
-  }
   // True once the port follows commands.
   bool portCommanded() const {
     return model_->supply() && model_->supply()->portCommand().active();
@@ -147,6 +131,28 @@ class Simulation {
   // Core revolutions turned so far (0 without a core).
   double coreTurns() const;
 
+ private:
+  // The setpoints' targets (setpointTable's rows; apply() checks their
+  // limits and logs them).
+  friend const std::vector<SetpointRow>& setpointTable();
+  void applyUnlogged(const Setpoint& setpoint);
+  // Core angular velocity [rad/s] (reached at the scene's acceleration
+  // limit) and supply tension [N], from the present time on. Ignored when
+  // the scene has no core / no supply.
+  void setCoreSpeed(double omega);
+  void setSupplyTension(double tension);
+  // Commanded supply-port position p_world [m, world frame] at simulated
+  // time t_s [s]: the port moves on straight lines between the commanded
+  // samples (constant velocity between them) and holds the last one; the
+  // first command starts from where the port is and replaces the traverse
+  // law (process.traverse_pitch). Steps end at sample times. Samples may lie
+  // ahead of the present time (PortTrajectory::kCapacity of them).
+  // Throws std::invalid_argument naming what is wrong (a non-finite value, a
+  // stamp before the simulated time or the last sample, a jump, a port
+  // inside the turning core, no supply); the run is unchanged then.
+  void setPortCommand(const Eigen::Vector3d& p_world, double t_s) {
+    model_->setPortCommand(p_world, t_s);
+  }
   // Changes made while running, from the next step on: the friction
   // coefficients (contact.static_friction, contact.kinetic_friction) and the
   // viscous damping (damping.translational [N s/m^2], damping.rotational
@@ -157,7 +163,6 @@ class Simulation {
   void setFriction(double mu_static, double mu_kinetic);
   void setDamping(const DampingParams& d);
 
- private:
   void afterStep();
   // Applies the scene's commands (process.commands) due by now; they are
   // part of the scene, so a rerun of it repeats them: not logged.
