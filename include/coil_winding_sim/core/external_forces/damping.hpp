@@ -1,24 +1,35 @@
 // Viscous damping of the wire against the surrounding air (world frame):
-// translational and rotational, proportional to the length a point stands for.
+// translational and rotational, proportional to the length a point stands
+// for. The law is written once, on the force sink (assembly/force_sink.hpp):
+// -c v on each point, -c omega on each frame.
 #pragma once
 
-#include "coil_winding_sim/core/base/wire_types.hpp"
+#include "coil_winding_sim/core/assembly/force_sink.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {
 
-class Damping : public ForceEffect {
+class Damping : public SinkEffect<Damping> {
  public:
-  Damping(const WireConstants& c, const DampingParams& p) : c_(c), p_(p) {}
+  Damping(const WireConstants& c, const DampingParams& p) : SinkEffect(c), p_(p) {}
   // New coefficients from the next evaluation on (Simulation::setDamping).
   void setParams(const DampingParams& p) { p_ = p; }
   const char* name() const override { return "damping"; }
-  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
-  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
-  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
+
+  template <class Sink>
+  void law(Sink& s) const {
+    const double c_lin = p_.translational * c_.point_length;  // [N s/m]
+    const double c_rot = p_.rotational * c_.point_length;     // [N m s]
+    const Eigen::Matrix3d id = Eigen::Matrix3d::Identity();
+    for (int i = s.first(); i < s.n(); ++i) {
+      s.addPointForce(i, -c_lin * s.v(i), ForcePower::kDissipative);
+      if (s.jacobian(i)) s.addPointDamping(i, -c_lin * id);
+      if (c_rot > 0.0)
+        s.addFrameMoment(i, -c_rot * s.omega(i), ForcePower::kDissipative, -c_rot * id);
+    }
+  }
 
  private:
-  const WireConstants& c_;  // the model's: n grows with a supply
   DampingParams p_;
 };
 

@@ -1,13 +1,12 @@
 // An effect whose law acts on each free mass point by the point's own
 // position and velocity (gravity, air drag): the law is written once, in
-// pointLaw(), on local quantities; this base maps it to the explicit
-// model's generalized forces and to each Newton formulation's coordinates
-// (the plane's two, or the world's three) and their Jacobian blocks.
+// pointLaw(), on local quantities, and reaches every integrator through the
+// force sink (assembly/force_sink.hpp).
 #pragma once
 
 #include <Eigen/Core>
 
-#include "coil_winding_sim/core/base/wire_types.hpp"
+#include "coil_winding_sim/core/assembly/force_sink.hpp"
 
 namespace cws {
 
@@ -18,15 +17,15 @@ struct PointForce {
   Eigen::Matrix3d df_dv = Eigen::Matrix3d::Zero();    // d f / d v_world [N s/m]
 };
 
-class PointForceEffect : public ForceEffect {
+class PointForceEffect : public SinkEffect<PointForceEffect> {
  public:
   // Whether the force does work on the wire (an applied load, booked in
   // the work done) or dissipates (booked as dissipated energy).
-  enum class Power { kApplied, kDissipative };
+  using Power = ForcePower;
   // `constant`: the force depends on neither position nor velocity (no
   // Jacobian blocks are added).
   PointForceEffect(const WireConstants& c, Power power, bool constant = false)
-      : c_(c), power_(power), constant_(constant) {}
+      : SinkEffect(c), power_(power), constant_(constant) {}
 
   // The law at time t [s] for a point at p_world [m] moving at v_world
   // [m/s]: its force, and with `jacobian` its derivatives (else they may
@@ -34,12 +33,20 @@ class PointForceEffect : public ForceEffect {
   virtual void pointLaw(double t, const Eigen::Vector3d& p_world, const Eigen::Vector3d& v_world,
                         bool jacobian, PointForce& out) const = 0;
 
-  void addForces(double t, const WireKinematics& k, WireForces& f) const final;
-  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const final;
-  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const final;
-
- protected:
-  const WireConstants& c_;  // the model's: n grows with a supply
+  // Point 0 (and the wire the core carries) is held: its load goes to the
+  // support, not the wire, so the law runs over the integrated points only.
+  template <class Sink>
+  void law(Sink& s) const {
+    PointForce pf;
+    for (int i = s.first(); i < s.n(); ++i) {
+      const bool jac = !constant_ && s.jacobian(i);
+      pointLaw(s.t(), s.p(i), s.v(i), jac, pf);
+      s.addPointForce(i, pf.f_world, power_);
+      if (!jac) continue;
+      s.addPointStiffness(i, pf.df_dp);
+      s.addPointDamping(i, pf.df_dv);
+    }
+  }
 
  private:
   Power power_;

@@ -1,0 +1,222 @@
+// One force sink for every integrator: an effect written on it states its
+// law once, on world positions, velocities and frame angular velocities,
+// and each integrator's sink maps what it adds to its own unknowns:
+//   ExplicitSink  the explicit model's generalized forces (WireForces),
+//   PlanarSink    the planar Newton system (the plane's two coordinates per
+//                 point; a frame turns with its segment),
+//   SpatialSink   the 3-D Newton system (positions and quaternions).
+// The three share one set of calls (a law is a template over the sink):
+//   t(), first(), n()          time [s] and the integrated points first..n-1
+//   jacobian(i)                whether point i's derivatives are wanted
+//   p(i), v(i), omega(i)       position [m], velocity [m/s] and the angular
+//                              velocity of frame i [rad/s], world frame
+//   addPointForce(i, f, power) force on point i [N], booked as `power` says
+//   addPointStiffness(i, K)    d f_i / d p_i [N/m]
+//   addPointDamping(i, D)      d f_i / d v_i [N s/m]
+//   addFrameMoment(i, m, power[, dm_domega])
+//                              moment on frame i [N m], and its derivative in
+//                              the frame's angular velocity [N m s] where it
+//                              has one
+// SinkEffect<Law> turns a class with `template <class Sink> void law(Sink&)
+// const` into a ForceEffect of all three integrators.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "coil_winding_sim/core/assembly/planar_assembly.hpp"
+#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
+#include "coil_winding_sim/core/base/quaternion.hpp"
+#include "coil_winding_sim/core/base/wire_types.hpp"
+
+namespace cws {
+
+// How the energy balance books a force: as work an applied load does, or
+// as dissipation (friction, damping).
+enum class ForcePower { kApplied, kDissipative };
+
+class ExplicitSink {
+ public:
+  ExplicitSink(double t, const WireConstants& c, const WireKinematics& k, WireForces& f)
+      : t_(t), c_(c), k_(k), f_(f) {}
+  double t() const { return t_; }
+  int first() const { return c_.first; }
+  int n() const { return c_.n; }
+  bool jacobian(int) const { return false; }
+  Eigen::Vector3d p(int i) const { return k_.p_world.col(i); }
+  Eigen::Vector3d v(int i) const { return k_.v_world.col(i); }
+  Eigen::Vector3d omega(int i) const { return 2.0 * quat::E(k_.q.col(i)) * k_.qd.col(i); }
+
+  void addPointForce(int i, const Eigen::Vector3d& f, ForcePower power) {
+    f_.f_world.col(i) += f;
+    (power == ForcePower::kApplied ? f_.f_work_world : f_.f_dissipative_world).col(i) += f;
+  }
+  void addPointStiffness(int, const Eigen::Matrix3d&) {}
+  void addPointDamping(int, const Eigen::Matrix3d&) {}
+  // A moment m as the generalized force 2 E(q)^T m on the quaternion.
+  void addFrameMoment(int i, const Eigen::Vector3d& m, ForcePower power,
+                      const Eigen::Matrix3d& = Eigen::Matrix3d::Zero()) {
+    const Eigen::Vector4d fq = 2.0 * quat::E(k_.q.col(i)).transpose() * m;
+    f_.f_q.col(i) += fq;
+    (power == ForcePower::kApplied ? f_.fq_work : f_.fq_dissipative).col(i) += fq;
+  }
+
+ private:
+  double t_;
+  const WireConstants& c_;
+  const WireKinematics& k_;
+  WireForces& f_;
+};
+
+class PlanarSink {
+ public:
+  PlanarSink(const PlanarState& s, PlanarAssembly& a) : s_(s), a_(a) {
+    e_.col(0) = s.plane.e1_world;
+    e_.col(1) = s.plane.e2_world;
+  }
+  double t() const { return s_.t; }
+  int first() const { return s_.first; }
+  int n() const { return s_.n; }
+  bool jacobian(int i) const { return a_.wantsJacobianAt(i); }
+  Eigen::Vector3d p(int i) const { return s_.plane.toWorld(s_.x.col(i)); }
+  Eigen::Vector3d v(int i) const { return s_.plane.vectorToWorld(s_.v.col(i)); }
+  // Frame i >= 1 turns with segment i-1 about the plane normal.
+  Eigen::Vector3d omega(int i) const {
+    const Eigen::Vector2d g = planar::angleGradient(s_.segment(i - 1));
+    return g.dot(s_.v.col(i) - s_.v.col(i - 1)) * s_.plane.n_world;
+  }
+
+  // World to plane: f = E^T f_world, K = E^T K_world E (nothing along the
+  // normal moves a planar wire).
+  void addPointForce(int i, const Eigen::Vector3d& f_world, ForcePower power) {
+    const Eigen::Vector2d f = s_.plane.vectorToPlane(f_world);
+    a_.addForce(i, f);
+    (power == ForcePower::kApplied ? a_.f_work : a_.f_dissipative).col(i) += f;
+  }
+  void addPointStiffness(int i, const Eigen::Matrix3d& k) {
+    a_.addStiffness(i, i, e_.transpose() * k * e_);
+  }
+  void addPointDamping(int i, const Eigen::Matrix3d& d) {
+    a_.addDamping(i, i, e_.transpose() * d * e_);
+  }
+  // A moment about the normal on frame i, as forces m g on point i and -m g
+  // on point i-1 (g the gradient of the angle of segment i-1); its
+  // derivatives through omega = g . (v_i - v_i-1) and through g.
+  void addFrameMoment(int i, const Eigen::Vector3d& m_world, ForcePower power) {
+    frameMoment(i, m_world, power, nullptr);
+  }
+  void addFrameMoment(int i, const Eigen::Vector3d& m_world, ForcePower power,
+                      const Eigen::Matrix3d& dm_domega) {
+    frameMoment(i, m_world, power, &dm_domega);
+  }
+
+ private:
+  void frameMoment(int i, const Eigen::Vector3d& m_world, ForcePower power,
+                   const Eigen::Matrix3d* dm_domega) {
+    const Eigen::Vector2d d = s_.segment(i - 1);
+    const Eigen::Vector2d g = planar::angleGradient(d);
+    const double m = m_world.dot(s_.plane.n_world);
+    a_.addForce(i, m * g);
+    a_.addForce(i - 1, -m * g);
+    Eigen::Matrix2Xd& booked = power == ForcePower::kApplied ? a_.f_work : a_.f_dissipative;
+    booked.col(i) += m * g;
+    if (i - 1 >= s_.first) booked.col(i - 1) -= m * g;
+    if (!a_.wantsJacobianAt(i)) return;
+    const Eigen::Matrix2d hs = planar::angleHessian(d);
+    Eigen::Matrix2d dx = m * hs, dv = Eigen::Matrix2d::Zero();
+    if (dm_domega) {
+      const double dm = s_.plane.n_world.dot(*dm_domega * s_.plane.n_world);
+      const Eigen::Vector2d w = s_.v.col(i) - s_.v.col(i - 1);
+      dv = dm * g * g.transpose();
+      dx += dm * g * (hs * w).transpose();
+    }
+    const int pts[2] = {i - 1, i};
+    const double sgn[2] = {-1.0, 1.0};
+    for (int r = 0; r < 2; ++r) {
+      for (int c = 0; c < 2; ++c) {
+        if (dm_domega) a_.addDamping(pts[r], pts[c], sgn[r] * sgn[c] * dv);
+        a_.addStiffness(pts[r], pts[c], sgn[r] * sgn[c] * dx);
+      }
+    }
+  }
+
+  const PlanarState& s_;
+  PlanarAssembly& a_;
+  Eigen::Matrix<double, 3, 2> e_;
+};
+
+class SpatialSink {
+ public:
+  SpatialSink(const SpatialState& s, SpatialAssembly& a) : s_(s), a_(a) {}
+  double t() const { return s_.t; }
+  int first() const { return s_.first; }
+  int n() const { return s_.n; }
+  bool jacobian(int i) const { return a_.wantsJacobianAt(i); }
+  Eigen::Vector3d p(int i) const { return s_.p.col(i); }
+  Eigen::Vector3d v(int i) const { return s_.v.col(i); }
+  Eigen::Vector3d omega(int i) const { return 2.0 * quat::E(s_.q.col(i)) * s_.qd.col(i); }
+
+  void addPointForce(int i, const Eigen::Vector3d& f, ForcePower power) {
+    a_.addForce(i, f);
+    (power == ForcePower::kApplied ? a_.f_work : a_.f_dissipative).col(i) += f;
+  }
+  void addPointStiffness(int i, const Eigen::Matrix3d& k) { a_.addStiffnessPP(i, i, k); }
+  void addPointDamping(int i, const Eigen::Matrix3d& d) { a_.addDampingPP(i, i, d); }
+  // A moment m as the generalized force f_q = 2 E(q)^T m; with omega =
+  // 2 E(q) qd, d f_q / d qd = 4 E^T D E and d f_q / d q column k =
+  // 2 E(e_k)^T m + 4 E^T D E(e_k) qd (E is linear in q), D = d m / d omega.
+  void addFrameMoment(int i, const Eigen::Vector3d& m, ForcePower power) {
+    frameMoment(i, m, power, nullptr);
+  }
+  void addFrameMoment(int i, const Eigen::Vector3d& m, ForcePower power,
+                      const Eigen::Matrix3d& dm_domega) {
+    frameMoment(i, m, power, &dm_domega);
+  }
+
+ private:
+  void frameMoment(int i, const Eigen::Vector3d& m, ForcePower power,
+                   const Eigen::Matrix3d* dm_domega) {
+    const quat::Vec4 q = s_.q.col(i), qd = s_.qd.col(i);
+    const quat::Mat34 e = quat::E(q);
+    const Eigen::Vector4d fq = 2.0 * e.transpose() * m;
+    a_.addQForce(i, fq);
+    (power == ForcePower::kApplied ? a_.fq_work : a_.fq_dissipative).col(i) += fq;
+    if (!a_.wantsJacobianAt(i)) return;
+    Eigen::Matrix4d dq;
+    for (int k = 0; k < 4; ++k) {
+      const quat::Mat34 ek = quat::E(quat::Vec4::Unit(k));
+      dq.col(k) = 2.0 * ek.transpose() * m;
+      if (dm_domega) dq.col(k) += 4.0 * e.transpose() * (*dm_domega * (ek * qd));
+    }
+    a_.addStiffnessQQ(i, i, dq);
+    if (dm_domega) a_.addDampingQQ(i, i, 4.0 * e.transpose() * (*dm_domega * e));
+  }
+
+  const SpatialState& s_;
+  SpatialAssembly& a_;
+};
+
+// A ForceEffect whose law is written once, on a sink: Law derives from
+// SinkEffect<Law> and defines `template <class Sink> void law(Sink& s)
+// const`.
+template <class Law>
+class SinkEffect : public ForceEffect {
+ public:
+  explicit SinkEffect(const WireConstants& c) : c_(c) {}
+  void addForces(double t, const WireKinematics& k, WireForces& f) const final {
+    ExplicitSink sink(t, c_, k, f);
+    static_cast<const Law*>(this)->law(sink);
+  }
+  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const final {
+    PlanarSink sink(s, a);
+    static_cast<const Law*>(this)->law(sink);
+  }
+  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const final {
+    SpatialSink sink(s, a);
+    static_cast<const Law*>(this)->law(sink);
+  }
+
+ protected:
+  const WireConstants& c_;  // the model's: n grows with a supply
+};
+
+}  // namespace cws
