@@ -2,13 +2,10 @@
 
 #include <algorithm>
 
-#include "coil_winding_sim/core/assembly/planar_assembly.hpp"
-#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
-
 namespace cws {
 
 Stretching::Stretching(const WireConstants& c, const HysteresisParams& p, bool plastic)
-    : c_(c), law_(p), plastic_(plastic) {
+    : SinkEffect(c), law_(p), plastic_(plastic) {
   if (plastic_) {
     upper_.assign(c_.capacity - 1, law_.initialUpper());
     x_committed_.assign(c_.capacity - 1, 0.0);
@@ -88,53 +85,35 @@ double Stretching::plasticStrain(int j) const {
   return plastic_ ? law_.plasticStrain(upper_[j]) : 0.0;
 }
 
-void Stretching::addForces(double, const WireKinematics& k, WireForces& f) const {
-  // Energy l w(eps) per segment, eps = (|d| - l) / l: the tension T pulls both
-  // ends towards each other along the segment's unit tangent.
-  for (int j = c_.first - 1; j + 1 < c_.n; ++j) {
-    const Eigen::Vector3d d = k.p_world.col(j + 1) - k.p_world.col(j);
-    const double len = d.norm();
-    const double x = (len - c_.segment_length) / c_.segment_length;
-    const Eigen::Vector3d pull = stressOf(x, j) / len * d;
-    f.f_world.col(j) += pull;
-    f.f_world.col(j + 1) -= pull;
-  }
-}
-
-// The law in the implicit formulations' coordinates (the plane's, or the
-// world's in 3-D): the tension along each segment, and its Jacobian blocks,
-// the tangent k / l along the segment and the tension's geometric
-// stiffness T / |d| across it.
-template <int Dim, class State, class Assembly>
-void Stretching::addImplicitForces(const State& s, Assembly& a) const {
-  using Vec = Eigen::Matrix<double, Dim, 1>;
-  using Mat = Eigen::Matrix<double, Dim, Dim>;
+template <class Sink>
+void Stretching::law(Sink& s) const {
+  using Vec = typename Sink::Vec;
+  using Mat = typename Sink::Mat;
   const double l = c_.segment_length;
-  for (int j = s.first - 1; j + 1 < s.n; ++j) {
+  for (int j = s.first() - 1; j + 1 < s.n(); ++j) {
     const Vec d = s.segment(j);
     const double len = d.norm();
-    double k;
-    const double tension = stressTangent((len - l) / l, j, s.return_mapping, k);
+    const double x = (len - l) / l;
+    const bool jacobian = s.jacobian(j);
+    // (Forces alone, with the lines decided here: the stress alone.)
+    double k = 0.0;
+    const double tension =
+        s.returnMapping() && !jacobian ? stressOf(x, j) : stressTangent(x, j, s.returnMapping(), k);
     const Vec t = d / len;
-    a.addForce(j, tension * t);
-    a.addForce(j + 1, -tension * t);
-    if (!a.wantsJacobianAt(j)) continue;
+    s.addForce(j, tension * t);
+    s.addForce(j + 1, -tension * t);
+    if (!jacobian) continue;
     const Mat tt = t * t.transpose();
     const Mat kb = (k / l) * tt + (tension / len) * (Mat::Identity() - tt);
-    a.addStiffness(j + 1, j + 1, -kb);
-    a.addStiffness(j + 1, j, kb);
-    a.addStiffness(j, j, -kb);
-    a.addStiffness(j, j + 1, kb);
+    s.addStiffness(j + 1, j + 1, -kb);
+    s.addStiffness(j + 1, j, kb);
+    s.addStiffness(j, j, -kb);
+    s.addStiffness(j, j + 1, kb);
   }
 }
-
-void Stretching::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
-  addImplicitForces<2>(s, a);
-}
-
-void Stretching::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
-  addImplicitForces<3>(s, a);
-}
+template void Stretching::law(ExplicitSink&) const;
+template void Stretching::law(PlanarSink&) const;
+template void Stretching::law(SpatialSink&) const;
 
 void Stretching::commit(double, const WireKinematics& k) {
   if (!plastic_) return;

@@ -17,6 +17,16 @@
 //                              moment on frame i [N m], and its derivative in
 //                              the frame's angular velocity [N m s] where it
 //                              has one
+// A law on the points alone (a spring along a segment) may instead use the
+// formulation's own coordinates, the plane's two in a planar scene, else
+// the world's three:
+//   kDim, Vec, Mat             their size and types
+//   segment(j)                 p_j+1 - p_j [m]
+//   addForce(i, f)             an internal force [N] (booked by no power)
+//   addStiffness(i, j, K)      d f_i / d x_j [N/m]
+//   returnMapping()            the laws' lines decided at every evaluation
+//                              (explicit steps; a Newton solve's last
+//                              rounds), else frozen within the solve
 // SinkEffect<Law> turns a class with `template <class Sink> void law(Sink&)
 // const` into a ForceEffect of all three integrators.
 #pragma once
@@ -45,6 +55,14 @@ class ExplicitSink {
   Eigen::Vector3d p(int i) const { return k_.p_world.col(i); }
   Eigen::Vector3d v(int i) const { return k_.v_world.col(i); }
   Eigen::Vector3d omega(int i) const { return 2.0 * quat::E(k_.q.col(i)) * k_.qd.col(i); }
+
+  static constexpr int kDim = 3;
+  using Vec = Eigen::Vector3d;
+  using Mat = Eigen::Matrix3d;
+  Vec segment(int j) const { return k_.p_world.col(j + 1) - k_.p_world.col(j); }
+  void addForce(int i, const Vec& f) { f_.f_world.col(i) += f; }
+  void addStiffness(int, int, const Mat&) {}
+  bool returnMapping() const { return true; }
 
   void addPointForce(int i, const Eigen::Vector3d& f, ForcePower power) {
     f_.f_world.col(i) += f;
@@ -84,6 +102,14 @@ class PlanarSink {
     const Eigen::Vector2d g = planar::angleGradient(s_.segment(i - 1));
     return g.dot(s_.v.col(i) - s_.v.col(i - 1)) * s_.plane.n_world;
   }
+
+  static constexpr int kDim = 2;
+  using Vec = Eigen::Vector2d;
+  using Mat = Eigen::Matrix2d;
+  Vec segment(int j) const { return s_.segment(j); }
+  void addForce(int i, const Vec& f) { a_.addForce(i, f); }
+  void addStiffness(int i, int j, const Mat& k) { a_.addStiffness(i, j, k); }
+  bool returnMapping() const { return s_.return_mapping; }
 
   // World to plane: f = E^T f_world, K = E^T K_world E (nothing along the
   // normal moves a planar wire).
@@ -154,6 +180,14 @@ class SpatialSink {
   Eigen::Vector3d p(int i) const { return s_.p.col(i); }
   Eigen::Vector3d v(int i) const { return s_.v.col(i); }
   Eigen::Vector3d omega(int i) const { return 2.0 * quat::E(s_.q.col(i)) * s_.qd.col(i); }
+
+  static constexpr int kDim = 3;
+  using Vec = Eigen::Vector3d;
+  using Mat = Eigen::Matrix3d;
+  Vec segment(int j) const { return s_.segment(j); }
+  void addForce(int i, const Vec& f) { a_.addForce(i, f); }
+  void addStiffness(int i, int j, const Mat& k) { a_.addStiffnessPP(i, j, k); }
+  bool returnMapping() const { return s_.return_mapping; }
 
   void addPointForce(int i, const Eigen::Vector3d& f, ForcePower power) {
     a_.addForce(i, f);

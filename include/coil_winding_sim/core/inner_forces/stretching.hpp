@@ -1,22 +1,27 @@
-// Stretching springs between neighbouring mass points, eqs. (7)-(9).
+// Stretching springs between neighbouring mass points, eqs. (7)-(9): the
+// law written once on the force sink (assembly/force_sink.hpp), in the
+// formulation's own coordinates.
 #pragma once
 
 #include <vector>
 
+#include "coil_winding_sim/core/assembly/force_sink.hpp"
 #include "coil_winding_sim/core/base/hysteresis.hpp"
-#include "coil_winding_sim/core/base/wire_types.hpp"
 
 namespace cws {
 
-class Stretching : public ForceEffect {
+class Stretching : public SinkEffect<Stretching> {
  public:
   // With plastic = false the law is linear (EA) and no yield state exists.
   Stretching(const WireConstants& c, const HysteresisParams& p, bool plastic);
 
   const char* name() const override { return "stretching"; }
-  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
-  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
-  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
+  // Energy l w(eps) per segment, eps = (|d| - l) / l: the tension T pulls
+  // both ends towards each other along the segment; its Jacobian blocks, the
+  // tangent k / l along the segment and the tension's geometric stiffness
+  // T / |d| across it (stretching.cpp; instantiated for the three sinks).
+  template <class Sink>
+  void law(Sink& s) const;
   // Implicit steps freeze the line of each segment's law (elastic, upper or
   // lower plastic) within a Newton solve; the lines carry over between steps.
   void beginImplicitStep(const PlanarState& s0) override;
@@ -55,13 +60,9 @@ class Stretching : public ForceEffect {
   void beginLines(const State& s0);
   template <class State>
   bool recheckLines(const State& s);
-  // addPlanarForces and addSpatialForces: one code in Dim coordinates.
-  template <int Dim, class State, class Assembly>
-  void addImplicitForces(const State& s, Assembly& a) const;
   // Commits segment j as loaded from virgin to its present strain.
   void loadVirgin(const WireKinematics& k, int j);
 
-  const WireConstants& c_;  // the model's: n grows with a supply
   TwoLineLaw law_;
   bool plastic_;
   // Per segment (capacity), allocated only when plastic: upper yield point,
