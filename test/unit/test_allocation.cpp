@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cstdlib>
+#include <memory>
 #include <new>
 #include <string>
 
@@ -127,6 +128,31 @@ TEST(Allocation, RetiringStepsAllocateNothing) {
   std::printf("allocation: retiring, %ld allocations, %d points retired\n", allocations.load(),
               sim.model().retiredPoints());
   EXPECT_GT(sim.model().retiredPoints(), 0);
+  EXPECT_EQ(allocations.load(), 0);
+}
+
+// The same after a restore from a snapshot taken once wire had retired:
+// the restored store is reserved as the job's was, so the next retirement
+// allocates nothing either.
+TEST(Allocation, RetiringStepsAfterARestoreAllocateNothing) {
+  cws::Simulation sim(
+      cws::loadScene(std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml",
+                     {"process.winding_width=6e-3", "process.layers=5", "process.turns=27",
+                      "core.flange_height=8e-3", "supply.max_points=1300"}));
+  while (sim.model().retiredPoints() == 0 && sim.time() < sim.endTime()) sim.step(sim.endTime());
+  ASSERT_GT(sim.model().retiredPoints(), 0);
+  const std::unique_ptr<cws::Simulation> restored = cws::Simulation::fromState(sim.saveState());
+  const int retired0 = restored->model().retiredPoints();
+  for (int i = 0; i < 100; ++i) restored->step(restored->endTime());  // under way again
+  allocations = 0;
+  counting = true;
+  while (restored->model().retiredPoints() == retired0 && restored->time() < restored->endTime())
+    restored->step(restored->endTime());
+  for (int i = 0; i < 100; ++i) restored->step(restored->endTime());
+  counting = false;
+  std::printf("allocation: retiring after a restore, %ld allocations, %d -> %d points retired\n",
+              allocations.load(), retired0, restored->model().retiredPoints());
+  EXPECT_GT(restored->model().retiredPoints(), retired0);
   EXPECT_EQ(allocations.load(), 0);
 }
 

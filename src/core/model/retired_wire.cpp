@@ -56,7 +56,8 @@ void RetiredWire::importPoints(const std::vector<double>& in) {
       p.surface[s] = static_cast<int>(id);
     }
   }
-  points_.swap(points);
+  // (Into the store's own records: what it reserved stays reserved.)
+  points_.assign(points.begin(), points.end());
   // The largest stand-off, as the retirements found it (the first of equals).
   max_stand_off_m = 0.0;
   max_stand_off_point = -1;

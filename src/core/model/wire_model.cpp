@@ -81,8 +81,9 @@ WireModel::WireModel(const Scene& s)
   // written pages take memory): a job with an end never grows the store
   // within a step; a cell that runs until stopped grows it by doubling.
   if (carry_) {
-    retired_.reserve(
-        static_cast<int>(std::clamp(s.wirePointsEstimate() - c_.capacity, 0.0, kMaxWirePoints)));
+    retired_reserve_ =
+        static_cast<int>(std::clamp(s.wirePointsEstimate() - c_.capacity, 0.0, kMaxWirePoints));
+    retired_.reserve(retired_reserve_);
   }
   effects_ = makeEffects(s, EffectContext{c_, core_.get(), &carried_.positionsCore()});
   all_ = effects_.list();

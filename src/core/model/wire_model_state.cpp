@@ -90,7 +90,9 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
   for (double v : m.clamp_core) {
     if (!std::isfinite(v)) throw std::runtime_error("snapshot clamp pose is not finite");
   }
+  // (Reserved as at the start: a restored job retires without allocating.)
   RetiredWire retired;
+  retired.reserve(retired_reserve_);
   retired.importPoints(m.retired_points);
   if (!supply_ && !m.port_command.empty()) {
     throw std::runtime_error("snapshot commands a supply port; this scene has no supply");

@@ -314,6 +314,7 @@ class WireModel : public OdeSystem, public NewtonModelView {
   bool carry_ = false;
   CarriedWire carried_;             // the wound wire the core carries (solver.carry_stuck_wire)
   RetiredWire retired_;             // buried wire retired from the live arrays
+  int retired_reserve_ = 0;         // records reserved for the job's whole wire
   double clamp_axial_force_ = 0.0;  // [N] the retired segment ending at point 0
   double keep_turns_ = 0.0;         // carried turns kept live behind the integrated wire
   bool carried_deferred_ = false;
