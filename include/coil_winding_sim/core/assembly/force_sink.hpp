@@ -71,8 +71,10 @@ class ExplicitSink {
   void addPointStiffness(int, const Eigen::Matrix3d&) {}
   void addPointDamping(int, const Eigen::Matrix3d&) {}
   // A moment m as the generalized force 2 E(q)^T m on the quaternion.
-  void addFrameMoment(int i, const Eigen::Vector3d& m, ForcePower power,
-                      const Eigen::Matrix3d& = Eigen::Matrix3d::Zero()) {
+  void addFrameMoment(int i, const Eigen::Vector3d& m, ForcePower power, const Eigen::Matrix3d&) {
+    addFrameMoment(i, m, power);
+  }
+  void addFrameMoment(int i, const Eigen::Vector3d& m, ForcePower power) {
     const Eigen::Vector4d fq = 2.0 * quat::E(k_.q.col(i)).transpose() * m;
     f_.f_q.col(i) += fq;
     (power == ForcePower::kApplied ? f_.fq_work : f_.fq_dissipative).col(i) += fq;
