@@ -27,17 +27,10 @@ class AirDragFall : public ::testing::TestWithParam<Case> {};
 
 TEST_P(AirDragFall, FarWireFallsAtTheClosedFormsSpeedAndDepth) {
   const Case k = GetParam();
-  cws::Scene s = cws_test::cantilever(1.0, 200);
-  s.physics.gravity = true;
+  cws::Scene s = cws_test::fallingWire(k.integrator, k.planar);
   s.physics.air_drag = true;
-  s.physics.torsion = !k.planar;
-  s.physics.planar = k.planar;
-  s.physics.plasticity = false;         // (a yielding root would turn the wire about it)
-  s.core.axis_world = {0.0, 1.0, 0.0};  // the plane x-z holds the fall
   s.air_drag.density = 1.0e5;
   s.air_drag.drag_coefficient = 1.2;
-  s.solver.integrator = k.integrator;
-  s.solver.implicit_step = 1e-4;
   s.process.duration = 0.02;
   cws::Simulation sim(s);
   sim.run();
@@ -49,18 +42,9 @@ TEST_P(AirDragFall, FarWireFallsAtTheClosedFormsSpeedAndDepth) {
   const double v_closed = -vt * std::tanh(g * t / vt);
   const double z_closed = -vt * vt / g * std::log(std::cosh(g * t / vt));
   // The far part: 0.6 m from the clamp to the free end.
-  double v = 0.0, z = 0.0;
-  int count = 0;
-  for (int i = 0; i < sim.model().constants().n; ++i) {
-    const cws::PointReport r = sim.model().point(i);
-    if (r.p_world.x() < 0.6) continue;
-    v += sim.model().committed().v_world(2, i);
-    z += r.p_world.z();
-    ++count;
-  }
-  ASSERT_GT(count, 10);
-  v /= count;
-  z /= count;
+  const cws_test::FarPart far = cws_test::farPart(sim, 0.6);
+  ASSERT_GT(far.count, 10);
+  const double v = far.v, z = far.z;
   std::printf(
       "%s%s: t %.4f s, v_t %.5f m/s; v %.6f m/s (closed form %.6f, rel. %.2e), "
       "z %.6f m (closed form %.6f, rel. %.2e)\n",

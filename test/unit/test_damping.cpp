@@ -26,17 +26,10 @@ class DampedFall : public ::testing::TestWithParam<Case> {};
 
 TEST_P(DampedFall, FarWireFallsAtTheClosedFormsSpeedAndDepth) {
   const Case k = GetParam();
-  cws::Scene s = cws_test::cantilever(1.0, 200);
-  s.physics.gravity = true;
+  cws::Scene s = cws_test::fallingWire(k.integrator, k.planar);
   s.physics.damping = true;
-  s.physics.torsion = !k.planar;
-  s.physics.planar = k.planar;
-  s.physics.plasticity = false;         // (a yielding root would turn the wire about it)
-  s.core.axis_world = {0.0, 1.0, 0.0};  // the plane x-z holds the fall
-  s.damping.translational = 2.8;        // tau = 2.5 ms
-  s.damping.rotational = 1e-7;          // (on the frames: little on a falling wire)
-  s.solver.integrator = k.integrator;
-  s.solver.implicit_step = 1e-4;
+  s.damping.translational = 2.8;  // tau = 2.5 ms
+  s.damping.rotational = 1e-7;    // (on the frames: little on a falling wire)
   s.process.duration = 0.01;
   cws::Simulation sim(s);
   sim.run();
@@ -49,18 +42,9 @@ TEST_P(DampedFall, FarWireFallsAtTheClosedFormsSpeedAndDepth) {
   const double v_closed = -vt * (1.0 - std::exp(-t / tau));
   const double z_closed = -vt * (t - tau * (1.0 - std::exp(-t / tau)));
   // The far part: 0.6 m from the clamp to the free end.
-  double v = 0.0, z = 0.0;
-  int count = 0;
-  for (int i = 0; i < sim.model().constants().n; ++i) {
-    const cws::PointReport r = sim.model().point(i);
-    if (r.p_world.x() < 0.6) continue;
-    v += sim.model().committed().v_world(2, i);
-    z += r.p_world.z();
-    ++count;
-  }
-  ASSERT_GT(count, 10);
-  v /= count;
-  z /= count;
+  const cws_test::FarPart far = cws_test::farPart(sim, 0.6);
+  ASSERT_GT(far.count, 10);
+  const double v = far.v, z = far.z;
   std::printf(
       "%s%s: t %.4f s, v_t %.5f m/s; v %.6f m/s (closed form %.6f, rel. %.2e), "
       "z %.6f m (closed form %.6f, rel. %.2e)\n",

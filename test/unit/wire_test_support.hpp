@@ -79,4 +79,42 @@ inline double tipFrameAngle(const cws::Simulation& sim) {
   return cws::quat::relativeAngle(k.q.col(0), k.q.col(sim.model().constants().n - 1));
 }
 
+// A horizontal wire 1 m long held at one end, falling in the plane x-z
+// (gravity on, elastic laws), with `integrator` in the plane or in 3-D: its
+// part beyond the clamp's reach falls freely for the first tens of
+// milliseconds (test_air_drag.cpp, test_damping.cpp).
+inline cws::Scene fallingWire(const char* integrator, bool planar) {
+  cws::Scene s = cantilever(1.0, 200);
+  s.physics.gravity = true;
+  s.physics.torsion = !planar;
+  s.physics.planar = planar;
+  s.physics.plasticity = false;         // (a yielding root would turn the wire about it)
+  s.core.axis_world = {0.0, 1.0, 0.0};  // the plane x-z holds the fall
+  s.solver.integrator = integrator;
+  s.solver.implicit_step = 1e-4;
+  return s;
+}
+
+// The mean downward velocity [m/s] and height [m] of the points at
+// x >= from_x [m] at the last accepted step, and how many they are.
+struct FarPart {
+  double v = 0.0, z = 0.0;
+  int count = 0;
+};
+inline FarPart farPart(const cws::Simulation& sim, double from_x) {
+  FarPart f;
+  for (int i = 0; i < sim.model().constants().n; ++i) {
+    const cws::PointReport r = sim.model().point(i);
+    if (r.p_world.x() < from_x) continue;
+    f.v += sim.model().committed().v_world(2, i);
+    f.z += r.p_world.z();
+    ++f.count;
+  }
+  if (f.count > 0) {
+    f.v /= f.count;
+    f.z /= f.count;
+  }
+  return f;
+}
+
 }  // namespace cws_test
