@@ -94,10 +94,11 @@ struct Bench {
 TEST(FreeWireContact, PressedWiresFollowThePenaltyLaw) {
   Bench b;
   const double k = b.scene.contact.stiffness;
-  b.free.commit(0.0, b.k);
+  b.free.commit({0.0, b.k, false});
   EXPECT_EQ(b.free.touching(), 2);
   b.f.f_world.setZero();
-  b.free.addForces(0.0, b.k, b.f);
+  cws::ExplicitSink sink(0.0, b.c, b.k, b.f);
+  b.free.addForces(sink);
   const Eigen::Vector3d f15(0.0, 0.0, k * Bench::h1), f18(0.0, -k * Bench::h2, 0.0);
   auto expectNear = [&](int i, const Eigen::Vector3d& want) {
     EXPECT_LT((b.f.f_world.col(i) - want).norm(), 1e-6 * k * Bench::h2)
@@ -113,7 +114,7 @@ TEST(FreeWireContact, PressedWiresFollowThePenaltyLaw) {
     EXPECT_EQ(b.f.f_world.col(i).norm(), 0.0) << i;
   }
   // The energy of the two springs, and the deeper of them.
-  EXPECT_NEAR(b.free.elasticEnergy(b.k), 0.5 * k * (Bench::h1 * Bench::h1 + Bench::h2 * Bench::h2),
+  EXPECT_NEAR(b.free.elasticEnergy(), 0.5 * k * (Bench::h1 * Bench::h1 + Bench::h2 * Bench::h2),
               1e-9 * k * Bench::h1);
   EXPECT_NEAR(b.free.deepest().depth_m, Bench::h1, 1e-12);
   EXPECT_EQ(b.free.deepest().point, 15);
@@ -141,10 +142,10 @@ TEST(FreeWireContact, APointKeepsTheNearestRunsWithinReach) {
   for (int i = 14; i <= 16; ++i) at(i, (i - 11.0) * mm, -1.0 * d, p.z());
   at(17, 5.0 * mm, -50 * mm, p.z());
   b.k.p_world.col(22) = p;
-  b.free.commit(0.0, b.k);
+  b.free.commit({0.0, b.k, false});
   EXPECT_EQ(b.free.touching(), 0);
   for (int i = 14; i <= 16; ++i) b.k.p_world(1, i) += 0.1 * d;
-  b.free.commit(0.0, b.k);
+  b.free.commit({0.0, b.k, false});
   EXPECT_EQ(b.free.touching(), 1);
   EXPECT_NEAR(b.free.deepest().depth_m, 0.1 * d, 1e-12);
   EXPECT_EQ(b.free.deepest().point, 22);
@@ -157,7 +158,7 @@ TEST(FreeWireContact, APointKeepsTheNearestRunsWithinReach) {
 // alike, so that the nearest point's shift along it changes nothing.
 TEST(FreeWireContact, ForceDerivativeMatchesFiniteDifferences) {
   Bench b({"contact.damping_ratio=1.0"});
-  b.free.commit(0.0, b.k);
+  b.free.commit({0.0, b.k, false});
   const double alpha = 1.5e4;
   for (double slide : {0.2, 2e-4}) {  // [m/s] along y, beside the normal
     SCOPED_TRACE(slide);
@@ -193,17 +194,18 @@ TEST(FreeWireContact, ForceDerivativeMatchesFiniteDifferences) {
 // dense LU of the whole matrix does.
 static void expectCouplingsSolveAsTheWholeMatrix(int extra) {
   Bench b({"contact.damping_ratio=1.0"});
-  b.free.commit(0.0, b.k);
+  b.free.commit({0.0, b.k, false});
   cws::SpatialState s = b.state(1.5e4);
   s.v.col(15) = Eigen::Vector3d(0.05, 0.1, -0.01);
   s.v.col(18) = Eigen::Vector3d(-0.02, 0.01, 0.1);
   s.v.col(21) = Eigen::Vector3d(0.01, 0.03, 0.0);
-  b.free.beginSpatialStep(s);
+  b.free.beginStep(cws::NewtonView(s));
   using A = cws::SpatialAssembly;
   A a;
   a.resize(Bench::kN);
   a.begin(s.first, s.n, false, true, s.alpha);
-  b.free.addSpatialForces(s, a);
+  cws::SpatialSink sink(s, a);
+  b.free.addForces(sink);
   ASSERT_EQ(a.pairCouplings(), 2);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -27,7 +27,8 @@ void checkEffect(cws::PlanarFormulation& form, const cws::ForceEffect& effect, i
   am.resize(capacity);
   a.begin(first, n, true, true, s.alpha);
   if (multiplier) a.setConstraint(0.0, 1.0);
-  effect.addPlanarForces(s, a);
+  cws::PlanarSink sink(s, a);
+  effect.addForces(sink);
   const int unknowns = 2 * (n - first) + 1;
   Eigen::MatrixXd analytic = Eigen::MatrixXd::Zero(unknowns, unknowns);
   for (int r = 0; r < unknowns; ++r) {
@@ -44,7 +45,8 @@ void checkEffect(cws::PlanarFormulation& form, const cws::ForceEffect& effect, i
       s.x(k, i) += sign * eps;
       s.v(k, i) += sign * s.alpha * eps;
       out.begin(first, n, true, false, s.alpha);
-      effect.addPlanarForces(s, out);
+      cws::PlanarSink out_sink(s, out);
+      effect.addForces(out_sink);
       s.x(k, i) -= sign * eps;
       s.v(k, i) -= sign * s.alpha * eps;
     };
@@ -87,7 +89,7 @@ void checkAllAt(double t_s, double jitter, unsigned seed,
   const int capacity = model.constants().capacity;
   for (cws::ForceEffect* e : model.effectList()) {
     double worst = 0.0;
-    e->beginImplicitStep(s);
+    if (auto* h = dynamic_cast<cws::EffectHistory*>(e)) h->beginStep(cws::NewtonView(s));
     checkEffect(form, *e, capacity, worst);
     ::testing::Test::RecordProperty(std::string(e->name()) + "_worst_relative",
                                     std::to_string(worst));

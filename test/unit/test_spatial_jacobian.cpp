@@ -27,7 +27,8 @@ void assembleOne(const cws::ForceEffect* effect, cws::SpatialState& s, cws::Spat
   a.setFrames(frames_q, s.first, s.n);
   a.begin(s.first, s.n, port, jacobian, s.alpha);
   if (effect) {
-    effect->addSpatialForces(s, a);
+    cws::SpatialSink sink(s, a);
+    effect->addForces(sink);
   } else {
     cws::addSpatialFrameConstraints(s, 7.0, a);
   }
@@ -149,7 +150,7 @@ void slipEveryOther(cws::SpatialState& s, cws::Contact& contact, const cws::Rota
     const Eigen::Vector3d r = s.p.col(i) - core.originWorld();
     s.p.col(i) += 50e-6 * core.axisWorld().cross(r).normalized();
   }
-  contact.recheckSpatialFlags(s);
+  contact.recheck(cws::NewtonView(s));
   s.p = saved;
 }
 
@@ -176,7 +177,7 @@ Coverage checkAllAt(double t_s, unsigned seed, const std::vector<std::string>& e
     s.qd.col(i) += 1.0 * Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng));
     s.mu.col(i) = Eigen::Vector3d(u(rng), u(rng), u(rng));
   }
-  for (cws::ForceEffect* e : model.effectList()) e->beginSpatialStep(s);
+  for (cws::EffectHistory* h : model.historyList()) h->beginStep(cws::NewtonView(s));
   for (cws::ForceEffect* e : model.effectList()) {
     if (auto* contact = dynamic_cast<cws::Contact*>(e)) slipEveryOther(s, *contact, *model.core());
   }

@@ -40,7 +40,8 @@ struct Bench {
   void evaluate(const cws::Contact& contact) {
     f.f_world.setZero();
     f.f_q.setZero();
-    contact.addForces(0.0, k, f);
+    cws::ExplicitSink sink(0.0, c, k, f);
+    contact.addForces(sink);
   }
 };
 
@@ -139,13 +140,14 @@ TEST(Flanges, AFrozenFlangeEndsWhereTheFlangeEnds) {
   st.q.setZero(4, 6);
   st.qd.setZero(4, 6);
   st.mu.setZero(3, 6);
-  contact.beginSpatialStep(st);
-  ASSERT_TRUE(contact.recheckSpatialFlags(st));  // the flange is found
+  contact.beginStep(cws::NewtonView(st));
+  ASSERT_TRUE(contact.recheck(cws::NewtonView(st)));  // the flange is found
   cws::SpatialAssembly a;
   a.resize(6);
   auto force = [&] {
     a.begin(st.first, st.n, false, false, st.alpha);
-    contact.addSpatialForces(st, a);
+    cws::SpatialSink sink(st, a);
+    contact.addForces(sink);
     return Eigen::Vector3d(a.forces().segment<3>(a.pRow(1)));
   };
   EXPECT_LT((force() - k * h1 * axis).norm(), 1e-9 * k * h1);
@@ -177,7 +179,7 @@ TEST(Flanges, ACornerPointFeelsTheCoreAndTheFlange) {
   const Eigen::Vector3d expected = k * h_c * out + k * h_f * axis;
   EXPECT_LT((b.f.f_world.col(1) - expected).norm(), 1e-9 * expected.norm());
   // Both are held at a commit, each in its own slot.
-  contact.commit(0.0, b.k);
+  contact.commit({0.0, b.k, false});
   EXPECT_EQ(contact.surface(1, 0), 0);
   EXPECT_GE(contact.surface(1, 1), 0);
   EXPECT_NEAR(contact.penetration(1, 0), h_c, 1e-15);
@@ -270,7 +272,7 @@ TEST(WireContact, APointInTheGrooveFeelsBothTurns) {
   }
   EXPECT_LT((b.f.f_world.col(33) - expected).norm(), 1e-9 * expected.norm());
   EXPECT_NEAR(expected.z(), 0.0, 1e-12 * expected.norm());  // symmetric: up only
-  contact.commit(0.0, b.k);
+  contact.commit({0.0, b.k, false});
   int runs = 0;
   for (int slot = 0; slot < contact.slots(); ++slot) {
     runs += contact.surface(33, slot) >= contact.wireSurface();
@@ -305,7 +307,7 @@ TEST(WireContact, APointAmongFourWiresFeelsAllFour) {
   Eigen::Vector3d expected = Eigen::Vector3d::Zero();
   for (int run = 0; run < 4; ++run) expected -= k * h[run] * dir[run];
   EXPECT_LT((b.f.f_world.col(52) - expected).norm(), 1e-9 * expected.norm());
-  contact.commit(0.0, b.k);
+  contact.commit({0.0, b.k, false});
   int runs = 0;
   for (int slot = 0; slot < contact.slots(); ++slot) {
     runs += contact.surface(52, slot) >= contact.wireSurface();

@@ -116,7 +116,7 @@ Eigen::Vector3d Contact::friction(int i, const Eigen::Vector3d& p_world,
   return (-p_.kinetic_friction * normal_force / speed) * vh_world;
 }
 
-void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const {
+void Contact::addExplicit(double t, const WireKinematics& k, WireForces& f) const {
   placeSurfaces(t);
   syncCarriedWire();
   Touch touches[kMaxSlots];
@@ -159,7 +159,7 @@ void Contact::addForces(double t, const WireKinematics& k, WireForces& f) const 
   }
 }
 
-void Contact::commit(double t, const WireKinematics& k) {
+void Contact::commitAt(double t, const WireKinematics& k) {
   deepest_in_wire_ = WireDepth();
   placeSurfaces(t);
   syncCarriedWire();
@@ -320,8 +320,6 @@ void Contact::forgetCarriedSums() {
   carried_summed_ = 1;
   carried_max_penetration_ = carried_elastic_ = 0.0;
 }
-
-double Contact::elasticEnergy(const WireKinematics&) const { return elastic_committed_; }
 
 void Contact::restoreHistory(HistoryReader& in) {
   for (int x = 0; x < c_.n * slots_; ++x) {

@@ -43,7 +43,7 @@ Eigen::Matrix2d Contact::planarCarriedGradient(const PlanarState& s) const {
   return e.transpose() * s.carried.g_world * e;
 }
 
-void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
+void Contact::addPlanar(const PlanarState& s, PlanarAssembly& a) const {
   placeSurfaces(s.t);
   const Eigen::Matrix2d rot90 = planar::perpMatrix();
   // d u / d x of the core's material, the same at every point (for the
@@ -127,7 +127,7 @@ void Contact::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
   }
 }
 
-void Contact::beginImplicitStep(const PlanarState& s0) {
+void Contact::beginPlanar(const PlanarState& s0) {
   growSpan(trial_anchor_core_, s0.n - s0.first);
   placeSurfaces(s0.t);
   for (int i = s0.first; i < s0.n; ++i) {
@@ -149,7 +149,7 @@ void Contact::beginImplicitStep(const PlanarState& s0) {
   }
 }
 
-bool Contact::recheckFlags(const PlanarState& s) {
+bool Contact::recheckPlanar(const PlanarState& s) {
   growSpan(trial_anchor_core_, s.n - s.first);
   placeSurfaces(s.t);
   bool changed = false;

@@ -92,7 +92,7 @@ bool Contact::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
   depth = c_.radius - (p_world - face_from_world_[f]).dot(normal_world);
   return true;
 }
-void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
+void Contact::addSpatial(const SpatialState& s, SpatialAssembly& a) const {
   placeSurfaces(s.t);
   const Eigen::Matrix3d id = Eigen::Matrix3d::Identity();
   for (int x = s.first * slots_; x < s.n * slots_; ++x) {
@@ -190,7 +190,7 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
         // u = G (p - o) the core's; with its derivatives in p
         // (through N, n and u) and v. Below the stick speed the direction
         // vh / |vh| is replaced by vh / stick_speed: a converged solve with
-        // a point sliding that slowly sticks it (recheckSpatialFlags), so
+        // a point sliding that slowly sticks it (recheckSpatial), so
         // no accepted step uses that part, and Newton does not chase the
         // kink of vh / |vh| at rest.
         const Eigen::Vector3d vh = r - rn * nrm;
@@ -217,7 +217,7 @@ void Contact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const 
   }
 }
 
-void Contact::beginSpatialStep(const SpatialState& s0) {
+void Contact::beginSpatial(const SpatialState& s0) {
   recheck_.valid = false;
   placeSurfaces(s0.t);
   syncCarriedWire();
@@ -245,7 +245,7 @@ void Contact::beginSpatialStep(const SpatialState& s0) {
   }
 }
 
-bool Contact::recheckSpatialFlags(const SpatialState& s) {
+bool Contact::recheckSpatial(const SpatialState& s) {
   placeSurfaces(s.t);
   bool changed = false;
   Touch touches[kMaxSlots];

@@ -81,7 +81,7 @@ FreeWireContact::PairForce FreeWireContact::pairForce(const Geometry& g, const E
   return out;
 }
 
-void FreeWireContact::addForces(double /*t*/, const WireKinematics& k, WireForces& f) const {
+void FreeWireContact::addExplicit(const WireKinematics& k, WireForces& f) const {
   for (const Pair& pair : pairs_) {
     Geometry g;
     if (!geometry(k.p_world, c_.first, pair.a, pair.b, g)) continue;
@@ -100,7 +100,7 @@ void FreeWireContact::addForces(double /*t*/, const WireKinematics& k, WireForce
   }
 }
 
-void FreeWireContact::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
+void FreeWireContact::addSpatial(const SpatialState& s, SpatialAssembly& a) const {
   for (const Pair& pair : pairs_) {
     if (!pair.trial_active) continue;
     Geometry g;
@@ -120,13 +120,13 @@ void FreeWireContact::addSpatialForces(const SpatialState& s, SpatialAssembly& a
   }
 }
 
-void FreeWireContact::beginSpatialStep(const SpatialState& s0) {
+void FreeWireContact::beginSpatial(const SpatialState& s0) {
   // (After a restore the list is built here, from the step's start.)
   if (needsBuild(s0.p, s0.first, s0.n)) refresh(s0.p, s0.first, s0.n);
   for (Pair& pair : pairs_) pair.trial_active = pair.active;
 }
 
-bool FreeWireContact::recheckSpatialFlags(const SpatialState& s) {
+bool FreeWireContact::recheckSpatial(const SpatialState& s) {
   bool changed = false;
   for (Pair& pair : pairs_) {
     Geometry g;
@@ -209,9 +209,7 @@ void FreeWireContact::build(const Eigen::Matrix3Xd& p, int first, int n) {
   }
 }
 
-void FreeWireContact::commit(double /*t*/, const WireKinematics& k) {
-  refresh(k.p_world, c_.first, c_.n);
-}
+void FreeWireContact::commit(const AcceptedStep& step) { refresh(step.k.p_world, c_.first, c_.n); }
 
 void FreeWireContact::refresh(const Eigen::Matrix3Xd& p, int first, int n) {
   if (needsBuild(p, first, n)) build(p, first, n);

@@ -44,7 +44,7 @@ void Supply::setTension(double tension) {
   strain_ = virginStrain(stretch_, tension_);
 }
 
-void Supply::commit(double t, const WireKinematics&) { command_.commit(t); }
+void Supply::commit(const AcceptedStep& step) { command_.commit(step.t); }
 
 void Supply::commandPort(double t_s, const Eigen::Vector3d& p_world, double t_now) {
   if (swept_radius_ > 0.0 && p_world.allFinite()) {
@@ -77,7 +77,7 @@ PortMotion Supply::port(double t) const {
   return m;
 }
 
-void Supply::addForces(double, const WireKinematics& k, WireForces& f) const {
+void Supply::addExplicit(const WireKinematics& k, WireForces& f) const {
   // The boundary segment pulls the last point outwards along its zeta axis.
   const int last = c_.n - 1;
   const Eigen::Vector3d zeta = quat::zeta(k.q.col(last));
@@ -86,7 +86,7 @@ void Supply::addForces(double, const WireKinematics& k, WireForces& f) const {
   f.f_work_world.col(last) += pull;
 }
 
-void Supply::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
+void Supply::addPlanar(const PlanarState& s, PlanarAssembly& a) const {
   const int last = s.n - 1;
   const Eigen::Vector2d d = s.segment(last - 1);
   const double len = d.norm();
@@ -131,7 +131,7 @@ void Supply::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
   a.addStiffness(last - 1, last - 1, lambda * h_dd);
 }
 
-void Supply::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
+void Supply::addSpatial(const SpatialState& s, SpatialAssembly& a) const {
   // The boundary segment's tension along the last frame's zeta, as
   // addForces does; the port constraint (eq. 22): the port lies on the line
   // of that frame's zeta through the last point, g = e . (xi, eta) = 0 with

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "coil_winding_sim/core/assembly/force_effect.hpp"
 #include "coil_winding_sim/core/base/quaternion.hpp"
 #include "coil_winding_sim/core/implicit/newton_iteration.hpp"
 
@@ -42,6 +43,7 @@ PlanarFormulation::PlanarFormulation(NewtonModelView& model, const SolverParams&
       carried_(model.core()) {
   const int cap = model.constants().capacity;
   for (ForceEffect* e : model.effectList()) effects_.push_back(e);
+  for (EffectHistory* h : model.historyList()) histories_.push_back(h);
   const WireKinematics& k = model.integratedKinematics();
   state_.plane = PlaneBasis::through(k.p_world.col(0), model.newtonSetup().core_axis_world);
   // The plane normal in the material axes: the same in every frame.
@@ -94,7 +96,7 @@ void PlanarFormulation::load(double t0) {
   state_.lambda_port = lambda_accepted_;
   state_.carried = carried_.load(t0);
   placeBoundary(t0);
-  for (ForceEffect* e : effects_) e->beginImplicitStep(state_);
+  for (EffectHistory* h : histories_) h->beginStep(NewtonView(state_));
 }
 
 void PlanarFormulation::placeBoundary(double t) {
@@ -120,7 +122,8 @@ void PlanarFormulation::updateVelocities() {
 const PlanarAssembly& PlanarFormulation::assemble(bool jacobian) {
   if (jacobian) have_factor_ = false;  // the matrix is overwritten
   assembly_.begin(state_.first, state_.n, multiplier_, jacobian, state_.alpha);
-  for (const ForceEffect* e : effects_) e->addPlanarForces(state_, assembly_);
+  PlanarSink sink(state_, assembly_);
+  for (const ForceEffect* e : effects_) e->addForces(sink);
   return assembly_;
 }
 
@@ -230,7 +233,7 @@ void PlanarFormulation::moveAlong(double s) {
 
 bool PlanarFormulation::recheckFlags() {
   bool changed = false;
-  for (ForceEffect* e : effects_) changed = e->recheckFlags(state_) || changed;
+  for (EffectHistory* h : histories_) changed = h->recheck(NewtonView(state_)) || changed;
   return changed;
 }
 
@@ -266,7 +269,7 @@ void PlanarFormulation::store(double h, Eigen::VectorXd& y) {
   }
   lambda_accepted_ = state_.lambda_port;
   carried_.accept();
-  for (ForceEffect* e : effects_) e->adoptFlags();
+  model_.acceptNewtonFlags();
 }
 
 }  // namespace cws

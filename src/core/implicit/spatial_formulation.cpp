@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "coil_winding_sim/core/assembly/force_effect.hpp"
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
 #include "coil_winding_sim/core/implicit/newton_iteration.hpp"
 
@@ -19,6 +20,7 @@ SpatialFormulation::SpatialFormulation(NewtonModelView& model, const SolverParam
       carried_(model.core()) {
   const int cap = model.constants().capacity;
   for (ForceEffect* e : model.effectList()) effects_.push_back(e);
+  for (EffectHistory* h : model.historyList()) histories_.push_back(h);
   // Constraint rows in the force rows' unit: the axial stiffness EA / l
   // [N/m] for a direction (as the planar port constraint).
   scale_direction_ = model.newtonSetup().elastic_rigidity / segment_length_;
@@ -66,7 +68,7 @@ void SpatialFormulation::load(double t0) {
   state_.lambda_port = lambda_accepted_;
   state_.carried = carried_.load(t0);
   placeBoundary(t0);
-  for (ForceEffect* e : effects_) e->beginSpatialStep(state_);
+  for (EffectHistory* h : histories_) h->beginStep(NewtonView(state_));
 }
 
 void SpatialFormulation::placeBoundary(double t) {
@@ -98,7 +100,8 @@ const SpatialAssembly& SpatialFormulation::assemble(bool jacobian, int jacobian_
   if (jacobian) have_factor_ = false;  // the matrix is overwritten
   assembly_.setFrames(state_.q, state_.first, state_.n);
   assembly_.begin(state_.first, state_.n, port_, jacobian, state_.alpha, jacobian_top);
-  for (const ForceEffect* e : effects_) e->addSpatialForces(state_, assembly_);
+  SpatialSink sink(state_, assembly_);
+  for (const ForceEffect* e : effects_) e->addForces(sink);
   addSpatialFrameConstraints(state_, scale_direction_, assembly_);
   assembly_.finish();
   return assembly_;
@@ -269,9 +272,9 @@ bool SpatialFormulation::recheckFlags() {
   // without naming its point has the whole system factored again.
   bool changed = false;
   int top = -1;
-  for (ForceEffect* e : effects_) {
+  for (EffectHistory* h : histories_) {
     state_.changed_top = -1;
-    if (!e->recheckSpatialFlags(state_)) continue;
+    if (!h->recheck(NewtonView(state_))) continue;
     changed = true;
     top = std::max(top, state_.changed_top >= 0 ? state_.changed_top : state_.n - 1);
   }
@@ -305,7 +308,7 @@ void SpatialFormulation::store(double h, Eigen::VectorXd& y) {
   mu_accepted_.middleCols(f, n - f) = state_.mu.middleCols(f, n - f);
   lambda_accepted_ = state_.lambda_port;
   carried_.accept();
-  for (ForceEffect* e : effects_) e->adoptFlags();
+  model_.acceptNewtonFlags();
 }
 
 void SpatialFormulation::retireFront(int k) {

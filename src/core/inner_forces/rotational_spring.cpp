@@ -3,15 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
-#include "coil_winding_sim/core/assembly/planar_assembly.hpp"
-#include "coil_winding_sim/core/assembly/spatial_assembly.hpp"
 #include "coil_winding_sim/core/base/quaternion.hpp"
 
 namespace cws {
 
 RotationalSpring::RotationalSpring(const char* name, const WireConstants& c,
                                    const HysteresisParams& p, bool plastic, int first, int count)
-    : name_(name), c_(c), law_(p), plastic_(plastic), first_(first), count_(count) {
+    : SinkEffect(c), name_(name), law_(p), plastic_(plastic), first_(first), count_(count) {
   if (plastic_) {
     upper_.assign(static_cast<std::size_t>(c_.capacity - 1) * count_, law_.initialUpper());
     x_committed_.assign(static_cast<std::size_t>(c_.capacity - 1) * count_, 0.0);
@@ -81,13 +79,17 @@ Eigen::Vector3d RotationalSpring::darboux(const SpatialState& s, int j) const {
   return (2.0 / jointLength(j)) * quat::gTimes(s.q.col(j), s.q.col(j + 1));
 }
 
-// The laws' arguments: in the plane, kappa n_material[c] (none for a
-// component with no part about n); in 3-D, the Darboux vector's components.
-void RotationalSpring::beginImplicitStep(const PlanarState& s0) { beginLines(s0.first, s0.n); }
+void RotationalSpring::beginStep(const NewtonView& s0) {
+  s0.visit([&](const auto& s) { beginLines(s.first, s.n); });
+}
 
-bool RotationalSpring::recheckFlags(const PlanarState& s) {
+bool RotationalSpring::recheck(const NewtonView& s) {
+  return s.planar() ? recheckPlanar(*s.planar()) : recheckSpatial(*s.spatial());
+}
+
+bool RotationalSpring::recheckPlanar(const PlanarState& s) {
   // The joints in order: segment j serves joints j and j+1 (as in
-  // addPlanarForces).
+  // the planar sink).
   int joint = s.first - 2;
   double kappa = 0.0;
   planar::SegmentGeometry ga, gb;
@@ -108,9 +110,7 @@ bool RotationalSpring::recheckFlags(const PlanarState& s) {
          }) >= 0;
 }
 
-void RotationalSpring::beginSpatialStep(const SpatialState& s0) { beginLines(s0.first, s0.n); }
-
-bool RotationalSpring::recheckSpatialFlags(const SpatialState& s) {
+bool RotationalSpring::recheckSpatial(const SpatialState& s) {
   // One Darboux vector per joint for all of its components.
   int joint = -1;
   Eigen::Vector3d omega;
@@ -127,11 +127,6 @@ bool RotationalSpring::recheckSpatialFlags(const SpatialState& s) {
   return changed >= 0;
 }
 
-void RotationalSpring::adoptFlags() {
-  if (!plastic_) return;
-  std::copy(line_.begin() + from_, line_.begin() + to_, line_committed_.begin() + from_);
-}
-
 double RotationalSpring::moment(const WireKinematics& k, int j, int m) const {
   return stressOf(darboux(k, j)[first_ + m], j * count_ + m);
 }
@@ -140,90 +135,52 @@ double RotationalSpring::plasticValue(int j, int m) const {
   return plastic_ ? law_.plasticStrain(upper_[j * count_ + m]) : 0.0;
 }
 
-void RotationalSpring::addForces(double, const WireKinematics& k, WireForces& f) const {
-  for (int j = c_.first - 1; j + 1 < c_.n; ++j) {
-    const quat::Vec4 qa = k.q.col(j);
-    const quat::Vec4 qb = k.q.col(j + 1);
-    const Eigen::Vector3d omega = (2.0 / jointLength(j)) * quat::gTimes(qa, qb);
-    Eigen::Vector3d m = Eigen::Vector3d::Zero();
-    for (int i = 0; i < count_; ++i) m[first_ + i] = stressOf(omega[first_ + i], j * count_ + i);
-    // -lambda m . dOmega/dq with dOmega/dq_b = (2/lambda) G(q_a) and
-    // dOmega/dq_a = -(2/lambda) G(q_b): the joint length lambda cancels.
-    f.f_q.col(j) += 2.0 * quat::G(qb).transpose() * m;
-    f.f_q.col(j + 1) -= 2.0 * quat::G(qa).transpose() * m;
+template <class Sink>
+void RotationalSpring::law(Sink& s) const {
+  if (in_shared_pass_) return;
+  // The components this formulation moves (the plane: those along its
+  // normal; none for torsion).
+  bool any = false;
+  for (const RotationalSpring* r : {this, static_cast<const RotationalSpring*>(partner_)}) {
+    if (!r) continue;
+    for (int i = 0; i < r->count_; ++i) any = any || s.jointComponent(r->first_ + i);
   }
-}
-
-void RotationalSpring::addPlanarForces(const PlanarState& s, PlanarAssembly& a) const {
-  // In the plane, joint j turns by dphi about n from frame j to frame j+1
-  // (segment j), so Omega = (2 / lambda) sin(dphi / 2) n_material: each of
-  // this spring's components is kappa n_material[c] with its own law, and
-  // the moment about n is m = sum_c s_c n_material[c]. Nothing to do for a
-  // spring with no component about n (torsion).
-  double weight = 0.0;
-  for (int c = 0; c < count_; ++c) weight += std::abs(s.n_material[first_ + c]);
-  if (weight == 0.0) return;
-  const bool jacobian = a.wantsJacobian();
-  // Each segment's geometry is worked out once and serves both joints it
-  // belongs to: segment j is joint j's b and joint j+1's a. Frame first-1
-  // is the prescribed one (a unit tangent, no unknowns).
-  planar::SegmentGeometry ga, gb;
-  ga.setPrescribed(s.boundary_tangent);
-  for (int j = s.first - 1; j + 1 < s.n; ++j) {
+  if (!any) return;
+  for (int j = s.first() - 1; j + 1 < s.n(); ++j) {
     const double lambda = jointLength(j);
-    const bool prescribed = j == s.first - 1;
-    gb.set(s.segment(j), jacobian);
-    double sin_half, cos_half;
-    const double kappa = planar::jointCurvature(ga, gb, lambda, sin_half, cos_half);
-    double m = 0.0, dm = 0.0;
-    for (int c = 0; c < count_; ++c) {
-      const double w = s.n_material[first_ + c];
-      if (w == 0.0) continue;
-      double k;
-      m += w * stressTangent(kappa * w, j * count_ + c, s.return_mapping, k);
-      dm += w * w * k;
-    }
-    // Generalized force on dphi: Q = -d(lambda W)/d dphi = -m cos(dphi / 2);
-    // d dphi / dx is gb on point j+1, -gb - ga on j and ga on j-1.
-    const double q = -m * cos_half;
-    const Eigen::Vector2d g_mid = -gb.gradient - ga.gradient;
-    a.addForce(j + 1, q * gb.gradient);
-    a.addForce(j, q * g_mid);
-    if (prescribed) {
-      a.addBoundaryTorque(-q);
-    } else {
-      a.addForce(j - 1, q * ga.gradient);
-    }
-    if (jacobian) {
-      // dq g_r g_c^T + q d^2 dphi / dx_r dx_c over points j-1, j, j+1;
-      // dphi = phi_b - phi_a, whose second derivatives are +-hb and +-ha.
-      const double dq = -dm * cos_half * cos_half / lambda + 0.5 * m * sin_half;
-      const Eigen::Matrix2d qhb = q * gb.hessian;
-      const Eigen::Matrix2d k_bb = dq * gb.gradient * gb.gradient.transpose() + qhb;
-      const Eigen::Matrix2d k_bm = dq * gb.gradient * g_mid.transpose() - qhb;
-      a.addStiffness(j + 1, j + 1, k_bb);
-      a.addStiffness(j + 1, j, k_bm);
-      a.addStiffness(j, j + 1, k_bm.transpose());
-      if (prescribed) {
-        a.addStiffness(j, j, dq * g_mid * g_mid.transpose() + qhb);
-      } else {
-        const Eigen::Matrix2d qha = q * ga.hessian;
-        const Eigen::Matrix2d k_ma = dq * g_mid * ga.gradient.transpose() + qha;
-        const Eigen::Matrix2d k_ba = dq * gb.gradient * ga.gradient.transpose();
-        a.addStiffness(j, j, dq * g_mid * g_mid.transpose() + qhb - qha);
-        a.addStiffness(j, j - 1, k_ma);
-        a.addStiffness(j - 1, j, k_ma.transpose());
-        a.addStiffness(j - 1, j - 1, dq * ga.gradient * ga.gradient.transpose() - qha);
-        a.addStiffness(j + 1, j - 1, k_ba);
-        a.addStiffness(j - 1, j + 1, k_ba.transpose());
+    const Eigen::Vector3d omega = s.darboux(j, lambda);
+    // Each spring's components: moment and tangent from its own laws
+    // (forces alone, with the lines decided here: the moment alone).
+    const bool tangent = !s.returnMapping() || s.jacobian(j);
+    Eigen::Vector3d m = Eigen::Vector3d::Zero(), dm = Eigen::Vector3d::Zero();
+    auto laws = [&](const RotationalSpring& r) {
+      for (int i = 0; i < r.count_; ++i) {
+        const int c = r.first_ + i, idx = j * r.count_ + i;
+        if (!s.jointComponent(c)) continue;
+        if (!tangent) {
+          m[c] = r.stressOf(omega[c], idx);
+          continue;
+        }
+        double k;
+        m[c] = r.stressTangent(omega[c], idx, s.returnMapping(), k);
+        dm[c] = k;
       }
-    }
-    ga = gb;
+    };
+    laws(*this);
+    if (partner_) laws(*partner_);
+    s.addJointMoment(j, lambda, m, dm);
   }
 }
+template void RotationalSpring::law(ExplicitSink&) const;
+template void RotationalSpring::law(PlanarSink&) const;
+template void RotationalSpring::law(SpatialSink&) const;
 
-void RotationalSpring::commit(double, const WireKinematics& k) {
+void RotationalSpring::commit(const AcceptedStep& step) {
   if (!plastic_) return;
+  // A Newton step's lines are the step's.
+  if (step.newton)
+    std::copy(line_.begin() + from_, line_.begin() + to_, line_committed_.begin() + from_);
+  const WireKinematics& k = step.k;
   // Carried joints do not deform: nothing to commit.
   for (int j = c_.first - 1; j + 1 < c_.n; ++j) {
     const Eigen::Vector3d omega = darboux(k, j);
@@ -234,46 +191,6 @@ void RotationalSpring::commit(double, const WireKinematics& k) {
       upper_[idx] = law_.movedUpper(x, upper_[idx]);
       x_committed_[idx] = x;
     }
-  }
-}
-
-void RotationalSpring::addSpatialForces(const SpatialState& s, SpatialAssembly& a) const {
-  // The explicit model's generalized forces (addForces) on q_j and q_j+1,
-  // f_a = 2 G(q_b)^T m and f_b = -2 G(q_a)^T m, with m(Omega) the laws'
-  // moments and Omega = (2 / lambda) G(q_a) q_b, whose derivatives are
-  // -(2 / lambda) G(q_b) and (2 / lambda) G(q_a). G(q)^T m is linear in q
-  // (quat::gTransposeTimes), and everything is linear in m and dm: a
-  // partner's components join this pass.
-  if (in_shared_pass_) return;
-  for (int j = s.first - 1; j + 1 < s.n; ++j) {
-    const quat::Vec4 qa = s.q.col(j);
-    const quat::Vec4 qb = s.q.col(j + 1);
-    const double lambda = jointLength(j);
-    const Eigen::Vector3d omega = (2.0 / lambda) * quat::gTimes(qa, qb);
-    Eigen::Vector3d m = Eigen::Vector3d::Zero(), dm = Eigen::Vector3d::Zero();
-    // Each spring's components: moment and tangent from its own laws.
-    auto laws = [&](const RotationalSpring& r) {
-      for (int i = 0; i < r.count_; ++i) {
-        double k;
-        m[r.first_ + i] =
-            r.stressTangent(omega[r.first_ + i], j * r.count_ + i, s.return_mapping, k);
-        dm[r.first_ + i] = k;
-      }
-    };
-    laws(*this);
-    if (partner_) laws(*partner_);
-    a.addQForce(j, 2.0 * quat::gTransposeApply(qb, m));
-    a.addQForce(j + 1, -2.0 * quat::gTransposeApply(qa, m));
-    if (!a.wantsJacobianAt(j)) continue;
-    const quat::Mat34 ga = quat::G(qa), gb = quat::G(qb);
-    const Eigen::Matrix4d gm = quat::gTransposeTimes(m);
-    const Eigen::Matrix<double, 4, 3> gad = ga.transpose() * dm.asDiagonal();
-    const Eigen::Matrix<double, 4, 3> gbd = gb.transpose() * dm.asDiagonal();
-    const double s2 = 4.0 / lambda;
-    a.addStiffnessQQ(j, j, -s2 * gbd * gb);
-    a.addStiffnessQQ(j, j + 1, 2.0 * gm + s2 * gbd * ga);
-    a.addStiffnessQQ(j + 1, j, -2.0 * gm + s2 * gad * gb);
-    a.addStiffnessQQ(j + 1, j + 1, -s2 * gad * ga);
   }
 }
 
@@ -307,8 +224,9 @@ double RotationalSpring::elasticEnergy(const WireKinematics& k) const {
   return e;
 }
 
-double RotationalSpring::plasticWork(const WireKinematics& k) const {
-  return plastic_ ? work_committed_ - elasticEnergy(k) : 0.0;
+EffectEnergy RotationalSpring::energy(const WireKinematics& k) const {
+  const double e = elasticEnergy(k);
+  return {e, plastic_ ? work_committed_ - e : 0.0};
 }
 
 void RotationalSpring::appendHistory(std::vector<double>& out) const {

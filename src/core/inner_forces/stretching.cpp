@@ -67,14 +67,11 @@ bool Stretching::recheckLines(const State& s) {
   return changed;
 }
 
-void Stretching::beginImplicitStep(const PlanarState& s0) { beginLines(s0); }
-void Stretching::beginSpatialStep(const SpatialState& s0) { beginLines(s0); }
-bool Stretching::recheckFlags(const PlanarState& s) { return recheckLines(s); }
-bool Stretching::recheckSpatialFlags(const SpatialState& s) { return recheckLines(s); }
-
-void Stretching::adoptFlags() {
-  if (!plastic_) return;
-  std::copy(line_.begin() + from_, line_.begin() + to_, line_committed_.begin() + from_);
+void Stretching::beginStep(const NewtonView& s0) {
+  s0.visit([&](const auto& s) { beginLines(s); });
+}
+bool Stretching::recheck(const NewtonView& s) {
+  return s.visit([&](const auto& st) { return recheckLines(st); });
 }
 
 double Stretching::axialForce(const WireKinematics& k, int j) const {
@@ -115,8 +112,12 @@ template void Stretching::law(ExplicitSink&) const;
 template void Stretching::law(PlanarSink&) const;
 template void Stretching::law(SpatialSink&) const;
 
-void Stretching::commit(double, const WireKinematics& k) {
+void Stretching::commit(const AcceptedStep& step) {
   if (!plastic_) return;
+  // A Newton step's lines are the step's.
+  if (step.newton)
+    std::copy(line_.begin() + from_, line_.begin() + to_, line_committed_.begin() + from_);
+  const WireKinematics& k = step.k;
   // Carried segments do not deform: nothing to commit.
   for (int j = c_.first - 1; j + 1 < c_.n; ++j) {
     const double x = strain(k, j);
@@ -132,8 +133,9 @@ double Stretching::elasticEnergy(const WireKinematics& k) const {
   return e * c_.segment_length;
 }
 
-double Stretching::plasticWork(const WireKinematics& k) const {
-  return plastic_ ? work_committed_ - elasticEnergy(k) : 0.0;
+EffectEnergy Stretching::energy(const WireKinematics& k) const {
+  const double e = elasticEnergy(k);
+  return {e, plastic_ ? work_committed_ - e : 0.0};
 }
 
 double Stretching::virginWork(double x) const {

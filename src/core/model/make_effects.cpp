@@ -24,7 +24,7 @@ EffectSet makeEffects(const Scene& s, const EffectContext& ctx) {
   Bending* bending = e.add(std::make_unique<Bending>(c, s.wire.bend, plastic));
   if (on.torsion) {
     // Bending and torsion share one pass over the joints' rotations.
-    bending->shareSpatialPass(*e.add(std::make_unique<Twisting>(c, s.wire.torsion, plastic)));
+    bending->sharePass(*e.add(std::make_unique<Twisting>(c, s.wire.torsion, plastic)));
   }
   if (on.gravity) e.add(std::make_unique<Gravity>(c, s.gravity.acceleration_world));
   if (on.damping) e.add(std::make_unique<Damping>(c, s.damping));

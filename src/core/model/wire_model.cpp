@@ -244,7 +244,8 @@ void WireModel::derivative(double t, ConstRef y, Ref dydt) {
   }
   // Forces on the integrated points and the prescribed one before them.
   forces_.setZero(boundary, c_.n - boundary);
-  for (const ForceEffect* e : all_) e->addForces(t, kin_, forces_);
+  ExplicitSink sink(t, c_, kin_, forces_);
+  for (const ForceEffect* e : all_) e->addForces(sink);
   PortMotion port;
   if (supply_) port = supply_->port(t);
   constraints_.accelerations(kin_, forces_, a_boundary, qdd_boundary, supply_ ? &port : nullptr,
@@ -349,7 +350,7 @@ void WireModel::appendPoint(double t, Eigen::VectorXd& y) {
   ++points_added_;
   // (The carried wire's committed poses stay: they need no unpacking.)
   unpack(t, y, committed_, c_.first);
-  for (ForceEffect* e : all_) e->grow(committed_);
+  for (EffectHistory* h : effects_.histories()) h->grow(committed_);
   // The new material brings its kinetic energy and the work that stretched
   // it to the supply tension: both count as work done on the wire.
   y[0] += 0.5 * c_.point_mass * v.squaredNorm() + 2.0 * c_.point_inertia * qd.squaredNorm() +
@@ -358,7 +359,7 @@ void WireModel::appendPoint(double t, Eigen::VectorXd& y) {
 
 void WireModel::removeLastPoint(double t, Eigen::VectorXd& y) {
   const EnergyReport before = energy(y);
-  for (ForceEffect* e : all_) e->shrink(committed_);
+  for (EffectHistory* h : effects_.histories()) h->shrink(committed_);
   --c_.n;
   --points_added_;
   unpack(t, y, committed_, c_.first);
@@ -382,7 +383,10 @@ void WireModel::acceptStep(double t, Eigen::VectorXd& y) {
     for (int i = 1; i < c_.first; ++i) placeCarried(t, i, y);
     carried_kinematics_placed_ = carried_state_placed_ = true;
   }
-  for (ForceEffect* e : all_) e->commit(t, committed_);
+  // The one commit of the effects' history; a Newton step's flags with it.
+  const AcceptedStep step{t, committed_, newton_flags_};
+  newton_flags_ = false;
+  for (EffectHistory* h : effects_.histories()) h->commit(step);
   if (core_) core_->commit(t);
   if (supply_) {
     while (portDistance(t, committed_) > supply_->boundaryLength()) appendPoint(t, y);
@@ -420,8 +424,9 @@ EnergyReport WireModel::energy(const Eigen::VectorXd& y) const {
                  2.0 * c_.point_inertia * k.qd.col(i).squaredNorm();
   }
   for (const ForceEffect* e : all_) {
-    r.elastic += e->elasticEnergy(k);
-    r.plastic += e->plasticWork(k);
+    const EffectEnergy held = e->energy(k);
+    r.elastic += held.elastic;
+    r.plastic += held.plastic;
   }
   // Retired wire: turning rigidly with the core, its deformation fixed.
   if (c_.retired > 0) {
@@ -476,7 +481,7 @@ PointReport WireModel::livePoint(int i) const {
 
 std::vector<double> WireModel::history() const {
   std::vector<double> h;
-  for (const ForceEffect* e : all_) e->appendHistory(h);
+  for (const EffectHistory* e : effects_.histories()) e->appendHistory(h);
   return h;
 }
 

@@ -124,7 +124,7 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
   }
   y.head(size()) = Eigen::Map<const Eigen::VectorXd>(m.y.data(), size());
   HistoryReader in(m.history);
-  for (ForceEffect* e : all_) e->restoreHistory(in);
+  for (EffectHistory* e : effects_.histories()) e->restoreHistory(in);
   if (!in.atEnd()) throw std::runtime_error("snapshot history is too long for this scene");
   if (core_) core_->restoreState(m.core);
   if (supply_) supply_->setTension(m.tension_N);

@@ -70,7 +70,7 @@ int WireModel::retireBuriedWire(Eigen::VectorXd& y) {
 
   // The effects' and the carried wire's per-point state, then the state
   // vector and the committed kinematics, move k points to the front.
-  for (ForceEffect* e : all_) e->retireFront(k);
+  for (EffectHistory* e : effects_.histories()) e->retireFront(k);
   carried_.retireFront(k, c_.n, c_);
   const int from = stateOffset(k + 1), to = stateOffset(1), end = stateOffset(c_.n);
   std::copy(y.data() + from, y.data() + end, y.data() + to);

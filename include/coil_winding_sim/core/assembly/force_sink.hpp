@@ -17,6 +17,17 @@
 //                              moment on frame i [N m], and its derivative in
 //                              the frame's angular velocity [N m s] where it
 //                              has one
+// A law at the joints between neighbouring frames j and j+1 (j from
+// first-1; rotational springs):
+//   darboux(j, lambda)         the joint's curvature-twist vector Omega in
+//                              frame j [1/m], lambda the wire it stands for
+//                              [m]; in the plane kappa n_material
+//   jointComponent(c)          whether component c of Omega moves here (the
+//                              plane moves only those along its normal)
+//   addJointMoment(j, lambda, m, dm)
+//                              the moment m(Omega) [N m] on the joint, with
+//                              its diagonal tangent dm/dOmega [N m^2]; after
+//                              darboux(j, lambda) of the same joint
 // A law on the points alone (a spring along a segment) may instead use the
 // formulation's own coordinates, the plane's two in a planar scene, else
 // the world's three:
@@ -27,8 +38,11 @@
 //   returnMapping()            the laws' lines decided at every evaluation
 //                              (explicit steps; a Newton solve's last
 //                              rounds), else frozen within the solve
-// SinkEffect<Law> turns a class with `template <class Sink> void law(Sink&)
-// const` into a ForceEffect of all three integrators.
+// SinkEffect<Law> (force_effect.hpp) turns a class with `template <class
+// Sink> void law(Sink&) const` into a ForceEffect of all three integrators.
+// An effect whose law is not yet written on the sink (contact, free-wire
+// contact, the supply) reads the sink's own state and writes its own
+// mapping: kinematics()/forces(), state()/assembly().
 #pragma once
 
 #include <Eigen/Core>
@@ -63,6 +77,8 @@ class ExplicitSink {
   void addForce(int i, const Vec& f) { f_.f_world.col(i) += f; }
   void addStiffness(int, int, const Mat&) {}
   bool returnMapping() const { return true; }
+  const WireKinematics& kinematics() const { return k_; }
+  WireForces& forces() { return f_; }
 
   void addPointForce(int i, const Eigen::Vector3d& f, ForcePower power) {
     f_.f_world.col(i) += f;
@@ -70,6 +86,19 @@ class ExplicitSink {
   }
   void addPointStiffness(int, const Eigen::Matrix3d&) {}
   void addPointDamping(int, const Eigen::Matrix3d&) {}
+
+  // Omega = (2 / lambda) G(q_j) q_j+1; the moment's generalized forces
+  // -lambda m . dOmega/dq: 2 G(q_j+1)^T m on q_j, -2 G(q_j)^T m on q_j+1
+  // (lambda cancels).
+  Eigen::Vector3d darboux(int j, double lambda) const {
+    return (2.0 / lambda) * quat::gTimes(k_.q.col(j), k_.q.col(j + 1));
+  }
+  bool jointComponent(int) const { return true; }
+  void addJointMoment(int j, double, const Eigen::Vector3d& m, const Eigen::Vector3d&) {
+    f_.f_q.col(j) += 2.0 * quat::G(k_.q.col(j + 1)).transpose() * m;
+    f_.f_q.col(j + 1) -= 2.0 * quat::G(k_.q.col(j)).transpose() * m;
+  }
+
   // A moment m as the generalized force 2 E(q)^T m on the quaternion.
   void addFrameMoment(int i, const Eigen::Vector3d& m, ForcePower power, const Eigen::Matrix3d&) {
     addFrameMoment(i, m, power);
@@ -112,6 +141,8 @@ class PlanarSink {
   void addForce(int i, const Vec& f) { a_.addForce(i, f); }
   void addStiffness(int i, int j, const Mat& k) { a_.addStiffness(i, j, k); }
   bool returnMapping() const { return s_.return_mapping; }
+  const PlanarState& state() const { return s_; }
+  PlanarAssembly& assembly() { return a_; }
 
   // World to plane: f = E^T f_world, K = E^T K_world E (nothing along the
   // normal moves a planar wire).
@@ -126,6 +157,29 @@ class PlanarSink {
   void addPointDamping(int i, const Eigen::Matrix3d& d) {
     a_.addDamping(i, i, e_.transpose() * d * e_);
   }
+
+  // Joint j turns by dphi about n from frame j to frame j+1 (segment j;
+  // frame first-1 is the prescribed one, a unit tangent with no unknowns):
+  // Omega = (2 / lambda) sin(dphi / 2) n_material. Each segment's geometry
+  // is worked out once and serves both joints it belongs to.
+  Eigen::Vector3d darboux(int j, double lambda) {
+    if (j != joint_) {
+      if (j == s_.first - 1) {
+        ga_.setPrescribed(s_.boundary_tangent);
+      } else if (j == joint_ + 1) {
+        ga_ = gb_;
+      } else {
+        ga_.set(s_.segment(j - 1), a_.wantsJacobian());
+      }
+      gb_.set(s_.segment(j), a_.wantsJacobian());
+      joint_ = j;
+    }
+    kappa_ = planar::jointCurvature(ga_, gb_, lambda, sin_half_, cos_half_);
+    return kappa_ * s_.n_material;
+  }
+  bool jointComponent(int c) const { return s_.n_material[c] != 0.0; }
+  void addJointMoment(int j, double lambda, const Eigen::Vector3d& m_vec,
+                      const Eigen::Vector3d& dm_vec);
   // A moment about the normal on frame i, as forces m g on point i and -m g
   // on point i-1 (g the gradient of the angle of segment i-1); its
   // derivatives through omega = g . (v_i - v_i-1) and through g.
@@ -170,6 +224,11 @@ class PlanarSink {
   const PlanarState& s_;
   PlanarAssembly& a_;
   Eigen::Matrix<double, 3, 2> e_;
+  // The joint darboux() last worked out: its segments' geometry, curvature
+  // [1/m] and half turn.
+  int joint_ = -2;
+  planar::SegmentGeometry ga_, gb_;
+  double kappa_ = 0.0, sin_half_ = 0.0, cos_half_ = 1.0;
 };
 
 class SpatialSink {
@@ -190,6 +249,8 @@ class SpatialSink {
   void addForce(int i, const Vec& f) { a_.addForce(i, f); }
   void addStiffness(int i, int j, const Mat& k) { a_.addStiffnessPP(i, j, k); }
   bool returnMapping() const { return s_.return_mapping; }
+  const SpatialState& state() const { return s_; }
+  SpatialAssembly& assembly() { return a_; }
 
   void addPointForce(int i, const Eigen::Vector3d& f, ForcePower power) {
     a_.addForce(i, f);
@@ -197,6 +258,14 @@ class SpatialSink {
   }
   void addPointStiffness(int i, const Eigen::Matrix3d& k) { a_.addStiffnessPP(i, i, k); }
   void addPointDamping(int i, const Eigen::Matrix3d& d) { a_.addDampingPP(i, i, d); }
+
+  // As the explicit sink's; the derivatives of Omega are -(2 / lambda)
+  // G(q_j+1) and (2 / lambda) G(q_j), and G(q)^T m is linear in q.
+  Eigen::Vector3d darboux(int j, double lambda) const {
+    return (2.0 / lambda) * quat::gTimes(s_.q.col(j), s_.q.col(j + 1));
+  }
+  bool jointComponent(int) const { return true; }
+  void addJointMoment(int j, double lambda, const Eigen::Vector3d& m, const Eigen::Vector3d& dm);
   // A moment m as the generalized force f_q = 2 E(q)^T m; with omega =
   // 2 E(q) qd, d f_q / d qd = 4 E^T D E and d f_q / d q column k =
   // 2 E(e_k)^T m + 4 E^T D E(e_k) qd (E is linear in q), D = d m / d omega.
@@ -229,30 +298,6 @@ class SpatialSink {
 
   const SpatialState& s_;
   SpatialAssembly& a_;
-};
-
-// A ForceEffect whose law is written once, on a sink: Law derives from
-// SinkEffect<Law> and defines `template <class Sink> void law(Sink& s)
-// const`.
-template <class Law>
-class SinkEffect : public ForceEffect {
- public:
-  explicit SinkEffect(const WireConstants& c) : c_(c) {}
-  void addForces(double t, const WireKinematics& k, WireForces& f) const final {
-    ExplicitSink sink(t, c_, k, f);
-    static_cast<const Law*>(this)->law(sink);
-  }
-  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const final {
-    PlanarSink sink(s, a);
-    static_cast<const Law*>(this)->law(sink);
-  }
-  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const final {
-    SpatialSink sink(s, a);
-    static_cast<const Law*>(this)->law(sink);
-  }
-
- protected:
-  const WireConstants& c_;  // the model's: n grows with a supply
 };
 
 }  // namespace cws

@@ -1,5 +1,6 @@
-// Shared types of the discrete wire: per-point kinematics, generalized forces
-// and the interface every physical effect implements.
+// Shared types of the discrete wire: its constants, per-point kinematics,
+// generalized forces and the history readers of snapshots (the interface
+// of a physical effect is assembly/force_effect.hpp).
 //
 // Indexing (0-based): mass points 0..n-1 from the fixed end; segment j joins
 // points j and j+1; frame i (quaternion q_i) belongs to point i and, for
@@ -16,11 +17,6 @@
 #include <vector>
 
 namespace cws {
-
-struct PlanarState;
-class PlanarAssembly;
-struct SpatialState;
-class SpatialAssembly;
 
 // Constants of one wire, derived from the scene once; only n changes, when a
 // supply draws wire in.
@@ -44,7 +40,7 @@ struct WireConstants {
 };
 
 // Moves entries drop..used-1 of v to the front and fills the `drop` entries
-// after them with `fill` (ForceEffect::retireFront's arrays; no allocation).
+// after them with `fill` (EffectHistory::retireFront's arrays; no allocation).
 template <class T>
 void dropFront(std::vector<T>& v, std::size_t drop, std::size_t used, const T& fill) {
   if (drop == 0) return;
@@ -172,67 +168,6 @@ class HistoryReader {
  private:
   const std::vector<double>& v_;
   std::size_t pos_ = 0;
-};
-
-// One physical effect (a spring law, gravity, damping, a load). Adding an
-// effect means adding one class; a scene that switches it off never builds it.
-class ForceEffect {
- public:
-  virtual ~ForceEffect() = default;
-  virtual const char* name() const = 0;
-  // Adds this effect's generalized forces at time t [s]. Must not allocate
-  // and must not change history state (it runs for trial stages too).
-  virtual void addForces(double t, const WireKinematics& k, WireForces& f) const = 0;
-  // Planar implicit formulation (docs/MODEL.md, "Implicit integration"):
-  // adds this effect's in-plane forces on the points and their derivatives
-  // d f / d x and d f / d v at the trial state, evaluated from the
-  // committed history (return mapping from the step's start). Must not
-  // allocate and must not change history state. An effect with nothing in
-  // the plane (torsion) adds nothing.
-  virtual void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const = 0;
-  // Flags an implicit step keeps frozen within one Newton solve (contact,
-  // stick and slip): set them from the committed state at the step's start
-  // s0; after a converged solve, recheck them at its end state s (true: a
-  // flag changed and the step is to be solved again with the new flags);
-  // and before the step is committed, adopt them as the committed state.
-  virtual void beginImplicitStep(const PlanarState& /*s0*/) {}
-  virtual bool recheckFlags(const PlanarState& /*s*/) { return false; }
-  virtual void adoptFlags() {}
-  // The 3-D implicit formulation (docs/MODEL.md, "Implicit integration of
-  // 3-D scenes"): the same, with the explicit model's generalized forces on
-  // positions and quaternions and their derivatives; flags as above. A
-  // recheck names the highest point whose blocks a changed flag alters
-  // (SpatialState::flagChangedAt); without one, the whole system is
-  // factored again.
-  virtual void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const = 0;
-  virtual void beginSpatialStep(const SpatialState& /*s0*/) {}
-  virtual bool recheckSpatialFlags(const SpatialState& /*s*/) { return false; }
-  // Commits history state (yield points, stick) after an accepted step at t [s].
-  virtual void commit(double /*t*/, const WireKinematics& /*k*/) {}
-  // Point n-1 was just appended (a wire supply drew it in): initialize the
-  // state of the new point, segment n-2 and joint n-2. Runs between steps.
-  virtual void grow(const WireKinematics& /*k*/) {}
-  // Point n-1 is about to leave (wire drawn back out through the supply
-  // port): forget the state of point n-1, segment n-2 and joint n-2, and
-  // take their recoverable energy out of the committed work, so that the
-  // plastic work done in them stays counted. Runs between steps, before n
-  // shrinks.
-  virtual void shrink(const WireKinematics& /*k*/) {}
-  // Points 0..k-1, carried wire buried under later turns, leave the live
-  // arrays (WireModel::retireBuriedWire): drop the state of those points,
-  // of segments and joints 0..k-1, and number the rest from 0. The new
-  // point 0 (carried) becomes the clamp. Runs between steps, before the
-  // model's counts change; the model keeps the retired energy.
-  virtual void retireFront(int /*k*/) {}
-  // Appends the history state (yield points and the work bookkeeping) to
-  // `out`; nothing for an effect without history. For snapshots and tests.
-  virtual void appendHistory(std::vector<double>& /*out*/) const {}
-  // Restores it (for the present number of points); throws on bad data.
-  virtual void restoreHistory(HistoryReader& /*in*/) {}
-  // Recoverable elastic energy stored now [J].
-  virtual double elasticEnergy(const WireKinematics& /*k*/) const { return 0.0; }
-  // Work turned into plastic deformation since the start [J].
-  virtual double plasticWork(const WireKinematics& /*k*/) const { return 0.0; }
 };
 
 }  // namespace cws

@@ -13,14 +13,14 @@
 #include <limits>
 #include <vector>
 
-#include "coil_winding_sim/core/base/wire_types.hpp"
+#include "coil_winding_sim/core/assembly/force_effect.hpp"
 #include "coil_winding_sim/core/external_forces/carried_wire_index.hpp"
 #include "coil_winding_sim/core/machine/rotating_core.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {
 
-class Contact : public ForceEffect {
+class Contact : public ForceEffect, public EffectHistory {
  public:
   Contact(const WireConstants& c, const Scene& s, const RotatingCore& core);
 
@@ -31,23 +31,31 @@ class Contact : public ForceEffect {
     p_.static_friction = mu_static;
     p_.kinetic_friction = mu_kinetic;
   }
-  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
-  // Implicit steps: the surface each point touches, stick (with its
-  // anchor) or slip (with its direction) stay frozen within one Newton
-  // solve (elastic slip: the return map decides stick and slip at every
-  // evaluation); contact_planar.cpp.
-  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
-  void beginImplicitStep(const PlanarState& s0) override;
-  bool recheckFlags(const PlanarState& s) override;
-  // The same in 3-D (contact_spatial.cpp). Kinetic friction follows the
-  // trial sliding velocity (a floor of the speed it is divided by, for a
-  // scene with no stick speed [m/s]).
+  // The law is written per formulation: explicit (contact.cpp), planar
+  // (contact_planar.cpp) and 3-D (contact_spatial.cpp).
+  void addForces(ExplicitSink& s) const override { addExplicit(s.t(), s.kinematics(), s.forces()); }
+  void addForces(PlanarSink& s) const override { addPlanar(s.state(), s.assembly()); }
+  void addForces(SpatialSink& s) const override { addSpatial(s.state(), s.assembly()); }
+  // Newton steps: the surface each point touches, stick (with its anchor)
+  // or slip (with its direction) stay frozen within one solve (elastic
+  // slip: the return map decides stick and slip at every evaluation). In
+  // 3-D kinetic friction follows the trial sliding velocity (a floor of the
+  // speed it is divided by, for a scene with no stick speed [m/s]).
   static constexpr double kTinySlidingSpeed = 1e-12;
-  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
-  void beginSpatialStep(const SpatialState& s0) override;
-  bool recheckSpatialFlags(const SpatialState& s) override;
-  void adoptFlags() override;
-  void commit(double t, const WireKinematics& k) override;
+  void beginStep(const NewtonView& s0) override {
+    if (s0.planar()) {
+      beginPlanar(*s0.planar());
+    } else {
+      beginSpatial(*s0.spatial());
+    }
+  }
+  bool recheck(const NewtonView& s) override {
+    return s.planar() ? recheckPlanar(*s.planar()) : recheckSpatial(*s.spatial());
+  }
+  void commit(const AcceptedStep& step) override {
+    if (step.newton) adoptFlags();
+    commitAt(step.t, step.k);
+  }
   void shrink(const WireKinematics& k) override;
   void retireFront(int k) override;
   // The deepest penetration of retired wire [m] (WireModel's snapshot).
@@ -56,7 +64,7 @@ class Contact : public ForceEffect {
   void appendHistory(std::vector<double>& out) const override;
   void restoreHistory(HistoryReader& in) override;
   // Energy in the normal springs at the last commit [J].
-  double elasticEnergy(const WireKinematics& k) const override;
+  EffectEnergy energy(const WireKinematics&) const override { return {elastic_committed_, 0.0}; }
 
   // With physics.wire_contact: the carried wire's poses in the core frame
   // (the model's, valid below c.first; kept by reference).
@@ -165,6 +173,16 @@ class Contact : public ForceEffect {
   int skipPoints() const { return skip_points_; }
 
  private:
+  void addExplicit(double t, const WireKinematics& k, WireForces& f) const;
+  void addPlanar(const PlanarState& s, PlanarAssembly& a) const;
+  void addSpatial(const SpatialState& s, SpatialAssembly& a) const;
+  void beginPlanar(const PlanarState& s0);
+  bool recheckPlanar(const PlanarState& s);
+  void beginSpatial(const SpatialState& s0);
+  bool recheckSpatial(const SpatialState& s);
+  // The Newton step's flags become the committed ones (before commitAt).
+  void adoptFlags();
+  void commitAt(double t, const WireKinematics& k);
   // Places the cylinder axes and faces in the world at time t, once per
   // evaluation.
   void placeSurfaces(double t) const;

@@ -4,7 +4,7 @@
 // -c v on each point, -c omega on each frame.
 #pragma once
 
-#include "coil_winding_sim/core/assembly/force_sink.hpp"
+#include "coil_winding_sim/core/assembly/force_effect.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {

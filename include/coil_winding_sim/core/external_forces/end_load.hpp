@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "coil_winding_sim/core/assembly/force_sink.hpp"
+#include "coil_winding_sim/core/assembly/force_effect.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {

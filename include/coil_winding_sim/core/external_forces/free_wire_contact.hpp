@@ -38,29 +38,34 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "coil_winding_sim/core/base/wire_types.hpp"
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 
 namespace cws {
 
-class FreeWireContact : public ForceEffect {
+class FreeWireContact : public ForceEffect, public EffectHistory {
  public:
   // contact: the core's contact, whose laws and parameters this shares.
   FreeWireContact(const WireConstants& c, const Contact& contact);
 
   const char* name() const override { return "free_wire_contact"; }
-  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
-  // (Wire contact is refused in the plane: nothing to add there.)
-  void addPlanarForces(const PlanarState& /*s*/, PlanarAssembly& /*a*/) const override {}
-  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
-  void beginSpatialStep(const SpatialState& s0) override;
-  bool recheckSpatialFlags(const SpatialState& s) override;
-  void commit(double t, const WireKinematics& k) override;
+  // Written per formulation (free_wire_contact.cpp); wire contact is
+  // refused in the plane: nothing to add there.
+  void addForces(ExplicitSink& s) const override { addExplicit(s.kinematics(), s.forces()); }
+  void addForces(PlanarSink& /*s*/) const override {}
+  void addForces(SpatialSink& s) const override { addSpatial(s.state(), s.assembly()); }
+  void beginStep(const NewtonView& s0) override {
+    if (s0.spatial()) beginSpatial(*s0.spatial());
+  }
+  bool recheck(const NewtonView& s) override {
+    return s.spatial() ? recheckSpatial(*s.spatial()) : false;
+  }
+  void commit(const AcceptedStep& step) override;
   void shrink(const WireKinematics& k) override;
   void retireFront(int k) override;
   // No history (no stick): the neighbour list is built anew after a restore.
   void restoreHistory(HistoryReader& in) override;
-  double elasticEnergy(const WireKinematics& /*k*/) const override { return elastic_committed_; }
+  EffectEnergy energy(const WireKinematics&) const override { return {elastic_committed_, 0.0}; }
+  double elasticEnergy() const { return elastic_committed_; }  // [J]
 
   static constexpr int kRuns = 2;           // pairs a point keeps: its nearest runs
   static constexpr int kCandidateRuns = 8;  // runs within reach compared for them
@@ -80,6 +85,10 @@ class FreeWireContact : public ForceEffect {
                    Eigen::Matrix3d& df_a) const;
 
  private:
+  void addExplicit(const WireKinematics& k, WireForces& f) const;
+  void addSpatial(const SpatialState& s, SpatialAssembly& a) const;
+  void beginSpatial(const SpatialState& s0);
+  bool recheckSpatial(const SpatialState& s);
   struct Pair {
     int a, b;           // point a against segment b (points b, b + 1)
     char active;        // touching at the last commit

@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "coil_winding_sim/core/assembly/force_sink.hpp"
+#include "coil_winding_sim/core/assembly/force_effect.hpp"
 
 namespace cws {
 

@@ -14,8 +14,8 @@
 // samples instead.
 #pragma once
 
+#include "coil_winding_sim/core/assembly/force_effect.hpp"
 #include "coil_winding_sim/core/base/hysteresis.hpp"
-#include "coil_winding_sim/core/base/wire_types.hpp"
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
 #include "coil_winding_sim/core/external_forces/port_trajectory.hpp"
 #include "coil_winding_sim/core/machine/rotating_core.hpp"
@@ -24,16 +24,18 @@
 
 namespace cws {
 
-class Supply : public ForceEffect {
+class Supply : public ForceEffect, public EffectHistory {
  public:
   Supply(const WireConstants& c, const Scene& s, const RotatingCore* core);
 
   const char* name() const override { return "supply"; }
-  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
-  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
-  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
-
-  void commit(double t, const WireKinematics& k) override;
+  // The boundary segment's tension on the last point, per formulation
+  // (supply.cpp).
+  void addForces(ExplicitSink& s) const override { addExplicit(s.kinematics(), s.forces()); }
+  void addForces(PlanarSink& s) const override { addPlanar(s.state(), s.assembly()); }
+  void addForces(SpatialSink& s) const override { addSpatial(s.state(), s.assembly()); }
+  // The commanded port's samples before t are past.
+  void commit(const AcceptedStep& step) override;
 
   // Port motion at time t (within the step from the committed time).
   PortMotion port(double t) const;
@@ -56,6 +58,10 @@ class Supply : public ForceEffect {
   double boundaryLength() const { return c_.segment_length * (1.0 + strain_); }
 
  private:
+  void addExplicit(const WireKinematics& k, WireForces& f) const;
+  void addPlanar(const PlanarState& s, PlanarAssembly& a) const;
+  void addSpatial(const SpatialState& s, SpatialAssembly& a) const;
+
   const WireConstants& c_;
   HysteresisParams stretch_;  // the law new wire is stretched along
   const RotatingCore* core_;  // null: the port does not traverse

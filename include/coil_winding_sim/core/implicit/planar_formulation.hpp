@@ -5,7 +5,7 @@
 //   v = alpha (x - x_hat),   alpha M (v - v_hat) = F(x, v)
 // (backward Euler: alpha = 1/h, x_hat = x_0, v_hat = v_0; BDF2 likewise with
 // its own coefficients) is solved by Newton's method with a line search over
-// a band system that every effect assembles (ForceEffect::addPlanarForces),
+// a band system that every effect assembles (ForceEffect::addForces on a PlanarSink),
 // factored in blocks of two points (PlanarAssembly::Matrix).
 // The frames' rotational inertia enters with each frame's angle gradient
 // taken at the step's start. Contact, stick and slip flags stay frozen
@@ -26,6 +26,7 @@
 namespace cws {
 
 class ForceEffect;
+class EffectHistory;
 
 class PlanarFormulation : public NewtonFormulation {
  public:
@@ -92,6 +93,7 @@ class PlanarFormulation : public NewtonFormulation {
 
   NewtonModelView& model_;
   std::vector<ForceEffect*> effects_;
+  std::vector<EffectHistory*> histories_;
   bool multiplier_;  // a supply port constraint
   double point_mass_, point_inertia_;
   NewtonSettings newton_;

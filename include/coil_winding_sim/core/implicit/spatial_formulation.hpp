@@ -24,6 +24,7 @@
 namespace cws {
 
 class ForceEffect;
+class EffectHistory;
 
 class SpatialFormulation : public NewtonFormulation {
  public:
@@ -80,6 +81,7 @@ class SpatialFormulation : public NewtonFormulation {
 
   NewtonModelView& model_;
   std::vector<ForceEffect*> effects_;
+  std::vector<EffectHistory*> histories_;
   bool port_;                      // a supply port constraint
   double point_mass_, quat_mass_;  // [kg], 4 I [kg m^2]
   double segment_length_;

@@ -12,40 +12,40 @@
 // points exactly on the arc of radius EI / M. Each component has its own two-line law. The moment
 // vector m reaches the quaternions as generalized forces -l m . dOmega/dq, and through the
 // rotational constraint (5) the segments and their mass points (the paper's "moment divided by the
-// length of the straight spring").
+// length of the straight spring"). The law is written once on the force
+// sink (assembly/force_sink.hpp, its joint calls).
 #pragma once
 
 #include <vector>
 
+#include "coil_winding_sim/core/assembly/force_effect.hpp"
 #include "coil_winding_sim/core/base/hysteresis.hpp"
-#include "coil_winding_sim/core/base/wire_types.hpp"
 
 namespace cws {
 
-class RotationalSpring : public ForceEffect {
+class RotationalSpring : public SinkEffect<RotationalSpring>, public EffectHistory {
  public:
   // Components [first, first + count) of Omega follow `p`.
   RotationalSpring(const char* name, const WireConstants& c, const HysteresisParams& p,
                    bool plastic, int first, int count);
 
   const char* name() const override { return name_; }
-  void addForces(double t, const WireKinematics& k, WireForces& f) const override;
-  void addPlanarForces(const PlanarState& s, PlanarAssembly& a) const override;
-  void addSpatialForces(const SpatialState& s, SpatialAssembly& a) const override;
+  // Each joint's moment m(Omega) from the laws of its components, with
+  // their tangents (rotational_spring.cpp; instantiated for the three
+  // sinks).
+  template <class Sink>
+  void law(Sink& s) const;
   // Implicit steps freeze the line of each law (elastic, upper or lower
   // plastic) within a Newton solve; the lines carry over between steps.
-  void beginImplicitStep(const PlanarState& s0) override;
-  bool recheckFlags(const PlanarState& s) override;
-  void adoptFlags() override;
-  void beginSpatialStep(const SpatialState& s0) override;
-  bool recheckSpatialFlags(const SpatialState& s) override;
-  void commit(double t, const WireKinematics& k) override;
+  void beginStep(const NewtonView& s0) override;
+  bool recheck(const NewtonView& s) override;
+  void commit(const AcceptedStep& step) override;
   void shrink(const WireKinematics& k) override;
   void retireFront(int k) override;
   void appendHistory(std::vector<double>& out) const override;
   void restoreHistory(HistoryReader& in) override;
-  double elasticEnergy(const WireKinematics& k) const override;
-  double plasticWork(const WireKinematics& k) const override;
+  EffectEnergy energy(const WireKinematics& k) const override;
+  double elasticEnergy(const WireKinematics& k) const;  // [J]
 
   // Darboux vector of joint j (0 <= j <= n-2) in frame j [1/m].
   Eigen::Vector3d darboux(const WireKinematics& k, int j) const;
@@ -55,11 +55,11 @@ class RotationalSpring : public ForceEffect {
   double plasticValue(int j, int m) const;
   int first() const { return first_; }
   int count() const { return count_; }
-  // 3-D implicit steps: `partner`, the other components of the same joints
-  // (torsion beside bending), is evaluated in this spring's pass, which
-  // then forms the Darboux vector and the joints' blocks once for both;
-  // the partner's own pass adds nothing.
-  void shareSpatialPass(RotationalSpring& partner) {
+  // `partner`, the other components of the same joints (torsion beside
+  // bending), is evaluated in this spring's pass, which then forms the
+  // Darboux vector and the joints' moments once for both; the partner's
+  // own pass adds nothing.
+  void sharePass(RotationalSpring& partner) {
     partner_ = &partner;
     partner.in_shared_pass_ = true;
   }
@@ -81,9 +81,13 @@ class RotationalSpring : public ForceEffect {
   template <class Argument>
   int recheckLines(int first, int n, bool mapped,
                    Argument argument);  // the highest joint changed, or -1
+  // The lines' recheck at the laws' arguments: in the plane, kappa
+  // n_material[c] (none for a component with no part about n); in 3-D, the
+  // Darboux vector's components.
+  bool recheckPlanar(const PlanarState& s);
+  bool recheckSpatial(const SpatialState& s);
 
   const char* name_;
-  const WireConstants& c_;  // the model's: n grows with a supply
   TwoLineLaw law_;
   bool plastic_;
   int first_, count_;
@@ -93,8 +97,8 @@ class RotationalSpring : public ForceEffect {
   std::vector<signed char> line_committed_;  // the lines of the last accepted step
   int from_ = 0, to_ = 0;                    // laws of the present implicit step
   double work_committed_ = 0.0;
-  RotationalSpring* partner_ = nullptr;  // evaluated in this pass (3-D)
-  bool in_shared_pass_ = false;          // evaluated in another spring's pass (3-D)
+  RotationalSpring* partner_ = nullptr;  // evaluated in this pass
+  bool in_shared_pass_ = false;          // evaluated in another spring's pass
 };
 
 }  // namespace cws

@@ -5,12 +5,12 @@
 
 #include <vector>
 
-#include "coil_winding_sim/core/assembly/force_sink.hpp"
+#include "coil_winding_sim/core/assembly/force_effect.hpp"
 #include "coil_winding_sim/core/base/hysteresis.hpp"
 
 namespace cws {
 
-class Stretching : public SinkEffect<Stretching> {
+class Stretching : public SinkEffect<Stretching>, public EffectHistory {
  public:
   // With plastic = false the law is linear (EA) and no yield state exists.
   Stretching(const WireConstants& c, const HysteresisParams& p, bool plastic);
@@ -24,12 +24,9 @@ class Stretching : public SinkEffect<Stretching> {
   void law(Sink& s) const;
   // Implicit steps freeze the line of each segment's law (elastic, upper or
   // lower plastic) within a Newton solve; the lines carry over between steps.
-  void beginImplicitStep(const PlanarState& s0) override;
-  bool recheckFlags(const PlanarState& s) override;
-  void adoptFlags() override;
-  void beginSpatialStep(const SpatialState& s0) override;
-  bool recheckSpatialFlags(const SpatialState& s) override;
-  void commit(double t, const WireKinematics& k) override;
+  void beginStep(const NewtonView& s0) override;
+  bool recheck(const NewtonView& s) override;
+  void commit(const AcceptedStep& step) override;
   void grow(const WireKinematics& k) override;
   void shrink(const WireKinematics& k) override;
   void retireFront(int k) override;
@@ -38,8 +35,8 @@ class Stretching : public SinkEffect<Stretching> {
   void preload(const WireKinematics& k);
   void appendHistory(std::vector<double>& out) const override;
   void restoreHistory(HistoryReader& in) override;
-  double elasticEnergy(const WireKinematics& k) const override;
-  double plasticWork(const WireKinematics& k) const override;
+  EffectEnergy energy(const WireKinematics& k) const override;
+  double elasticEnergy(const WireKinematics& k) const;  // [J]
 
   // Axial strain [-] and axial force [N] (tension positive) of segment j.
   double strain(const WireKinematics& k, int j) const;

@@ -6,9 +6,10 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
-#include "coil_winding_sim/core/base/wire_types.hpp"
+#include "coil_winding_sim/core/assembly/force_effect.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {
@@ -41,16 +42,21 @@ class EffectSet {
     for (const auto& e : owned_) out.push_back(e.get());
     return out;
   }
+  // Those that keep a history, in the same order (snapshots store theirs
+  // in it).
+  const std::vector<EffectHistory*>& histories() const { return histories_; }
   // Adds an effect (makeEffects); returns it.
   template <class E>
   E* add(std::unique_ptr<E> e) {
     E* p = e.get();
+    if constexpr (std::is_base_of_v<EffectHistory, E>) histories_.push_back(p);
     owned_.push_back(std::move(e));
     return p;
   }
 
  private:
   std::vector<std::unique_ptr<ForceEffect>> owned_;
+  std::vector<EffectHistory*> histories_;
 };
 
 // The effects `s` (validated) switches on, made with `ctx`.

@@ -11,6 +11,8 @@
 namespace cws {
 
 class RotatingCore;
+class ForceEffect;
+class EffectHistory;
 
 // The scene's facts a formulation needs beyond the solver's keys.
 struct NewtonModelSetup {
@@ -28,8 +30,13 @@ class NewtonModelView {
   // Kinematics at the last accepted step, valid from the boundary point
   // first-1 on (deferred carried wire is not placed).
   virtual const WireKinematics& integratedKinematics() const = 0;
-  // All effects, in evaluation order (the formulation sets their flags).
+  // All effects, in evaluation order, and those with a history (the
+  // formulation sets their flags).
   virtual const std::vector<ForceEffect*>& effectList() = 0;
+  virtual const std::vector<EffectHistory*>& historyList() = 0;
+  // The step being accepted is a Newton step: its flags, as last
+  // rechecked, are the ones the model's commit that follows adopts.
+  virtual void acceptNewtonFlags() = 0;
   // Null when the scene needs no core.
   virtual const RotatingCore* core() const = 0;
   // Pose and motion at time t [s] of the prescribed point first-1 (the

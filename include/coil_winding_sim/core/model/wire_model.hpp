@@ -139,8 +139,11 @@ class WireModel : public OdeSystem, public NewtonModelView {
   // clamp, or the last point the core carries) and of its frame.
   void prescribedPose(double t, Eigen::Vector3d& p_world, Eigen::Vector3d& v_world,
                       Eigen::Vector4d& q, Eigen::Vector4d& qd) const override;
-  // All effects, in evaluation order (implicit steppers set their flags).
+  // All effects, in evaluation order, and those with a history (implicit
+  // steppers set their flags).
   const std::vector<ForceEffect*>& effectList() override { return all_; }
+  const std::vector<EffectHistory*>& historyList() override { return effects_.histories(); }
+  void acceptNewtonFlags() override { newton_flags_ = true; }
 
   const Eigen::VectorXd& initialState() const { return y0_; }
   const WireConstants& constants() const override { return c_; }
@@ -307,6 +310,7 @@ class WireModel : public OdeSystem, public NewtonModelView {
   Bending* bending_ = nullptr;
   Twisting* twisting_ = nullptr;  // null when physics.torsion is off
   std::vector<ForceEffect*> all_;
+  bool newton_flags_ = false;  // the step being accepted is a Newton step's
   FrameConstraints constraints_;
   int points_added_ = 0;
   double committed_time_ = 0.0;  // [s]
