@@ -442,39 +442,4 @@ sensor_msgs::PointCloud2 toProfile(const cws::Simulation& sim, const ros::Time& 
   return cloud;
 }
 
-bool spindleVelocity(const sensor_msgs::JointState& msg, double& omega, std::string& why) {
-  const auto it = std::find(msg.name.begin(), msg.name.end(), kSpindleJoint);
-  if (it == msg.name.end()) {
-    why = "no joint named 'spindle'";
-    return false;
-  }
-  const std::size_t i = static_cast<std::size_t>(it - msg.name.begin());
-  if (i >= msg.velocity.size()) {
-    why = "no velocity for joint 'spindle' (" + std::to_string(msg.velocity.size()) +
-          " velocities for " + std::to_string(msg.name.size()) + " joints)";
-    return false;
-  }
-  if (!std::isfinite(msg.velocity[i])) {
-    why = "the velocity of joint 'spindle' is not finite";
-    return false;
-  }
-  omega = msg.velocity[i];
-  return true;
-}
-
-bool portPoint(const geometry_msgs::PointStamped& msg, const Frames& frames,
-               Eigen::Vector3d& p_world, std::string& why) {
-  if (!msg.header.frame_id.empty() && msg.header.frame_id != frames.world) {
-    why = "frame '" + msg.header.frame_id + "' is not '" + frames.world + "'";
-    return false;
-  }
-  const Eigen::Vector3d p(msg.point.x, msg.point.y, msg.point.z);
-  if (!p.allFinite()) {
-    why = "the point is not finite";
-    return false;
-  }
-  p_world = p;
-  return true;
-}
-
 }  // namespace cws_ros

@@ -31,21 +31,32 @@ namespace {
 constexpr int kMinSamples = 10;  // compare_bags.py's MIN_SAMPLES
 const char* const kJoint = "spindle";
 
-// The machine topics, relative to machine/: type and whether required (the
-// commands are required for a replay; compare_bags.py reads the first five).
+// The machine's measurements, relative to machine/: type and whether
+// required (compare_bags.py reads the first two and the commands). The
+// command topics are the setpoint table's (machineCommandTopics).
 struct TopicSpec {
-  const char* rel;
-  const char* type;
+  std::string rel;
+  std::string type;
   bool required;
+  const cws::SetpointRow* row;  // a command's row; null for a measurement
 };
-const TopicSpec kTopics[] = {
-    {"spindle/state", "sensor_msgs/JointState", true},
-    {"tension/measured", "coil_winding_sim/WireTension", true},
-    {"spindle/command", "sensor_msgs/JointState", true},
-    {"tension/command", "coil_winding_sim/TensionSetpoint", true},
-    {"profile", "sensor_msgs/PointCloud2", false},
-    {"port/command", "geometry_msgs/PointStamped", false},
-};
+std::vector<TopicSpec> machineTopics() {
+  std::vector<TopicSpec> topics = {
+      {"spindle/state", "sensor_msgs/JointState", true, nullptr},
+      {"tension/measured", "coil_winding_sim/WireTension", true, nullptr},
+      {"profile", "sensor_msgs/PointCloud2", false, nullptr},
+  };
+  for (const cws::SetpointRow& row : cws::setpointTable()) {
+    const std::string topic = row.machine_topic;
+    if (topic.empty()) continue;
+    visitMachineMessage(row.kind, [&](auto m) {
+      using M = typename decltype(m)::type;
+      topics.push_back({topic.substr(std::strlen("machine/")),
+                        ros::message_traits::DataType<M>::value(), m.required, &row});
+    });
+  }
+  return topics;
+}
 
 std::string format(const char* fmt, ...) {
   char buf[1024];
@@ -170,8 +181,9 @@ MachineRecording readMachineBag(const std::string& path, const cws::SetpointLimi
   } catch (const std::exception& e) {
     refuse(format("cannot read bag %s: %s", path.c_str(), e.what()));
   }
+  const std::vector<TopicSpec> specs = machineTopics();
   std::map<std::string, const TopicSpec*> wanted;
-  for (const TopicSpec& s : kTopics) wanted["machine/" + std::string(s.rel)] = &s;
+  for (const TopicSpec& s : specs) wanted["machine/" + s.rel] = &s;
 
   rosbag::View all(bag);
   MachineRecording rec;
@@ -184,7 +196,7 @@ MachineRecording readMachineBag(const std::string& path, const cws::SetpointLimi
     if (it == wanted.end()) continue;
     if (c->datatype != it->second->type) {
       refuse(format("topic %s in %s has type %s, expected %s", t.c_str(), path.c_str(),
-                    c->datatype.c_str(), it->second->type));
+                    c->datatype.c_str(), it->second->type.c_str()));
     }
     topics.push_back(c->topic);
   }
@@ -193,11 +205,18 @@ MachineRecording readMachineBag(const std::string& path, const cws::SetpointLimi
   // topic's first message.
   std::vector<std::string> order;
   std::map<std::string, std::vector<double>> stamps;
-  std::vector<sensor_msgs::JointState::ConstPtr> states, commands;
+  std::vector<sensor_msgs::JointState::ConstPtr> states;
   std::vector<coil_winding_sim::WireTension::ConstPtr> measured;
-  std::vector<coil_winding_sim::TensionSetpoint::ConstPtr> tension_commands;
   std::vector<sensor_msgs::PointCloud2::ConstPtr> clouds;
-  std::vector<geometry_msgs::PointStamped::ConstPtr> ports;
+  // The commands per row (in the table's order), read as setpoints: time
+  // from the bag's start [s], or why the message cannot be used.
+  struct Command {
+    double t;
+    bool ok;
+    cws::Setpoint sp;
+    std::string why;
+  };
+  std::map<const cws::SetpointRow*, std::vector<Command>> commands;
   if (all.size() > 0) {
     rec.start = all.getBeginTime();
     rec.end = all.getEndTime();
@@ -207,29 +226,36 @@ MachineRecording readMachineBag(const std::string& path, const cws::SetpointLimi
     const std::string t = norm(m.getTopic());
     const std::string rel = t.substr(std::strlen("machine/"));
     ros::Time stamp;
-    if (rel == "spindle/state" || rel == "spindle/command") {
-      auto j = m.instantiate<sensor_msgs::JointState>();
-      (rel == "spindle/state" ? states : commands).push_back(j);
-      stamp = j->header.stamp;
+    const cws::SetpointRow* row = wanted.at(t)->row;
+    if (row) {
+      visitMachineMessage(row->kind, [&](auto type) {
+        using M = typename decltype(type)::type;
+        const auto msg = m.instantiate<M>();
+        stamp = msg->header.stamp;
+        Command c{0.0, false, cws::Setpoint(), ""};
+        c.ok = setpointOf(*msg, frames, c.sp, c.why);
+        c.t = (stamp - rec.start).toSec();
+        // (A path sample is reached at its stamp.)
+        if (c.ok && row->path_sample) c.sp.value = c.t;
+        commands[row].push_back(c);
+      });
+    } else if (rel == "spindle/state") {
+      states.push_back(m.instantiate<sensor_msgs::JointState>());
+      stamp = states.back()->header.stamp;
     } else if (rel == "tension/measured") {
       measured.push_back(m.instantiate<coil_winding_sim::WireTension>());
       stamp = measured.back()->header.stamp;
-    } else if (rel == "tension/command") {
-      tension_commands.push_back(m.instantiate<coil_winding_sim::TensionSetpoint>());
-      stamp = tension_commands.back()->header.stamp;
-    } else if (rel == "profile") {
+    } else {
       clouds.push_back(m.instantiate<sensor_msgs::PointCloud2>());
       stamp = clouds.back()->header.stamp;
-    } else {
-      ports.push_back(m.instantiate<geometry_msgs::PointStamped>());
-      stamp = ports.back()->header.stamp;
     }
     if (!stamps.count(t)) order.push_back(t);
     stamps[t].push_back(stamp.toSec());
   }
-  for (const TopicSpec& s : kTopics) {
-    if (s.required && stamps["machine/" + std::string(s.rel)].empty()) {
-      refuse(format("topic machine/%s is missing (no messages in %s)", s.rel, path.c_str()));
+  for (const TopicSpec& s : specs) {
+    if (s.required && stamps["machine/" + s.rel].empty()) {
+      refuse(
+          format("topic machine/%s is missing (no messages in %s)", s.rel.c_str(), path.c_str()));
     }
   }
   for (const std::string& t : order) checkStamps(t, stamps[t]);
@@ -270,39 +296,25 @@ MachineRecording readMachineBag(const std::string& path, const cws::SetpointLimi
   for (const auto& c : clouds)
     rec.measured.profiles.push_back(profileCloud(*c, (c->header.stamp - rec.start).toSec()));
 
-  // Commands, refused one by one as the node refuses them.
-  for (const auto& c : commands) {
-    double w = 0.0;
-    std::string why;
-    if (!spindleVelocity(*c, w, why)) {
-      rec.refused.push_back("refused machine/spindle/command: " + why);
-      continue;
+  // Commands, refused one by one as the node refuses them: a message that
+  // cannot be read, a value beyond its row's limit.
+  for (const cws::SetpointRow& row : cws::setpointTable()) {
+    const auto it = commands.find(&row);
+    if (it == commands.end()) continue;
+    const std::string topic = row.machine_topic;
+    for (const Command& c : it->second) {
+      if (!c.ok) {
+        rec.refused.push_back("refused " + topic + ": " + c.why);
+        continue;
+      }
+      const std::string why = row.refusal ? row.refusal(limits, c.sp) : "";
+      if (!why.empty()) {
+        rec.refused.push_back("refused " + topic + " " + cws::formatNumber(c.sp.value) + " " +
+                              row.unit + ", which " + why);
+        continue;
+      }
+      rec.commands.emplace_back(c.t, c.sp);
     }
-    why = cws::coreSpeedRefusal(limits, w);
-    if (!why.empty()) {
-      rec.refused.push_back("refused machine/spindle/command " + cws::formatNumber(w) +
-                            " rad/s, which " + why);
-      continue;
-    }
-    rec.spindle_speed_rad_s.emplace_back((c->header.stamp - rec.start).toSec(), w);
-  }
-  for (const auto& c : tension_commands) {
-    const std::string why = cws::tensionRefusal(limits, c->tension);
-    if (!why.empty()) {
-      rec.refused.push_back("refused machine/tension/command " + cws::formatNumber(c->tension) +
-                            " N, which " + why);
-      continue;
-    }
-    rec.tension_N.emplace_back((c->header.stamp - rec.start).toSec(), c->tension);
-  }
-  for (const auto& c : ports) {
-    Eigen::Vector3d p_world;
-    std::string why;
-    if (!portPoint(*c, frames, p_world, why)) {
-      rec.refused.push_back("refused machine/port/command: " + why);
-      continue;
-    }
-    rec.port_world.emplace_back((c->header.stamp - rec.start).toSec(), p_world);
   }
   return rec;
 }

@@ -30,7 +30,9 @@ void loadReplay(const std::string& scene_path, const std::vector<std::string>& o
   // (A scene or override that sets supply.max_points keeps it.)
   if (!scene.physics.supply || scene.supply.max_points > 0) return;
   double omega = std::abs(cws::rpmToRadPerSec(scene.process.core_speed_rpm));
-  for (const auto& [t, w] : rec.spindle_speed_rad_s) omega = std::max(omega, std::abs(w));
+  for (const auto& [t, c] : rec.commands) {
+    if (c.kind == cws::Setpoint::Kind::kCoreSpeed) omega = std::max(omega, std::abs(c.value));
+  }
   double needed = scene.pointCapacityForAngle(omega * rec.duration_s());
   // (Buried wire retires from the live arrays where the core carries it.)
   if (scene.carriesWoundWire()) needed = std::min<double>(needed, cws::kAutoLivePoints);
@@ -46,13 +48,17 @@ bool replayRecording(cws::Simulation& sim, const MachineRecording& rec, const Re
                      const std::function<bool()>& stop) {
   PublishGrid grid(rates.spindle_hz, rates.frames_hz, rates.profile_hz);
   grid.restart(sim.time());
-  // Speed and tension at the simulated time of their stamps; the port's
-  // samples in order, handed to its path while it has room.
+  // The commands at the simulated time of their stamps; a path's samples
+  // (the port's) in order, handed to it while it has room.
   cws::CommandSchedule due;
-  for (const auto& [t, w] : rec.spindle_speed_rad_s) due.add(t, cws::Setpoint::coreSpeed(w));
-  for (const auto& [t, f] : rec.tension_N) due.add(t, cws::Setpoint::supplyTension(f));
-  std::deque<std::pair<double, Eigen::Vector3d>> ports(rec.port_world.begin(),
-                                                       rec.port_world.end());
+  std::deque<cws::Setpoint> ports;
+  for (const auto& [t, c] : rec.commands) {
+    if (cws::setpointRow(c.kind).path_sample) {
+      ports.push_back(c);
+    } else {
+      due.add(t, c);
+    }
+  }
   const double end = rec.duration_s();
   auto applyDue = [&] {
     due.takeDue(sim.time(), [&](double, const cws::Setpoint& c) {
@@ -73,9 +79,10 @@ bool replayRecording(cws::Simulation& sim, const MachineRecording& rec, const Re
   auto feedPort = [&] {
     while (!ports.empty() && sim.portCommandRoom() > 1) {
       try {
-        sim.apply(cws::Setpoint::portPosition(ports.front().second, ports.front().first));
+        sim.apply(ports.front());
       } catch (const std::invalid_argument& e) {
-        refused.push_back(std::string("refused machine/port/command: ") + e.what());
+        refused.push_back(std::string("refused ") +
+                          cws::setpointRow(ports.front().kind).machine_topic + ": " + e.what());
       }
       ports.pop_front();
     }

@@ -89,19 +89,8 @@ WindingCell::WindingCell(ros::NodeHandle nh, ros::NodeHandle pnh, const NodeOpti
   status_pub_ = nh_.advertise<coil_winding_sim::CellStatus>("cell_status", 1, true);
   joints_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
   if (o_.publish_clock) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
-  for (const cws::SetpointRow& row : cws::setpointTable()) {
-    if (*row.topic) setpoint_subs_.push_back(subscribeSetpoint(row));
-  }
+  subscribeSetpoints();
   trajectory_sub_ = nh_.subscribe("joint_trajectory", 100, &WindingCell::onTrajectory, this);
-  if (o_.machine_inputs) {
-    // The machine's commands (docs/MACHINE_INTERFACE.md) as setpoints.
-    machine_spindle_sub_ =
-        nh_.subscribe("machine/spindle/command", 1000, &WindingCell::onMachineSpindle, this);
-    machine_tension_sub_ =
-        nh_.subscribe("machine/tension/command", 1000, &WindingCell::onMachineTension, this);
-    machine_port_sub_ =
-        nh_.subscribe("machine/port/command", 1000, &WindingCell::onMachinePort, this);
-  }
   spindle_command_pub_ = nh_.advertise<sensor_msgs::JointState>("sim/spindle/command", 100);
   spindle_state_pub_ = nh_.advertise<sensor_msgs::JointState>("sim/spindle/state", 100);
   tension_command_pub_ =

@@ -28,61 +28,57 @@ ros::Time rosTime(std::int64_t ns) {
 }  // namespace
 
 // The setpoint topics, one per row of the setpoint table that names one
-// (cws::setpointTable): each row's message and field is read here, the
-// value checked and queued as every setpoint is.
-ros::Subscriber WindingCell::subscribeSetpoint(const cws::SetpointRow& row) {
-  const std::string topic = row.topic;
-  switch (row.kind) {
-    case cws::Setpoint::Kind::kCoreSpeed:
-      return nh_.subscribe<coil_winding_sim::CoreSpeedSetpoint>(
-          topic, 100,
-          boost::function<void(const coil_winding_sim::CoreSpeedSetpoint::ConstPtr&)>(
-              [this, topic](const coil_winding_sim::CoreSpeedSetpoint::ConstPtr& msg) {
-                valueInput(topic, cws::Setpoint::coreSpeed(msg->angular_velocity),
-                           msg->header.stamp);
-              }));
-    case cws::Setpoint::Kind::kSupplyTension:
-      return nh_.subscribe<coil_winding_sim::TensionSetpoint>(
-          topic, 100,
-          boost::function<void(const coil_winding_sim::TensionSetpoint::ConstPtr&)>(
-              [this, topic](const coil_winding_sim::TensionSetpoint::ConstPtr& msg) {
-                valueInput(topic, cws::Setpoint::supplyTension(msg->tension), msg->header.stamp);
-              }));
-    case cws::Setpoint::Kind::kPortPosition:
-      return nh_.subscribe<geometry_msgs::PointStamped>(
-          topic, 100,
-          boost::function<void(const geometry_msgs::PointStamped::ConstPtr&)>(
-              [this, topic](const geometry_msgs::PointStamped::ConstPtr& msg) {
-                portInput(topic, *msg);
-              }));
-    default:
-      break;
+// (cws::setpointTable), and with ~machine_inputs the machine's commands
+// (docs/MACHINE_INTERFACE.md), one per row that names a machine topic:
+// each message read by the bridge as its row's setpoint (setpointOf),
+// checked and queued as every setpoint is.
+void WindingCell::subscribeSetpoints() {
+  for (const cws::SetpointRow& row : cws::setpointTable()) {
+    const std::string topic = row.topic, machine = row.machine_topic;
+    auto subscribe = [&](const std::string& t, uint32_t queue) {
+      return [this, &row, t, queue](auto m) {
+        using M = typename decltype(m)::type;
+        setpoint_subs_.push_back(subscribeRow<M>(row, t, queue));
+      };
+    };
+    if (!topic.empty() && !visitSetpointMessage(row.kind, subscribe(topic, 100))) {
+      throw std::logic_error("the setpoint table names topic " + topic + " for " + row.name +
+                             ", but the node reads no message for it");
+    }
+    if (o_.machine_inputs && !machine.empty() &&
+        !visitMachineMessage(row.kind, subscribe(machine, 1000))) {
+      throw std::logic_error("the setpoint table names machine topic " + machine + " for " +
+                             row.name + ", but the node reads no message for it");
+    }
   }
-  throw std::logic_error(std::string("the setpoint table names topic ") + topic + " for " +
-                         row.name + ", but the node reads no message for it");
 }
 
-// The machine's commands (~machine_inputs): converted by the bridge, then
-// checked as the setpoint topics are.
-void WindingCell::onMachineSpindle(const sensor_msgs::JointState::ConstPtr& msg) {
-  const std::string topic = "machine/spindle/command";
-  double w = 0.0;
-  std::string why;
-  if (!spindleVelocity(*msg, w, why)) {
-    warn(warningsOf(topic).value, "refused " + topic + ": " + why + "; keeping " +
-                                      cws::formatNumber(speed_setpoint_) + " rad/s");
-    return;
-  }
-  valueInput(topic, cws::Setpoint::coreSpeed(w), msg->header.stamp);
-}
-
-void WindingCell::onMachineTension(const coil_winding_sim::TensionSetpoint::ConstPtr& msg) {
-  valueInput("machine/tension/command", cws::Setpoint::supplyTension(msg->tension),
-             msg->header.stamp);
-}
-
-void WindingCell::onMachinePort(const geometry_msgs::PointStamped::ConstPtr& msg) {
-  portInput("machine/port/command", *msg);
+template <class M>
+ros::Subscriber WindingCell::subscribeRow(const cws::SetpointRow& row, const std::string& topic,
+                                          uint32_t queue) {
+  const cws::SetpointRow* r = &row;
+  return nh_.subscribe<M>(
+      topic, queue,
+      boost::function<void(const typename M::ConstPtr&)>(
+          [this, r, topic](const typename M::ConstPtr& msg) {
+            // (A path's sample is refused while the cell holds before it is read.)
+            if (r->path_sample && refusedWhileHolding(topic, "")) return;
+            cws::Setpoint sp;
+            std::string why;
+            if (!setpointOf(*msg, o_.frames, sp, why)) {
+              std::string keeping;
+              if (!r->path_sample) {
+                keeping = "; keeping " + cws::formatNumber(inUse(r->kind)) + " " + r->unit;
+              }
+              warn(warningsOf(topic).value, "refused " + topic + ": " + why + keeping);
+              return;
+            }
+            if (r->path_sample) {
+              pathInput(topic, sp, msg->header.stamp);
+            } else {
+              valueInput(topic, sp, msg->header.stamp);
+            }
+          }));
 }
 
 // The scene's limits, without the simulation's lock.
@@ -111,21 +107,14 @@ void WindingCell::valueInput(const std::string& topic, const cws::Setpoint& setp
   if (admitStamp(topic, stamp)) inbox_.put({topic, nanoseconds(stamp), setpoint});
 }
 
-// A port position: finite, in the world frame, stamps as for the other
-// setpoints; the simulation refuses a port inside the core or in the past
-// (feedPort) with a warning.
-void WindingCell::portInput(const std::string& topic, const geometry_msgs::PointStamped& msg) {
-  if (refusedWhileHolding(topic, "")) return;
-  Eigen::Vector3d p_world;
-  std::string why;
-  if (!portPoint(msg, o_.frames, p_world, why)) {
-    warn(warningsOf(topic).value, "refused " + topic + ": " + why);
-    return;
-  }
-  if (!admitStamp(topic, msg.header.stamp)) return;
+// A path's sample (the port's position, finite and in the world frame):
+// stamps as for the other setpoints; the simulation refuses a port inside
+// the core or in the past (feedPort) with a warning.
+void WindingCell::pathInput(const std::string& topic, const cws::Setpoint& setpoint,
+                            const ros::Time& stamp) {
+  if (!admitStamp(topic, stamp)) return;
   // (Its simulated time is found by the loop: drainInputs.)
-  inbox_.put({topic, nanoseconds(msg.header.stamp),
-              cws::Setpoint::portPosition(p_world, std::numeric_limits<double>::quiet_NaN())});
+  inbox_.put({topic, nanoseconds(stamp), setpoint});
 }
 
 // A machine axis's trajectory: checked and read by the bridge here, its

@@ -84,3 +84,28 @@ TEST(SetpointTable, EveryKindIsAppliedCheckedAndLogged) {
   EXPECT_EQ(sim.scene().damping.translational, 1.0);
   EXPECT_TRUE(sim.portCommanded());
 }
+
+// Each row's snapshot field keeps what its target drives: a simulation
+// restored from the state saved after every kind was applied holds the
+// same values, and each row's machine topic is one of the machine
+// interface's (docs/MACHINE_INTERFACE.md), on a topic of its own.
+TEST(SetpointTable, EveryKindsValueSurvivesASnapshot) {
+  cws::Simulation sim(cws::loadScene(kDefault, {"solver.integrator=bdf2", "physics.damping=true"}));
+  sim.step(sim.endTime());
+  std::set<std::string> machine_topics;
+  for (const cws::SetpointRow& row : cws::setpointTable()) {
+    sim.apply(allowed(row.kind, sim));
+    if (!*row.machine_topic) continue;
+    EXPECT_EQ(std::string(row.machine_topic).rfind("machine/", 0), 0u) << row.name;
+    EXPECT_TRUE(machine_topics.insert(row.machine_topic).second) << row.machine_topic;
+  }
+  const std::unique_ptr<cws::Simulation> back = cws::Simulation::fromState(sim.saveState());
+  EXPECT_EQ(back->model().core()->command(), 50.0);
+  EXPECT_EQ(back->model().supply()->tension(), 40.0);
+  EXPECT_TRUE(back->portCommanded());
+  EXPECT_EQ(back->portCommandEnd(), sim.portCommandEnd());
+  EXPECT_EQ(back->scene().contact.static_friction, 0.3);
+  EXPECT_EQ(back->scene().contact.kinetic_friction, 0.2);
+  EXPECT_EQ(back->scene().damping.translational, 1.0);
+  EXPECT_EQ(back->scene().damping.rotational, 1e-6);
+}

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "coil_winding_sim/CoilDone.h"
+#include "coil_winding_sim/CoreSpeedSetpoint.h"
 #include "coil_winding_sim/ErrorEstimate.h"
 #include "coil_winding_sim/TensionSetpoint.h"
 #include "coil_winding_sim/WindAction.h"
@@ -139,13 +140,70 @@ bool toPortPosition(const cws::Simulation& sim, const ros::Time& stamp, const Fr
 sensor_msgs::PointCloud2 toProfile(const cws::Simulation& sim, const ros::Time& stamp,
                                    const Frames& frames, double turns = 0.0);
 
-// Machine commands to simulation inputs. Each returns false and says why in
-// `why` for a message that cannot be used.
+// Machine commands to simulation inputs (bridge_machine.cpp). Each returns
+// false and says why in `why` for a message that cannot be used.
 // The `spindle` joint's commanded velocity [rad/s] (finite).
 bool spindleVelocity(const sensor_msgs::JointState& msg, double& omega, std::string& why);
 // A point [m] in the world frame (finite; frame_id empty or `frames.world`).
 bool portPoint(const geometry_msgs::PointStamped& msg, const Frames& frames,
                Eigen::Vector3d& p_world, std::string& why);
+
+// The messages of the setpoint table's topics (cws::SetpointRow::topic,
+// the node's own) and of its machine topics (SetpointRow::machine_topic,
+// the machine interface's, docs/MACHINE_INTERFACE.md; the node subscribes
+// to them with ~machine_inputs, and a machine bag's replay reads them).
+// visitSetpointMessage and visitMachineMessage call f(RowMessage<M>{
+// required}) with the message type M of `kind`'s topic (required: a
+// machine bag's replay needs the topic); false for a kind with none.
+// setpointOf reads a message as its row's setpoint. Adding a message:
+// its case here and its setpointOf.
+template <class M>
+struct RowMessage {
+  using type = M;
+  bool required;
+};
+template <class F>
+bool visitSetpointMessage(cws::Setpoint::Kind kind, F&& f) {
+  switch (kind) {
+    case cws::Setpoint::Kind::kCoreSpeed:
+      f(RowMessage<coil_winding_sim::CoreSpeedSetpoint>{false});
+      return true;
+    case cws::Setpoint::Kind::kSupplyTension:
+      f(RowMessage<coil_winding_sim::TensionSetpoint>{false});
+      return true;
+    case cws::Setpoint::Kind::kPortPosition:
+      f(RowMessage<geometry_msgs::PointStamped>{false});
+      return true;
+    default:
+      return false;
+  }
+}
+template <class F>
+bool visitMachineMessage(cws::Setpoint::Kind kind, F&& f) {
+  switch (kind) {
+    case cws::Setpoint::Kind::kCoreSpeed:
+      f(RowMessage<sensor_msgs::JointState>{true});
+      return true;
+    case cws::Setpoint::Kind::kSupplyTension:
+      f(RowMessage<coil_winding_sim::TensionSetpoint>{true});
+      return true;
+    case cws::Setpoint::Kind::kPortPosition:
+      f(RowMessage<geometry_msgs::PointStamped>{false});
+      return true;
+    default:
+      return false;
+  }
+}
+// (A port position's time is left NaN: the caller sets it from the
+// stamp.) False with why for a message that cannot be used.
+bool setpointOf(const coil_winding_sim::CoreSpeedSetpoint& msg, const Frames& frames,
+                cws::Setpoint& sp, std::string& why);
+bool setpointOf(const sensor_msgs::JointState& msg, const Frames& frames, cws::Setpoint& sp,
+                std::string& why);
+bool setpointOf(const coil_winding_sim::TensionSetpoint& msg, const Frames& frames,
+                cws::Setpoint& sp, std::string& why);
+bool setpointOf(const geometry_msgs::PointStamped& msg, const Frames& frames, cws::Setpoint& sp,
+                std::string& why);
 
 // The wire in its compact form (bridge_compact.cpp): the carried block
 // from point `carried_from` (clamped to the carried wire, which may have

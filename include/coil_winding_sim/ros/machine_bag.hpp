@@ -34,11 +34,11 @@ struct MachineRecording {
   ros::Time start, end;  // the first and last messages' record times
   double duration_s() const { return (end - start).toSec(); }
 
-  // Commands (checked as the node checks them: a refused one is left out,
-  // with a line in `refused`).
-  std::vector<std::pair<double, double>> spindle_speed_rad_s;  // machine/spindle/command
-  std::vector<std::pair<double, double>> tension_N;            // machine/tension/command
-  std::vector<std::pair<double, Eigen::Vector3d>> port_world;  // machine/port/command [m]
+  // Commands: the setpoint table's machine topics (SetpointRow::
+  // machine_topic), each as its row's setpoint at its stamp, in the
+  // table's order and then the bag's; checked as the node checks them (a
+  // refused one is left out, with a line in `refused`).
+  std::vector<std::pair<double, cws::Setpoint>> commands;
   std::vector<std::string> refused;
 
   // Measurements: machine/spindle/state, machine/tension/measured,

@@ -144,18 +144,20 @@ class WindingCell {
   struct TopicWarnings {
     WallThrottle value, ahead, order;
   };
-  // The topic of a row of the setpoint table, subscribed.
-  ros::Subscriber subscribeSetpoint(const cws::SetpointRow& row);
-  void onMachineSpindle(const sensor_msgs::JointState::ConstPtr& msg);
-  void onMachineTension(const coil_winding_sim::TensionSetpoint::ConstPtr& msg);
-  void onMachinePort(const geometry_msgs::PointStamped::ConstPtr& msg);
+  // The setpoint table's topics, and with ~machine_inputs its machine
+  // topics, subscribed: a message of type M on `topic` is read as a
+  // setpoint of `row`.
+  void subscribeSetpoints();
+  template <class M>
+  ros::Subscriber subscribeRow(const cws::SetpointRow& row, const std::string& topic,
+                               uint32_t queue);
   void onTrajectory(const trajectory_msgs::JointTrajectory::ConstPtr& msg);
   // The simulated time a stamp on the node's clock stands for [s] (lock
   // held; zero: now).
   double simTimeOf(const ros::Time& stamp) const;
   double inUse(cws::Setpoint::Kind kind) const;
   void valueInput(const std::string& topic, const cws::Setpoint& setpoint, const ros::Time& stamp);
-  void portInput(const std::string& topic, const geometry_msgs::PointStamped& msg);
+  void pathInput(const std::string& topic, const cws::Setpoint& setpoint, const ros::Time& stamp);
   // A setpoint that arrives while the cell holds (a finished job, a full
   // storage) is refused with a warning saying why and what to do.
   bool refusedWhileHolding(const std::string& topic, const std::string& what);
@@ -322,7 +324,7 @@ class WindingCell {
   ros::Publisher spindle_command_pub_, spindle_state_pub_, tension_command_pub_,
       tension_measured_pub_, port_command_pub_, port_position_pub_, profile_pub_;
   std::vector<ros::Subscriber> setpoint_subs_;  // one per topic of the setpoint table
-  ros::Subscriber machine_spindle_sub_, machine_tension_sub_, machine_port_sub_, trajectory_sub_;
+  ros::Subscriber trajectory_sub_;
   ros::ServiceServer reset_srv_, pause_srv_, snapshot_srv_, restore_srv_, run_until_srv_,
       change_coil_srv_;
   ros::Publisher coil_done_pub_;

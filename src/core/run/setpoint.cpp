@@ -12,24 +12,25 @@ const std::vector<SetpointRow>& setpointTable() {
       {Setpoint::Kind::kCoreSpeed, "core speed", "rad/s", "process.max_core_speed_rpm",
        [](const SetpointLimits& l, const Setpoint& sp) { return coreSpeedRefusal(l, sp.value); },
        [](Simulation& sim, const Setpoint& sp) { sim.setCoreSpeed(sp.value); },
-       "core[3] (the core's speed command)", "core_speed_setpoint", "angular_velocity"},
+       "core[3] (the core's speed command)", "core_speed_setpoint", "angular_velocity",
+       "machine/spindle/command", false},
       {Setpoint::Kind::kSupplyTension, "tension", "N", "process.max_tension",
        [](const SetpointLimits& l, const Setpoint& sp) { return tensionRefusal(l, sp.value); },
        [](Simulation& sim, const Setpoint& sp) { sim.setSupplyTension(sp.value); }, "tension",
-       "tension_setpoint", "tension"},
+       "tension_setpoint", "tension", "machine/tension/command", false},
       {Setpoint::Kind::kPortPosition, "port position", "s", "", nullptr,
        [](Simulation& sim, const Setpoint& sp) { sim.setPortCommand(sp.p_world, sp.value); },
-       "port_command", "port_position_setpoint", "point"},
+       "port_command", "port_position_setpoint", "point", "machine/port/command", true},
       {Setpoint::Kind::kFriction, "friction", "",
        "contact.static_friction, contact.kinetic_friction", nullptr,
        [](Simulation& sim, const Setpoint& sp) { sim.setFriction(sp.value, sp.value2); },
-       "scene_yaml (contact.static_friction, contact.kinetic_friction)", "", ""},
+       "scene_yaml (contact.static_friction, contact.kinetic_friction)", "", "", "", false},
       {Setpoint::Kind::kDamping, "damping", "N s/m^2", "damping.translational, damping.rotational",
        nullptr,
        [](Simulation& sim, const Setpoint& sp) {
          sim.setDamping(DampingParams{sp.value, sp.value2});
        },
-       "scene_yaml (damping.translational, damping.rotational)", "", ""},
+       "scene_yaml (damping.translational, damping.rotational)", "", "", "", false},
   };
   return rows;
 }

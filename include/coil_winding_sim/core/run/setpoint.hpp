@@ -7,7 +7,8 @@
 // accepted (the error estimate, snapshots). Adding a setpoint: its Kind and
 // factory here, its row in setpointTable (src/core/run/setpoint.cpp), the
 // model's target, and its message if it needs a new one (the node
-// subscribes to a row's topic: winding_cell.cpp).
+// subscribes to a row's topic and machine topic, and a machine bag's
+// replay reads the latter: winding_cell_inputs.cpp, ros/bridge.hpp).
 #pragma once
 
 #include <Eigen/Core>
@@ -70,6 +71,14 @@ struct SetpointRow {
   // node subscribes to every topic named here).
   const char* topic;
   const char* message_field;
+  // The machine interface's command topic that carries it
+  // (docs/MACHINE_INTERFACE.md; "": none): the node subscribes to it with
+  // ~machine_inputs, and a machine bag's replay reads it.
+  const char* machine_topic;
+  // A sample of a path, fed to the model ahead of its time while the
+  // path has room (the port), rather than applied when its time comes;
+  // Setpoint::value is that time [s].
+  bool path_sample;
 };
 
 // Every kind, in the order of Kind's values.
