@@ -12,69 +12,15 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
     : c_(c),
       p_(s.contact),
       core_(core),
+      geometry_(c, s, core),
+      slots_(geometry_.slots()),
+      flange_slot_(geometry_.flangeSlot()),
+      wire_base_(geometry_.wireBase()),
       friction_(s.physics.friction),
       elastic_slip_(s.contact.friction_law == "elastic_slip"),
       c_normal_(2.0 * s.contact.damping_ratio * std::sqrt(s.contact.stiffness * c.point_mass)),
       c_stick_(2.0 * s.contact.damping_ratio * std::sqrt(s.contact.stick_stiffness * c.point_mass)),
       h_ramp_(kDashpotRamp * c.radius) {
-  for (const CylinderParams& cyl : s.core.cylinders) {
-    centers_core_.emplace_back(cyl.center_core.x(), cyl.center_core.y(), 0.0);
-    radii_.push_back(cyl.radius);
-  }
-  centers_world_.resize(radii_.size());
-  for (const FaceParams& f : coreFaces(s.core)) {
-    const Eigen::Vector2d d = f.to_core - f.from_core;
-    face_from_core_.emplace_back(f.from_core.x(), f.from_core.y(), 0.0);
-    face_dir_core_.emplace_back(d.x() / d.norm(), d.y() / d.norm(), 0.0);
-    face_normal_core_.emplace_back(d.y() / d.norm(), -d.x() / d.norm(), 0.0);
-    face_length_.push_back(d.norm());
-  }
-  face_from_world_.resize(face_length_.size());
-  face_dir_world_.resize(face_length_.size());
-  face_normal_world_.resize(face_length_.size());
-  // The core's swept radius: its farthest surface from the axis. Nothing of
-  // the core body reaches a point beyond it and a wire diameter (a margin
-  // over the radius a point touches it within).
-  double swept = 0.0;
-  for (const CylinderParams& cyl : s.core.cylinders) {
-    swept = std::max(swept, cyl.center_core.norm() + cyl.radius);
-  }
-  for (const FaceParams& face : coreFaces(s.core)) {
-    swept = std::max({swept, face.from_core.norm(), face.to_core.norm()});
-  }
-  body_reach_ = swept + 2.0 * c.radius;
-  if (s.physics.flanges) {
-    // The winding runs from half a wire diameter behind the port's start,
-    // in the traverse's first direction, over the winding width.
-    const Eigen::Vector3d axis = s.core.axis_world.normalized();
-    const double side = s.process.traverse_pitch < 0.0 ? -1.0 : 1.0;
-    const double first =
-        (s.supply.port_position_world - s.core.position_world).dot(axis) - side * c.radius;
-    const double spacing =
-        s.core.flange_spacing > 0.0 ? s.core.flange_spacing : s.process.winding_width;
-    flange_at_ = {first, first + side * spacing};
-    flange_side_ = {side, -side};
-    flange_radius_ = swept + s.core.flange_height;
-    flange_slot_ = slots_++;
-  }
-  wire_base_ = static_cast<int>(radii_.size() + face_length_.size() + flange_at_.size());
-  wire_slot_ = slots_;
-  if (s.physics.wire_contact) {
-    slots_ += kWireSlots;
-    // Points closer along the wire than three diameters never count as
-    // touching: the wire cannot bend that far back on itself.
-    skip_points_ =
-        std::max(3, static_cast<int>(std::ceil(3.0 * 2.0 * c.radius / c.segment_length)));
-    // (Carried wire stretches little: half as long again is room enough.)
-    carried_index_.reserve(c_.capacity, 2.0 * c.radius, 1.5 * c.segment_length);
-    segment_dir_core_.assign(c_.capacity, Eigen::Vector3d::Zero());
-    segment_length2_.assign(c_.capacity, 1.0);
-    // Points move far less than a quarter diameter in a step relative to the
-    // core: a list serves the step's queries.
-    near_skin_ = 0.5 * c.radius;
-    near_.assign(c_.capacity, NearList());
-    near_segments_.assign(static_cast<std::size_t>(c_.capacity) * kNearMax, -1);
-  }
   const std::size_t slots = static_cast<std::size_t>(c_.capacity) * slots_;
   surface_.assign(slots, -1);
   depth_.assign(slots, 0.0);
@@ -102,7 +48,7 @@ Eigen::Vector3d Contact::friction(int i, const Eigen::Vector3d& p_world,
   if (stuck_[i]) {
     // Stick: a tangential spring to the anchor, within the static limit.
     const Eigen::Vector3d delta =
-        p_world - (core_.originWorld() + rot_world_core_ * anchor_core_[i]);
+        p_world - (core_.originWorld() + geometry_.rotWorldCore() * anchor_core_[i]);
     Eigen::Vector3d f_t = -p_.stick_stiffness * (delta - delta.dot(n_world) * n_world);
     if (c_stick_ > 0.0) f_t -= c_stick_ * vh_world;
     if (f_t.norm() <= p_.static_friction * normal_force) {
@@ -117,12 +63,12 @@ Eigen::Vector3d Contact::friction(int i, const Eigen::Vector3d& p_world,
 }
 
 void Contact::addExplicit(double t, const WireKinematics& k, WireForces& f) const {
-  placeSurfaces(t);
-  syncCarriedWire();
+  geometry_.place(t);
+  geometry_.syncCarriedWire();
   Touch touches[kMaxSlots];
   for (int i = c_.first; i < c_.n; ++i) {
     const Eigen::Vector3d p = k.p_world.col(i);
-    if (!touchAll(i, p, &surface_[i * slots_], touches)) continue;
+    if (!geometry_.touchAll(i, p, &surface_[i * slots_], touches)) continue;
     const Eigen::Vector3d u = core_.velocityWorld(t, p);
     const Eigen::Vector3d v_rel = k.v_world.col(i) - u;
     for (int s = 0; s < slots_; ++s) {
@@ -161,8 +107,8 @@ void Contact::addExplicit(double t, const WireKinematics& k, WireForces& f) cons
 
 void Contact::commitAt(double t, const WireKinematics& k) {
   deepest_in_wire_ = WireDepth();
-  placeSurfaces(t);
-  syncCarriedWire();
+  geometry_.place(t);
+  geometry_.syncCarriedWire();
   // Carried points keep their contact and friction state: they move with
   // the core, so their penetration does not change. Only the points carried
   // since the last commit are added (all again after a release).
@@ -186,12 +132,12 @@ void Contact::commitAt(double t, const WireKinematics& k) {
     if (rechecked) {
       touches = &recheck_touches_[(i - c_.first) * slots_];
     } else {
-      touchAll(i, p, &surface_[i * slots_], found);
+      geometry_.touchAll(i, p, &surface_[i * slots_], found);
     }
     for (int s = 0; s < slots_; ++s) {
       const int x = i * slots_ + s;
       const Touch& c = touches[s];
-      const bool changed_surface = !sameSurface(c.surface, surface_[x]);
+      const bool changed_surface = !geometry_.sameSurface(c.surface, surface_[x]);
       surface_[x] = c.surface;
       depth_[x] = c.surface >= 0 ? c.h : 0.0;
       if (c.surface >= 0) {
@@ -208,7 +154,7 @@ void Contact::commitAt(double t, const WireKinematics& k) {
         // Elastic slip: a point that touches later starts from where it
         // was, carried with the surface.
         if (elastic_slip_)
-          anchor_core_[x] = rot_world_core_.transpose() * (p - core_.originWorld());
+          anchor_core_[x] = geometry_.rotWorldCore().transpose() * (p - core_.originWorld());
         continue;
       }
       const Eigen::Vector3d& n = c.n_world;
@@ -228,7 +174,7 @@ void Contact::commitAt(double t, const WireKinematics& k) {
         stuck_[x] = !r.slipping;
         slow_[x] = vh.norm() < p_.stick_speed;
         if (r.slipping) {
-          anchor_core_[x] = rot_world_core_.transpose() *
+          anchor_core_[x] = geometry_.rotWorldCore().transpose() *
                             (p + r.force / p_.stick_stiffness - core_.originWorld());
         }
         continue;
@@ -239,7 +185,7 @@ void Contact::commitAt(double t, const WireKinematics& k) {
         stuck_[x] = 0;  // the static limit was exceeded
       } else if (!stuck_[x] && vh.norm() < p_.stick_speed) {
         stuck_[x] = 1;  // slow enough: stick where it is
-        anchor_core_[x] = rot_world_core_.transpose() * (p - core_.originWorld());
+        anchor_core_[x] = geometry_.rotWorldCore().transpose() * (p - core_.originWorld());
       }
     }
   }
@@ -308,12 +254,7 @@ void Contact::retireFront(int k) {
   recheck_.valid = false;
   // The carried wire's segments are hashed anew, numbered from the new
   // front (in the order they were hashed: ascending).
-  if (carried_p_core_) {
-    carried_index_.clear();
-    indexed_segments_ = 0;
-    carried_reach_ = 0.0;
-    for (int i = 0; i < c_.n; ++i) near_[i].count = -1;
-  }
+  geometry_.forgetCarriedWire(c_.n);
 }
 
 void Contact::forgetCarriedSums() {
@@ -338,9 +279,7 @@ void Contact::restoreHistory(HistoryReader& in) {
   recheck_.valid = false;
   forgetCarriedSums();
   // The carried wire may be another: hashed anew when next used.
-  carried_index_.clear();
-  carried_reach_ = 0.0;
-  indexed_segments_ = 0;
+  geometry_.forgetCarriedWire(0);
 }
 
 }  // namespace cws

@@ -1,18 +1,84 @@
-// Contact geometry: which surfaces a point touches, how deep and along
-// which normal. The core's cylinders and faces placed at the core's angle,
-// its flanges, and the wound wire the core carries (physics.wire_contact):
-// the carried segments as capsules of the wire's radius, found through a
-// grid of the core frame (carried_wire_index.hpp), and grouped into runs so
-// that a point lying on a turn feels it once, and a point in the groove of
-// two turns feels both. The law of the force on a touch is contact.cpp's.
+// What touches what (contact_geometry.hpp).
+#include "coil_winding_sim/core/external_forces/contact_geometry.hpp"
+
 #include <algorithm>
 #include <cmath>
 
-#include "coil_winding_sim/core/external_forces/contact.hpp"
+#include "coil_winding_sim/core/scene/core_geometry.hpp"
 
 namespace cws {
 
-void Contact::placeSurfaces(double t) const {
+ContactGeometry::ContactGeometry(const WireConstants& c, const Scene& s, const RotatingCore& core)
+    : c_(c), core_(core) {
+  for (const CylinderParams& cyl : s.core.cylinders) {
+    centers_core_.emplace_back(cyl.center_core.x(), cyl.center_core.y(), 0.0);
+    radii_.push_back(cyl.radius);
+  }
+  centers_world_.resize(radii_.size());
+  for (const FaceParams& f : coreFaces(s.core)) {
+    const Eigen::Vector2d d = f.to_core - f.from_core;
+    face_from_core_.emplace_back(f.from_core.x(), f.from_core.y(), 0.0);
+    face_dir_core_.emplace_back(d.x() / d.norm(), d.y() / d.norm(), 0.0);
+    face_normal_core_.emplace_back(d.y() / d.norm(), -d.x() / d.norm(), 0.0);
+    face_length_.push_back(d.norm());
+  }
+  face_from_world_.resize(face_length_.size());
+  face_dir_world_.resize(face_length_.size());
+  face_normal_world_.resize(face_length_.size());
+  // The core's swept radius: its farthest surface from the axis. Nothing of
+  // the core body reaches a point beyond it and a wire diameter (a margin
+  // over the radius a point touches it within).
+  double swept = 0.0;
+  for (const CylinderParams& cyl : s.core.cylinders) {
+    swept = std::max(swept, cyl.center_core.norm() + cyl.radius);
+  }
+  for (const FaceParams& face : coreFaces(s.core)) {
+    swept = std::max({swept, face.from_core.norm(), face.to_core.norm()});
+  }
+  body_reach_ = swept + 2.0 * c.radius;
+  if (s.physics.flanges) {
+    // The winding runs from half a wire diameter behind the port's start,
+    // in the traverse's first direction, over the winding width.
+    const Eigen::Vector3d axis = s.core.axis_world.normalized();
+    const double side = s.process.traverse_pitch < 0.0 ? -1.0 : 1.0;
+    const double first =
+        (s.supply.port_position_world - s.core.position_world).dot(axis) - side * c.radius;
+    const double spacing =
+        s.core.flange_spacing > 0.0 ? s.core.flange_spacing : s.process.winding_width;
+    flange_at_ = {first, first + side * spacing};
+    flange_side_ = {side, -side};
+    flange_radius_ = swept + s.core.flange_height;
+    flange_slot_ = slots_++;
+  }
+  wire_base_ = static_cast<int>(radii_.size() + face_length_.size() + flange_at_.size());
+  wire_slot_ = slots_;
+  if (s.physics.wire_contact) {
+    slots_ += kWireSlots;
+    // Points closer along the wire than three diameters never count as
+    // touching: the wire cannot bend that far back on itself.
+    skip_points_ =
+        std::max(3, static_cast<int>(std::ceil(3.0 * 2.0 * c.radius / c.segment_length)));
+    // (Carried wire stretches little: half as long again is room enough.)
+    carried_index_.reserve(c_.capacity, 2.0 * c.radius, 1.5 * c.segment_length);
+    segment_dir_core_.assign(c_.capacity, Eigen::Vector3d::Zero());
+    segment_length2_.assign(c_.capacity, 1.0);
+    // Points move far less than a quarter diameter in a step relative to the
+    // core: a list serves the step's queries.
+    near_skin_ = 0.5 * c.radius;
+    near_.assign(c_.capacity, NearList());
+    near_segments_.assign(static_cast<std::size_t>(c_.capacity) * kNearMax, -1);
+  }
+}
+
+void ContactGeometry::forgetCarriedWire(int n) {
+  if (!carried_p_core_) return;
+  carried_index_.clear();
+  indexed_segments_ = 0;
+  carried_reach_ = 0.0;
+  for (int i = 0; i < n; ++i) near_[i].count = -1;
+}
+
+void ContactGeometry::place(double t) const {
   // Every evaluation of a Newton solve places the surfaces at the step's
   // end: the same angle, the same placement.
   const double angle = core_.angle(t);
@@ -31,7 +97,8 @@ void Contact::placeSurfaces(double t) const {
   }
 }
 
-int Contact::touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n_world) const {
+int ContactGeometry::touch(const Eigen::Vector3d& p_world, double& h,
+                           Eigen::Vector3d& n_world) const {
   int best = -1;
   h = 0.0;
   const Eigen::Vector3d& a = core_.axisWorld();
@@ -74,7 +141,8 @@ int Contact::touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n
   return best;
 }
 
-bool Contact::touchAll(int i, const Eigen::Vector3d& p_world, const int* ref, Touch* out) const {
+bool ContactGeometry::touchAll(int i, const Eigen::Vector3d& p_world, const int* ref,
+                               Touch* out) const {
   for (int s = 0; s < slots_; ++s) out[s].surface = -1;
   // A point farther from the core axis than any surface reaches (the free
   // span towards the port) touches none.
@@ -139,7 +207,7 @@ bool Contact::touchAll(int i, const Eigen::Vector3d& p_world, const int* ref, To
   return true;
 }
 
-void Contact::syncCarriedWire() const {
+void ContactGeometry::syncCarriedWire() const {
   if (!carried_p_core_) return;
   // Carried segments j join carried points j and j + 1 < c.first (from
   // point 1: point 0 is the clamp); they are rigid in the core frame while
@@ -165,7 +233,7 @@ void Contact::syncCarriedWire() const {
   indexed_segments_ = carried;
 }
 
-const int* Contact::nearSegments(int i, const Eigen::Vector3d& p_core, int& count) const {
+const int* ContactGeometry::nearSegments(int i, const Eigen::Vector3d& p_core, int& count) const {
   NearList& list = near_[i];
   const std::int64_t cell = carried_index_.cellKey(p_core);
   if (list.count >= 0 && list.version == carried_index_.version() && list.cell == cell &&
@@ -194,7 +262,7 @@ const int* Contact::nearSegments(int i, const Eigen::Vector3d& p_core, int& coun
   return list.count >= 0 ? out : nullptr;
 }
 
-int Contact::touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const {
+int ContactGeometry::touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const {
   const int last = lastWireSegment(i);
   if (last < 0 || !carried_p_core_) return 0;
   // The touching segments, by index (a point touches few).
@@ -262,6 +330,104 @@ int Contact::touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const 
   m = std::min(m, kMaxRuns);
   for (int g = 0; g < m; ++g) runs[g] = Touch{all[g].surface, all[g].h, rot_world_core_ * all[g].n};
   return m;
+}
+
+bool ContactGeometry::planarSurface(const PlanarState& s, int surface, const Eigen::Vector2d& x,
+                                    Eigen::Vector2d& normal, double& depth,
+                                    Eigen::Matrix2d& dnormal) const {
+  const int cylinders = static_cast<int>(radii_.size());
+  if (surface < cylinders) {
+    // Distance from the cylinder's axis (the plane normal).
+    const Eigen::Vector2d r = x - s.plane.toPlane(centers_world_[surface]);
+    const double dist = r.norm();
+    if (dist == 0.0) return false;
+    normal = r / dist;
+    depth = radii_[surface] + c_.radius - dist;
+    dnormal = (Eigen::Matrix2d::Identity() - normal * normal.transpose()) / dist;
+    return true;
+  }
+  const int f = surface - cylinders;
+  normal = s.plane.vectorToPlane(face_normal_world_[f]);
+  depth = c_.radius - (x - s.plane.toPlane(face_from_world_[f])).dot(normal);
+  dnormal.setZero();
+  return true;
+}
+
+bool ContactGeometry::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
+                                     Eigen::Vector3d& normal_world, double& depth,
+                                     Eigen::Matrix3d* dnormal) const {
+  const int cylinders = static_cast<int>(radii_.size());
+  if (surface < cylinders) {
+    // Distance from the cylinder's axis (the core axis through its centre).
+    const Eigen::Vector3d& a = core_.axisWorld();
+    const Eigen::Vector3d d = p_world - centers_world_[surface];
+    const Eigen::Vector3d d_perp = d - d.dot(a) * a;
+    const double dist = d_perp.norm();
+    if (dist == 0.0) return false;
+    normal_world = d_perp / dist;
+    depth = radii_[surface] + c_.radius - dist;
+    if (dnormal) {
+      *dnormal = (Eigen::Matrix3d::Identity() - a * a.transpose() -
+                  normal_world * normal_world.transpose()) /
+                 dist;
+    }
+    return true;
+  }
+  if (surface >= wire_base_) {
+    // The nearest of the carried segments j-1..j+1 (as capsules): inside
+    // one, the distance from its line; past its ends, from the end point.
+    // (A segment of retired wire, j < 0, is out of reach: no segment below.)
+    const int j = surface - wire_base_ - c_.retired;
+    const int last = lastWireSegment(i);
+    const Eigen::Vector3d p_core = rot_world_core_.transpose() * (p_world - core_.originWorld());
+    // (Compared by their squared distances: one root, for the nearest.)
+    double best2 = -1.0;
+    int nearest = -1;
+    bool nearest_inside = false;
+    Eigen::Vector3d n_core = Eigen::Vector3d::Zero(), t_core = Eigen::Vector3d::Zero();
+    for (int m = std::max(1, j - 1); m <= std::min(j + 1, last); ++m) {
+      Eigen::Vector3d offset;
+      bool inside;
+      const double dist2 = segmentOffset(m, p_core, offset, inside);
+      if (best2 >= 0.0 && dist2 >= best2) continue;
+      best2 = dist2;
+      nearest = m;
+      nearest_inside = inside;
+      n_core = offset;
+    }
+    const double best = nearest >= 0 ? std::sqrt(best2) : -1.0;
+    if (best <= 0.0) return false;
+    n_core /= best;
+    normal_world = rot_world_core_ * n_core;
+    depth = 2.0 * c_.radius - best;
+    if (dnormal) {
+      if (nearest_inside) t_core = segment_dir_core_[nearest].normalized();
+      const Eigen::Vector3d t_world = rot_world_core_ * t_core;
+      *dnormal = (Eigen::Matrix3d::Identity() - t_world * t_world.transpose() -
+                  normal_world * normal_world.transpose()) /
+                 best;
+    }
+    return true;
+  }
+  if (dnormal) dnormal->setZero();
+  const int f = surface - cylinders;
+  if (f >= static_cast<int>(face_length_.size())) {
+    // A flange, normal to the core axis, as far from the axis as it
+    // reaches (as touchAll finds it): a point the face's force pushed
+    // beyond its reach would otherwise be pushed on by a face that touchAll
+    // no longer finds there, and the flag would change at every recheck.
+    const int j = f - static_cast<int>(face_length_.size());
+    const Eigen::Vector3d& a = core_.axisWorld();
+    const Eigen::Vector3d r = p_world - core_.originWorld();
+    const double along = r.dot(a);
+    if (!withinFlangeReach(r, along)) return false;
+    normal_world = flange_side_[j] * a;
+    depth = c_.radius - flange_side_[j] * (along - flange_at_[j]);
+    return true;
+  }
+  normal_world = face_normal_world_[f];
+  depth = c_.radius - (p_world - face_from_world_[f]).dot(normal_world);
+  return true;
 }
 
 }  // namespace cws

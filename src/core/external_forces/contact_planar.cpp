@@ -11,27 +11,6 @@
 
 namespace cws {
 
-bool Contact::planarSurface(const PlanarState& s, int surface, const Eigen::Vector2d& x,
-                            Eigen::Vector2d& normal, double& depth,
-                            Eigen::Matrix2d& dnormal) const {
-  const int cylinders = static_cast<int>(radii_.size());
-  if (surface < cylinders) {
-    // Distance from the cylinder's axis (the plane normal).
-    const Eigen::Vector2d r = x - s.plane.toPlane(centers_world_[surface]);
-    const double dist = r.norm();
-    if (dist == 0.0) return false;
-    normal = r / dist;
-    depth = radii_[surface] + c_.radius - dist;
-    dnormal = (Eigen::Matrix2d::Identity() - normal * normal.transpose()) / dist;
-    return true;
-  }
-  const int f = surface - cylinders;
-  normal = s.plane.vectorToPlane(face_normal_world_[f]);
-  depth = c_.radius - (x - s.plane.toPlane(face_from_world_[f])).dot(normal);
-  dnormal.setZero();
-  return true;
-}
-
 Eigen::Vector2d Contact::planarSurfaceVelocity(const PlanarState& s,
                                                const Eigen::Vector2d& x) const {
   return s.plane.vectorToPlane(s.carried.velocity(s.plane.toWorld(x)));
@@ -44,7 +23,7 @@ Eigen::Matrix2d Contact::planarCarriedGradient(const PlanarState& s) const {
 }
 
 void Contact::addPlanar(const PlanarState& s, PlanarAssembly& a) const {
-  placeSurfaces(s.t);
+  geometry_.place(s.t);
   const Eigen::Matrix2d rot90 = planar::perpMatrix();
   // d u / d x of the core's material, the same at every point (for the
   // dashpots' velocity terms).
@@ -57,7 +36,7 @@ void Contact::addPlanar(const PlanarState& s, PlanarAssembly& a) const {
     Eigen::Vector2d nrm;
     double h;
     Eigen::Matrix2d dn;
-    if (!planarSurface(s, surface, x, nrm, h, dn)) continue;
+    if (!geometry_.planarSurface(s, surface, x, nrm, h, dn)) continue;
     // Normal spring k h n, kept linear while the contact is active (the
     // active set is rechecked after the solve); with its dashpot, N =
     // k h - c_n v_n, its gradients in x and v.
@@ -86,7 +65,7 @@ void Contact::addPlanar(const PlanarState& s, PlanarAssembly& a) const {
       const Eigen::Vector3d& anchor_core =
           elastic_slip_ ? anchor_core_[i] : trial_anchor_core_[i - s.first];
       const Eigen::Vector2d delta =
-          x - s.plane.toPlane(core_.originWorld() + rot_world_core_ * anchor_core);
+          x - s.plane.toPlane(core_.originWorld() + geometry_.rotWorldCore() * anchor_core);
       const double along = delta.dot(tan);
       bool stick = trial_stuck_[i];
       double sign = trial_sign_[i], mu = p_.kinetic_friction;
@@ -129,7 +108,7 @@ void Contact::addPlanar(const PlanarState& s, PlanarAssembly& a) const {
 
 void Contact::beginPlanar(const PlanarState& s0) {
   growSpan(trial_anchor_core_, s0.n - s0.first);
-  placeSurfaces(s0.t);
+  geometry_.place(s0.t);
   for (int i = s0.first; i < s0.n; ++i) {
     trial_surface_[i] = surface_[i];
     if (!friction_) continue;
@@ -142,7 +121,7 @@ void Contact::beginPlanar(const PlanarState& s0) {
     double h;
     Eigen::Matrix2d dn;
     const Eigen::Vector2d x = s0.x.col(i);
-    if (surface_[i] >= 0 && planarSurface(s0, surface_[i], x, nrm, h, dn)) {
+    if (surface_[i] >= 0 && geometry_.planarSurface(s0, surface_[i], x, nrm, h, dn)) {
       const double vt = (s0.v.col(i) - planarSurfaceVelocity(s0, x)).dot(planar::perp(nrm));
       trial_sign_[i] = vt < 0.0 ? -1 : 1;
     }
@@ -151,17 +130,17 @@ void Contact::beginPlanar(const PlanarState& s0) {
 
 bool Contact::recheckPlanar(const PlanarState& s) {
   growSpan(trial_anchor_core_, s.n - s.first);
-  placeSurfaces(s.t);
+  geometry_.place(s.t);
   bool changed = false;
   for (int i = s.first; i < s.n; ++i) {
     const Eigen::Vector2d x = s.x.col(i);
     double h_world;
     Eigen::Vector3d n_world;
-    const int surface = touch(s.plane.toWorld(x), h_world, n_world);
+    const int surface = geometry_.touch(s.plane.toWorld(x), h_world, n_world);
     Eigen::Vector2d nrm;
     double h = 0.0;
     Eigen::Matrix2d dn;
-    const bool on = surface >= 0 && planarSurface(s, surface, x, nrm, h, dn);
+    const bool on = surface >= 0 && geometry_.planarSurface(s, surface, x, nrm, h, dn);
     const bool fresh = surface != trial_surface_[i];
     if (fresh) {
       trial_surface_[i] = surface;
@@ -176,8 +155,8 @@ bool Contact::recheckPlanar(const PlanarState& s) {
     if (trial_stuck_[i]) {
       // Stick holds while the spring (and its dashpot) stays within mu_s N.
       const Eigen::Vector2d delta =
-          x -
-          s.plane.toPlane(core_.originWorld() + rot_world_core_ * trial_anchor_core_[i - s.first]);
+          x - s.plane.toPlane(core_.originWorld() +
+                              geometry_.rotWorldCore() * trial_anchor_core_[i - s.first]);
       const double pull = p_.stick_stiffness * delta.dot(tan) + c_stick_ * vt;
       if (std::abs(pull) > p_.static_friction * normalForce(h, r.dot(nrm))) {
         trial_stuck_[i] = 0;
@@ -197,7 +176,7 @@ bool Contact::recheckPlanar(const PlanarState& s) {
       // turns without end.
       trial_stuck_[i] = 1;
       trial_anchor_core_[i - s.first] =
-          rot_world_core_.transpose() * (s.plane.toWorld(x) - core_.originWorld());
+          geometry_.rotWorldCore().transpose() * (s.plane.toWorld(x) - core_.originWorld());
       changed = true;
     } else if (fresh) {
       trial_sign_[i] = vt < 0.0 ? -1 : 1;

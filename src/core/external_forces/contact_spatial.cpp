@@ -16,84 +16,8 @@
 
 namespace cws {
 
-bool Contact::spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
-                             Eigen::Vector3d& normal_world, double& depth,
-                             Eigen::Matrix3d* dnormal) const {
-  const int cylinders = static_cast<int>(radii_.size());
-  if (surface < cylinders) {
-    // Distance from the cylinder's axis (the core axis through its centre).
-    const Eigen::Vector3d& a = core_.axisWorld();
-    const Eigen::Vector3d d = p_world - centers_world_[surface];
-    const Eigen::Vector3d d_perp = d - d.dot(a) * a;
-    const double dist = d_perp.norm();
-    if (dist == 0.0) return false;
-    normal_world = d_perp / dist;
-    depth = radii_[surface] + c_.radius - dist;
-    if (dnormal) {
-      *dnormal = (Eigen::Matrix3d::Identity() - a * a.transpose() -
-                  normal_world * normal_world.transpose()) /
-                 dist;
-    }
-    return true;
-  }
-  if (surface >= wire_base_) {
-    // The nearest of the carried segments j-1..j+1 (as capsules): inside
-    // one, the distance from its line; past its ends, from the end point.
-    // (A segment of retired wire, j < 0, is out of reach: no segment below.)
-    const int j = surface - wire_base_ - c_.retired;
-    const int last = lastWireSegment(i);
-    const Eigen::Vector3d p_core = rot_world_core_.transpose() * (p_world - core_.originWorld());
-    // (Compared by their squared distances: one root, for the nearest.)
-    double best2 = -1.0;
-    int nearest = -1;
-    bool nearest_inside = false;
-    Eigen::Vector3d n_core = Eigen::Vector3d::Zero(), t_core = Eigen::Vector3d::Zero();
-    for (int m = std::max(1, j - 1); m <= std::min(j + 1, last); ++m) {
-      Eigen::Vector3d offset;
-      bool inside;
-      const double dist2 = segmentOffset(m, p_core, offset, inside);
-      if (best2 >= 0.0 && dist2 >= best2) continue;
-      best2 = dist2;
-      nearest = m;
-      nearest_inside = inside;
-      n_core = offset;
-    }
-    const double best = nearest >= 0 ? std::sqrt(best2) : -1.0;
-    if (best <= 0.0) return false;
-    n_core /= best;
-    normal_world = rot_world_core_ * n_core;
-    depth = 2.0 * c_.radius - best;
-    if (dnormal) {
-      if (nearest_inside) t_core = segment_dir_core_[nearest].normalized();
-      const Eigen::Vector3d t_world = rot_world_core_ * t_core;
-      *dnormal = (Eigen::Matrix3d::Identity() - t_world * t_world.transpose() -
-                  normal_world * normal_world.transpose()) /
-                 best;
-    }
-    return true;
-  }
-  if (dnormal) dnormal->setZero();
-  const int f = surface - cylinders;
-  if (f >= static_cast<int>(face_length_.size())) {
-    // A flange, normal to the core axis, as far from the axis as it
-    // reaches (as touchAll finds it): a point the face's force pushed
-    // beyond its reach would otherwise be pushed on by a face that touchAll
-    // no longer finds there, and the flag would change at every recheck.
-    const int j = f - static_cast<int>(face_length_.size());
-    const Eigen::Vector3d& a = core_.axisWorld();
-    const Eigen::Vector3d r = p_world - core_.originWorld();
-    const double along = r.dot(a);
-    if (!withinFlangeReach(r, along)) return false;
-    normal_world = flange_side_[j] * a;
-    depth = c_.radius - flange_side_[j] * (along - flange_at_[j]);
-    return true;
-  }
-  normal_world = face_normal_world_[f];
-  depth = c_.radius - (p_world - face_from_world_[f]).dot(normal_world);
-  return true;
-}
 void Contact::addSpatial(const SpatialState& s, SpatialAssembly& a) const {
-  placeSurfaces(s.t);
+  geometry_.place(s.t);
   const Eigen::Matrix3d id = Eigen::Matrix3d::Identity();
   for (int x = s.first * slots_; x < s.n * slots_; ++x) {
     const int surface = trial_surface_[x];
@@ -106,7 +30,7 @@ void Contact::addSpatial(const SpatialState& s, SpatialAssembly& a) const {
     Eigen::Vector3d nrm;
     double h;
     Eigen::Matrix3d dn;
-    if (!spatialSurface(i, surface, p, nrm, h, jacobian ? &dn : nullptr)) continue;
+    if (!geometry_.spatialSurface(i, surface, p, nrm, h, jacobian ? &dn : nullptr)) continue;
     // The core's velocity as the scheme gives it (one_leg_step.hpp), and
     // the relative velocity r = v - u with its normal part.
     const Eigen::Vector3d u = s.carried.velocity(p);
@@ -148,7 +72,7 @@ void Contact::addSpatial(const SpatialState& s, SpatialAssembly& a) const {
         ft = ret.force;
         if (jacobian) {
           const Eigen::Vector3d delta =
-              p - (core_.originWorld() + rot_world_core_ * anchor_core_[x]);
+              p - (core_.originWorld() + geometry_.rotWorldCore() * anchor_core_[x]);
           const double dnn = delta.dot(nrm);
           Eigen::Matrix3d dtrial_dp =
               -p_.stick_stiffness *
@@ -171,7 +95,8 @@ void Contact::addSpatial(const SpatialState& s, SpatialAssembly& a) const {
         // Stick: the spring to the anchor, its tangential part (and its
         // dashpot against the sliding velocity vh = P_n r).
         const Eigen::Vector3d delta =
-            p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[x - s.first * slots_]);
+            p - (core_.originWorld() +
+                 geometry_.rotWorldCore() * trial_anchor_core_[x - s.first * slots_]);
         const double dnn = delta.dot(nrm);
         ft = -p_.stick_stiffness * (delta - dnn * nrm);
         if (jacobian) {
@@ -219,8 +144,8 @@ void Contact::addSpatial(const SpatialState& s, SpatialAssembly& a) const {
 
 void Contact::beginSpatial(const SpatialState& s0) {
   recheck_.valid = false;
-  placeSurfaces(s0.t);
-  syncCarriedWire();
+  geometry_.place(s0.t);
+  geometry_.syncCarriedWire();
   growSpan(trial_slip_world_, s0.n - s0.first);
   growSpan(trial_anchor_core_, s0.n - s0.first);
   const int base = s0.first * slots_;  // the span-indexed arrays' first slot
@@ -237,7 +162,7 @@ void Contact::beginSpatial(const SpatialState& s0) {
     double h;
     const int i = x / slots_;
     const Eigen::Vector3d p = s0.p.col(i);
-    if (surface_[x] >= 0 && spatialSurface(i, surface_[x], p, nrm, h, nullptr)) {
+    if (surface_[x] >= 0 && geometry_.spatialSurface(i, surface_[x], p, nrm, h, nullptr)) {
       const Eigen::Vector3d v_rel = s0.v.col(i) - s0.carried.velocity(p);
       const Eigen::Vector3d vh = v_rel - v_rel.dot(nrm) * nrm;
       if (vh.norm() > 0.0) trial_slip_world_[x - base] = vh.normalized();
@@ -246,7 +171,7 @@ void Contact::beginSpatial(const SpatialState& s0) {
 }
 
 bool Contact::recheckSpatial(const SpatialState& s) {
-  placeSurfaces(s.t);
+  geometry_.place(s.t);
   bool changed = false;
   Touch touches[kMaxSlots];
   growSpan(trial_slip_world_, s.n - s.first);
@@ -255,7 +180,7 @@ bool Contact::recheckSpatial(const SpatialState& s) {
   const int base = s.first * slots_;  // the span-indexed arrays' first slot
   for (int i = s.first; i < s.n; ++i) {
     const Eigen::Vector3d p = s.p.col(i);
-    touchAll(i, p, &trial_surface_[i * slots_], touches);
+    geometry_.touchAll(i, p, &trial_surface_[i * slots_], touches);
     std::copy(touches, touches + slots_, &recheck_touches_[(i - s.first) * slots_]);
     for (int slot = 0; slot < slots_; ++slot) {
       const int x = i * slots_ + slot;
@@ -267,7 +192,7 @@ bool Contact::recheckSpatial(const SpatialState& s) {
       const bool on = surface >= 0;
       // Another segment of the same run of carried wire is the same
       // surface (the solve already took the nearest of its neighbours).
-      const bool fresh = !sameSurface(surface, trial_surface_[x]);
+      const bool fresh = !geometry_.sameSurface(surface, trial_surface_[x]);
       trial_surface_[x] = surface;
       if (fresh) {
         trial_stuck_[x] = 0;
@@ -282,7 +207,7 @@ bool Contact::recheckSpatial(const SpatialState& s) {
       if (trial_stuck_[x]) {
         // Stick holds while the spring (and its dashpot) stays within mu_s N.
         const Eigen::Vector3d delta =
-            p - (core_.originWorld() + rot_world_core_ * trial_anchor_core_[x - base]);
+            p - (core_.originWorld() + geometry_.rotWorldCore() * trial_anchor_core_[x - base]);
         const Eigen::Vector3d pull =
             p_.stick_stiffness * (delta - delta.dot(nrm) * nrm) + c_stick_ * vh;
         if (pull.norm() > p_.static_friction * normalForce(h, v_rel.dot(nrm))) {
@@ -305,7 +230,8 @@ bool Contact::recheckSpatial(const SpatialState& s) {
       if (p_.static_friction > 0.0 && trial_releases_[x] < 2 &&
           (speed < p_.stick_speed || (known && vh.dot(dir) < p_.stick_speed))) {
         trial_stuck_[x] = 1;
-        trial_anchor_core_[x - base] = rot_world_core_.transpose() * (p - core_.originWorld());
+        trial_anchor_core_[x - base] =
+            geometry_.rotWorldCore().transpose() * (p - core_.originWorld());
         changed = true;
         s.flagChangedAt(i);
       } else if (!known && speed > 0.0) {

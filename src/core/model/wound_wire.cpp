@@ -1,5 +1,5 @@
-// The wound wire of WireModel: when wire the core carries rigidly
-// (solver.carry_stuck_wire, kept by CarriedWire) is taken on and released,
+// The wound wire of WireModel: wire the core carries rigidly
+// (solver.carry_stuck_wire) taken on and released as CarriedWire decides,
 // its deferred placement for the Newton-step methods, and the stand-off and
 // bulging reports of the wound wire.
 #include <Eigen/Geometry>
@@ -31,95 +31,35 @@ void WireModel::placeCarried(double t, int i, Eigen::VectorXd& y) {
 }
 
 void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
-  // Stuck groups: runs of points held by static friction. The core carries
-  // wound wire at most up to the start of the last group but one; that
-  // group and the wire after it stay integrated.
-  // (Found from the far end: a scan of the integrated wire, not the wound.)
-  // (A group reaching into the carried wire starts, for this purpose, at
-  // the first integrated point.)
-  int last_start = -1, prev_start = -1, last_end = -1;
-  for (int i = c_.n - 1; i >= std::max(1, c_.first) && prev_start < 0; --i) {
-    if (last_end < 0 && contact_->resting(i)) last_end = i;
-    if (contact_->resting(i) && !contact_->resting(i - 1))
-      (last_start < 0 ? last_start : prev_start) = i;
+  const CarriedWire::Decision d = carried_.decide(*contact_, *core_, c_, committed_, t);
+  if (d.release) {
+    // Released points are integrated again from their rigid poses now.
+    if (d.first < c_.first) placeCarriedWire(y);
+    c_.first = d.first;
+    carried_.forgetSums();  // (summed anew: carriedEnergyChange)
+    return;
   }
-  if (last_start < 0 && last_end >= 0) last_start = std::max(1, c_.first);
-  // Wire that lies on the core without a free span (a drum, or a layer
-  // lying on the one below) forms one long group: the core carries it up
-  // to half a turn (about the core axis) behind that group's end.
-  if (last_start >= 0 && last_end - last_start > 2) {
-    const int half_turn = halfTurnBehind(t, last_end, last_start);
-    prev_start = std::max(prev_start, half_turn);
+  // Points taken on: set to their rigid motion with the core. (Setting the
+  // velocity to the rigid one is a jump of at most the re-stick speed v;
+  // the boundary frame's constraint absorbs it with a residual of about
+  // v / (e nu l), 7e-5 at 1 mm/s, nu = 5000 1/s, l = 1 mm.)
+  for (int i = c_.first; i < d.first; ++i) {
+    carried_.takeOn(*core_, t, i, committed_.p_world.col(i), committed_.q.col(i));
+    // The kinetic energy of the remaining relative motion (below the
+    // re-stick speed) is given up: counted as dissipated.
+    const int o = stateOffset(i);
+    const double before = 0.5 * c_.point_mass * y.segment<3>(o + 7).squaredNorm() +
+                          2.0 * c_.point_inertia * y.segment<4>(o + 10).squaredNorm();
+    placeCarried(t, i, y);
+    y[1] += before - (0.5 * c_.point_mass * y.segment<3>(o + 7).squaredNorm() +
+                      2.0 * c_.point_inertia * y.segment<4>(o + 10).squaredNorm());
   }
-  const int limit = std::min(prev_start, c_.n - 2);
-  // Release: wound wire before that limit slips on the core (in contact,
-  // not stuck). The tension behind it changes, so the wire back to the
-  // stuck group before the slipping point is integrated again.
-  for (int i = c_.first; i < limit; ++i) {
-    if (contact_->inContact(i) && !contact_->resting(i)) {
-      int r = i;
-      while (r > 1 && !(contact_->resting(r) && !contact_->resting(r - 1))) --r;
-      // On a long group (a drum, a layer on a layer) no further back than
-      // half a turn.
-      r = std::max(r, halfTurnBehind(t, i, r));
-      // Released points are integrated again from their rigid poses now.
-      if (r < c_.first) placeCarriedWire(y);
-      c_.first = std::min(c_.first, r);
-      carried_.forgetSums();  // (summed anew: carriedEnergyChange)
-      return;
-    }
-  }
-  // Take on wire that has come to rest on the core: every point within the
-  // re-stick speed of the core material, so that nothing still moving is
-  // frozen. (Setting the velocity to the rigid one is a jump of at most that
-  // speed v; the boundary frame's constraint absorbs it with a residual of
-  // about v / (e nu l), 7e-5 at 1 mm/s, nu = 5000 1/s, l = 1 mm.)
-  const double settled = contact_->stickSpeed();
-  int target = c_.first;
-  while (target < limit && relativeSpeed(t, target) < settled) ++target;
-  if (target > c_.first) {
-    for (int i = c_.first; i < target; ++i) {
-      carried_.takeOn(*core_, t, i, committed_.p_world.col(i), committed_.q.col(i));
-      // The kinetic energy of the remaining relative motion (below the
-      // re-stick speed) is given up: counted as dissipated.
-      const int o = stateOffset(i);
-      const double before = 0.5 * c_.point_mass * y.segment<3>(o + 7).squaredNorm() +
-                            2.0 * c_.point_inertia * y.segment<4>(o + 10).squaredNorm();
-      placeCarried(t, i, y);
-      y[1] += before - (0.5 * c_.point_mass * y.segment<3>(o + 7).squaredNorm() +
-                        2.0 * c_.point_inertia * y.segment<4>(o + 10).squaredNorm());
-    }
-  }
-  c_.first = target;
+  c_.first = d.first;
 }
 
 double WireModel::carriedEnergyChange(double t0, double t1) const {
   if (!carry_ || !core_ || c_.first <= 1) return 0.0;
   return carried_.energyChange(*core_, c_, t0, t1);
-}
-
-double WireModel::relativeSpeed(double t, int i) const {
-  const Eigen::Vector3d p = committed_.p_world.col(i);
-  const Eigen::Vector3d u =
-      committed_.coreVelocity(p, core_->velocityWorld(t, p), contact_->stickSpeed());
-  return (committed_.v_world.col(i) - u).norm();
-}
-
-int WireModel::halfTurnBehind(double t, int from, int down_to) const {
-  constexpr double kPi = 3.14159265358979323846;
-  // (Carried points by their poses in the core frame.)
-  auto pointCore = [&](int i) -> Eigen::Vector3d {
-    return i < c_.first ? carried_.positionCore(i) : core_->pointCore(t, committed_.p_world.col(i));
-  };
-  Eigen::Vector3d a = pointCore(from);
-  double turned = 0.0;
-  for (int i = from - 1; i >= down_to; --i) {
-    const Eigen::Vector3d b = pointCore(i);
-    turned += std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.x() * b.x() + a.y() * b.y()));
-    if (turned >= kPi) return i;
-    a = b;
-  }
-  return -1;
 }
 
 void WireModel::placeCarriedWire() const {

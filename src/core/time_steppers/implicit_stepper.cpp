@@ -324,7 +324,7 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     // The core's work on the carried wire, which no Newton unknown sees.
     y[0] += model_->carriedEnergyChange(t, clipped ? t_limit : t + h);
     // The commit compares the wire's velocities with the core material's
-    // by this step's scheme (WireModel::relativeSpeed), except on a step
+    // by this step's scheme (CarriedWire::decide), except on a step
     // that restarts the method, whose start velocities are not the scheme's.
     if (!restart) model_->acceptCoreVelocity(f.coreRate().g_world, f.coreRate().origin_world);
     ++counts_.accepted;

@@ -4,8 +4,10 @@
 // moving surface, the paper's eqs. (16)-(20), with a dashpot beside each
 // spring (contact.damping_ratio; 1, the reference model). Each point keeps
 // one slot per surface kind with its own contact, stick flag and anchor;
-// stick and slip change only on accepted steps. SI units: m, m/s, N, N/m.
-// See docs/MODEL.md, section "Contact and friction (eqs. 16-20)".
+// stick and slip change only on accepted steps. What touches what (the
+// surfaces, depths and normals) is ContactGeometry's (contact_geometry.hpp);
+// this class holds the law and its state. SI units: m, m/s, N, N/m. See
+// docs/MODEL.md, section "Contact and friction (eqs. 16-20)".
 #pragma once
 
 #include <algorithm>
@@ -14,9 +16,7 @@
 #include <vector>
 
 #include "coil_winding_sim/core/assembly/force_effect.hpp"
-#include "coil_winding_sim/core/external_forces/carried_wire_index.hpp"
-#include "coil_winding_sim/core/machine/rotating_core.hpp"
-#include "coil_winding_sim/core/scene/scene.hpp"
+#include "coil_winding_sim/core/external_forces/contact_geometry.hpp"
 
 namespace cws {
 
@@ -68,12 +68,14 @@ class Contact : public ForceEffect, public EffectHistory {
 
   // With physics.wire_contact: the carried wire's poses in the core frame
   // (the model's, valid below c.first; kept by reference).
-  void attachCarriedWire(const std::vector<Eigen::Vector3d>& p_core) { carried_p_core_ = &p_core; }
+  void attachCarriedWire(const std::vector<Eigen::Vector3d>& p_core) {
+    geometry_.attachCarriedWire(p_core);
+  }
+  // What touches what (contact_geometry.hpp).
+  const ContactGeometry& geometry() const { return geometry_; }
 
-  // Slots per point: the core body, a flange, and the wire runs (a point
-  // in a disordered coil can rest on four wires at once).
-  static constexpr int kWireSlots = 4;
-  static constexpr int kMaxSlots = 2 + kWireSlots;
+  static constexpr int kWireSlots = ContactGeometry::kWireSlots;
+  static constexpr int kMaxSlots = ContactGeometry::kMaxSlots;
   int slots() const { return slots_; }
   // At the last commit: is point i touching any surface, is it stuck on one.
   bool inContact(int i) const {
@@ -89,7 +91,7 @@ class Contact : public ForceEffect, public EffectHistory {
   }
   // Is point i at rest on a surface at the last commit: stuck, or (elastic
   // slip) sliding slower than contact.stick_speed, as a point creeping in
-  // the capstan zone does. Carried wire is judged by it (wound_wire.cpp):
+  // the capstan zone does. Carried wire is judged by it (CarriedWire::decide):
   // the same points as stuck() under the stick_speed law.
   bool resting(int i) const {
     if (!friction_) return false;
@@ -103,7 +105,7 @@ class Contact : public ForceEffect, public EffectHistory {
   // first id of the carried wire's segments (segment j of the whole wire,
   // retired points included: wireSurface() + j).
   int surface(int i, int s = 0) const { return surface_[i * slots_ + s]; }
-  int wireSurface() const { return wire_base_; }
+  int wireSurface() const { return geometry_.wireBase(); }
   // Penetration [m] of point i's slot s at the last commit.
   double penetration(int i, int s = 0) const { return depth_[i * slots_ + s]; }
   // The fastest landing in the present implicit step's trial flags of a
@@ -159,7 +161,7 @@ class Contact : public ForceEffect, public EffectHistory {
   // little), where c v_n^2 would book more than the impact's energy.
   double dashpotPower(const NormalForce& law, double h, int x, int surface, double dt) const {
     if (c_normal_ == 0.0 || h <= 0.0) return 0.0;
-    const double h0 = sameSurface(surface, surface_[x]) ? depth_[x] : 0.0;
+    const double h0 = geometry_.sameSurface(surface, surface_[x]) ? depth_[x] : 0.0;
     const double v_n = -(h - h0) / dt;
     // Clipped (never pulling): the dashpot takes the spring's force.
     if (law.force <= 0.0) return p_.stiffness * h * v_n;
@@ -170,7 +172,7 @@ class Contact : public ForceEffect, public EffectHistory {
   // points next to a point along the wire that never count as touching it.
   double stiffness() const { return p_.stiffness; }
   double kineticFriction() const { return friction_ ? p_.kinetic_friction : 0.0; }
-  int skipPoints() const { return skip_points_; }
+  int skipPoints() const { return geometry_.skipPoints(); }
 
  private:
   void addExplicit(double t, const WireKinematics& k, WireForces& f) const;
@@ -183,56 +185,7 @@ class Contact : public ForceEffect, public EffectHistory {
   // The Newton step's flags become the committed ones (before commitAt).
   void adoptFlags();
   void commitAt(double t, const WireKinematics& k);
-  // Places the cylinder axes and faces in the world at time t, once per
-  // evaluation.
-  void placeSurfaces(double t) const;
-  // Deepest surface of the core body touching point p (as placed): its
-  // index (cylinders, then faces; -1 if none), the penetration [m] and the
-  // outward normal.
-  int touch(const Eigen::Vector3d& p_world, double& h, Eigen::Vector3d& n_world) const;
-  // Every surface touching point i at p (as placed), one per slot (surface
-  // -1: none); the wire runs go to the slots whose surfaces in `ref` (the
-  // point's committed or trial slots) they continue. False: none touches.
-  struct Touch {
-    int surface = -1;
-    double h = 0.0;
-    Eigen::Vector3d n_world = Eigen::Vector3d::Zero();
-  };
-  bool touchAll(int i, const Eigen::Vector3d& p_world, const int* ref, Touch* out) const;
-  // Is a point at r_world from the core's origin, `along` [m] along the
-  // core axis, within the flanges' reach from the axis?
-  bool withinFlangeReach(const Eigen::Vector3d& r_world, double along) const {
-    return (r_world - along * core_.axisWorld()).norm() <= flange_radius_;
-  }
-  // The carried wire's runs touching point i (core-frame position), deepest
-  // first, at most kMaxRuns; returns how many.
-  static constexpr int kMaxRuns = 8;
-  int touchWire(int i, const Eigen::Vector3d& p_core, Touch* runs) const;
-  // Squared distance [m^2] of p_core from carried segment j (core frame),
-  // the offset from the segment's nearest point (not normalized), and
-  // whether that point is inside the segment (else at an end).
-  // (Inline: every query takes a few.)
-  double segmentOffset(int j, const Eigen::Vector3d& p_core, Eigen::Vector3d& offset_core,
-                       bool& inside) const {
-    const Eigen::Vector3d& from = (*carried_p_core_)[j];
-    const Eigen::Vector3d& d = segment_dir_core_[j];
-    const double s = (p_core - from).dot(d) / segment_length2_[j];
-    inside = s > 0.0 && s < 1.0;
-    offset_core = p_core - (from + std::clamp(s, 0.0, 1.0) * d);
-    return offset_core.squaredNorm();
-  }
-  // Segments point i may touch: carried (both ends below c.first), and not
-  // its neighbours along the wire. Largest such j (-1: none).
-  int lastWireSegment(int i) const { return std::min(c_.first - 2, i - 1 - skip_points_); }
-  // Is `a` the same surface as `b` for stick (a run of the carried wire
-  // counts as one)?
-  bool sameSurface(int a, int b) const {
-    if (a == b) return true;
-    return a >= wire_base_ && b >= wire_base_ && std::abs(a - b) <= kSameRun;
-  }
-  static constexpr int kSameRun = 2;
-  // Hashes the carried segments not yet hashed (all again after a release).
-  void syncCarriedWire() const;
+  using Touch = ContactGeometry::Touch;
   static constexpr double kDashpotRamp = 1e-3;  // (normalLaw's ramp, in wire radii)
   double normalForce(double h, double v_n) const { return normalLaw(h, v_n).force; }
   // Tangential friction force on point i [N] given the committed stick state;
@@ -247,31 +200,21 @@ class Contact : public ForceEffect, public EffectHistory {
   // force of the stick spring to its committed anchor with its dashpot
   // against the sliding velocity vh_world [N].
   double slipLimit(int x, int surface, double normal_force) const {
-    const bool held = stuck_[x] && sameSurface(surface, surface_[x]);
+    const bool held = stuck_[x] && geometry_.sameSurface(surface, surface_[x]);
     return (held ? std::max(p_.static_friction, p_.kinetic_friction) : p_.kinetic_friction) *
            normal_force;
   }
   Eigen::Vector3d slipTrial(int x, const Eigen::Vector3d& p_world, const Eigen::Vector3d& vh_world,
                             const Eigen::Vector3d& n_world) const {
     const Eigen::Vector3d delta =
-        p_world - (core_.originWorld() + rot_world_core_ * anchor_core_[x]);
+        p_world - (core_.originWorld() + geometry_.rotWorldCore() * anchor_core_[x]);
     return -p_.stick_stiffness * (delta - delta.dot(n_world) * n_world) - c_stick_ * vh_world;
   }
 
-  // Frozen surface of point i in the plane at the placed time: outward
-  // normal, penetration [m] and d normal / dx [1/m]; false if the point is
-  // at the surface's axis (no normal).
-  bool planarSurface(const PlanarState& s, int surface, const Eigen::Vector2d& x,
-                     Eigen::Vector2d& normal, double& depth, Eigen::Matrix2d& dnormal) const;
   // Velocity of the core material at plane point x [m/s].
   Eigen::Vector2d planarSurfaceVelocity(const PlanarState& s, const Eigen::Vector2d& x) const;
   // Its gradient d u / d x in the plane [1/s].
   Eigen::Matrix2d planarCarriedGradient(const PlanarState& s) const;
-  // The same in 3-D for point i: outward normal, penetration [m], and d
-  // normal / dp [1/m] where `dnormal` is given. A carried segment j stands
-  // for the run j-1..j+1 (the nearest of the three).
-  bool spatialSurface(int i, int surface, const Eigen::Vector3d& p_world,
-                      Eigen::Vector3d& normal_world, double& depth, Eigen::Matrix3d* dnormal) const;
 
   // Sums the carried points' penetration again from the first one on.
   void forgetCarriedSums();
@@ -279,58 +222,10 @@ class Contact : public ForceEffect, public EffectHistory {
   const WireConstants& c_;  // the model's: n grows with a supply
   ContactParams p_;
   const RotatingCore& core_;
-  std::vector<Eigen::Vector3d> centers_core_;
-  std::vector<double> radii_;
-  mutable std::vector<Eigen::Vector3d> centers_world_;  // scratch, sized once
-  mutable Eigen::Matrix3d rot_world_core_;              // core pose as placed
-  // The core angle the surfaces were last placed at [rad] (placed again
-  // only when it moves; NaN: never placed).
-  mutable double placed_angle_ = std::numeric_limits<double>::quiet_NaN();
-  // Faces: start, unit direction and outward normal in the core frame, length.
-  std::vector<Eigen::Vector3d> face_from_core_, face_dir_core_, face_normal_core_;
-  std::vector<double> face_length_;
-  mutable std::vector<Eigen::Vector3d> face_from_world_, face_dir_world_, face_normal_world_;
-  // Flanges: axial position from the core's origin [m] and the side the
-  // winding lies on (+1: along the core axis). They turn in their own plane.
-  std::vector<double> flange_at_;
-  std::vector<double> flange_side_;
-  double flange_radius_ = 0.0;  // their reach from the core axis [m]
-  // How far from the core axis the core body and the carried wire reach a
-  // point [m] (beyond both and the flanges, nothing touches).
-  double body_reach_ = 0.0;
-  mutable double carried_reach_ = 0.0;
-  // Carried wire: its poses (the model's), the broad phase, how many
-  // segments it holds, and the points next to a point along the wire that
-  // never count as touching it.
-  const std::vector<Eigen::Vector3d>* carried_p_core_ = nullptr;
-  mutable CarriedWireIndex carried_index_;
-  // Per carried segment j (set as it is hashed): p_j+1 - p_j in the core
-  // frame and its squared length.
-  mutable std::vector<Eigen::Vector3d> segment_dir_core_;
-  mutable std::vector<double> segment_length2_;
-  mutable int indexed_segments_ = 0;
-  // Per point, the segments of the cell its last query read that lie within
-  // the reach and near_skin_ of where it was (in the cell's order): a
-  // Verlet list. A later query within the skin of that place, in the same
-  // cell and with the same index, reads the list instead of the cell, and
-  // meets the same segments in the same order, less ones it cannot touch.
-  struct NearList {
-    Eigen::Vector3d p_core = Eigen::Vector3d::Zero();
-    std::int64_t cell = 0;
-    unsigned version = 0;
-    int count = -1;  // -1: none (or more than kNearMax)
-  };
-  static constexpr int kNearMax = 32;
-  mutable std::vector<NearList> near_;
-  mutable std::vector<int> near_segments_;  // kNearMax per point
-  double near_skin_ = 0.0;                  // [m]
-  // The list of point i valid at p_core, made anew where it is not;
-  // nullptr: too many segments near, read the cell.
-  const int* nearSegments(int i, const Eigen::Vector3d& p_core, int& count) const;
-  int skip_points_ = 0;
-  // Slots per point and their roles; surface ids: cylinders, faces,
-  // flanges, then the carried segments from wire_base_.
-  int slots_ = 1, flange_slot_ = -1, wire_slot_ = 1, wire_base_ = 0;
+  ContactGeometry geometry_;
+  // The geometry's slot layout, read at every index: slots per point,
+  // the flanges' slot, and the first surface id of the carried wire.
+  const int slots_, flange_slot_, wire_base_;
   bool friction_;
   bool elastic_slip_ = false;  // contact.friction_law: elastic_slip
   // Dashpots of the normal and the stick spring [N s/m] (0: undamped), and

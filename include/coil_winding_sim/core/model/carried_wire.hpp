@@ -1,8 +1,9 @@
 // The wound wire the core carries rigidly (solver.carry_stuck_wire): each
 // carried point's pose in the core frame, placed in the world as the core
 // turns; the kinetic energy the core gives it; its stand-off from the
-// winding surface, fixed while it is carried. WireModel decides what is
-// carried (wound_wire.cpp); this class keeps it.
+// winding surface, fixed while it is carried; and the decision after each
+// accepted step of what the core carries (carry_decision.cpp), which
+// WireModel carries out (wound_wire.cpp).
 #pragma once
 
 #include <Eigen/Core>
@@ -14,6 +15,7 @@
 
 namespace cws {
 
+class Contact;
 class CoreSection;
 class RotatingCore;
 
@@ -58,7 +60,24 @@ class CarriedWire {
   void forgetSums();
   void forgetAll();
 
+  // What the core carries after an accepted step at t [s], from the
+  // committed kinematics k (points first..n-1 integrated) and the
+  // contact's stick and slip: the new first integrated point, and whether
+  // that is a release (wound wire slipped: points from `first` on are
+  // integrated again) rather than points taken on (those below `first`).
+  struct Decision {
+    int first;
+    bool release;
+  };
+  Decision decide(const Contact& contact, const RotatingCore& core, const WireConstants& c,
+                  const WireKinematics& k, double t) const;
+
  private:
+  // The first point, going back from point `from` to `down_to`, where the
+  // wire has turned half a turn about the core axis (-1: it does not).
+  int halfTurnBehind(const RotatingCore& core, const WireConstants& c, const WireKinematics& k,
+                     double t, int from, int down_to) const;
+
   bool enabled_;
   std::vector<Eigen::Vector3d> p_core_;
   std::vector<Eigen::Vector4d> q_core_;

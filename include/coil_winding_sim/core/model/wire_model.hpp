@@ -274,22 +274,15 @@ class WireModel : public OdeSystem, public NewtonModelView {
   // The reverse: the last point, drawn back out past the port, leaves.
   void removeLastPoint(double t, Eigen::VectorXd& y);
   // Carried wire (solver.carry_stuck_wire): the rigid pose of carried point
-  // i at time t, written into y and the committed kinematics; and the
-  // decision, after an accepted step, of how much wire the core carries.
+  // i at time t, written into y and the committed kinematics; and, after
+  // an accepted step, what CarriedWire decides the core carries, carried out.
   void placeCarried(double t, int i, Eigen::VectorXd& y);
-  // The first point, going back from point `from` to `down_to`, where the
-  // wire has turned half a turn about the core axis (-1: it does not).
-  int halfTurnBehind(double t, int from, int down_to) const;
   void placeCarried(double t, int i);                    // the committed kinematics only
   void writeCommitted(int i, Eigen::VectorXd& y) const;  // point i's committed state into y
   // Throws std::logic_error where a reader of y comes before
   // placeCarriedWire(y) (a programming error, not an input one).
   void requirePlacedState() const;
   void updateCarried(double t, Eigen::VectorXd& y);
-  // Committed point i's speed relative to the core material at time t
-  // [m/s]: the material's velocity as the accepted step's scheme gives it
-  // (acceptCoreVelocity), or else its exact one.
-  double relativeSpeed(double t, int i) const;
 
   WireConstants c_;
   bool clamp_in_core_;
