@@ -49,10 +49,11 @@ std::vector<TopicSpec> machineTopics() {
   for (const cws::SetpointRow& row : cws::setpointTable()) {
     const std::string topic = row.machine_topic;
     if (topic.empty()) continue;
-    visitMachineMessage(row.kind, [&](auto m) {
-      using M = typename decltype(m)::type;
+    visitRowMessages(row.kind, [&](auto m) {
+      using M = typename decltype(m)::machine;
       topics.push_back({topic.substr(std::strlen("machine/")),
-                        ros::message_traits::DataType<M>::value(), m.required, &row});
+                        ros::message_traits::DataType<M>::value(), decltype(m)::machine_required,
+                        &row});
     });
   }
   return topics;
@@ -228,8 +229,8 @@ MachineRecording readMachineBag(const std::string& path, const cws::SetpointLimi
     ros::Time stamp;
     const cws::SetpointRow* row = wanted.at(t)->row;
     if (row) {
-      visitMachineMessage(row->kind, [&](auto type) {
-        using M = typename decltype(type)::type;
+      visitRowMessages(row->kind, [&](auto type) {
+        using M = typename decltype(type)::machine;
         const auto msg = m.instantiate<M>();
         stamp = msg->header.stamp;
         Command c{0.0, false, cws::Setpoint(), ""};

@@ -34,20 +34,20 @@ ros::Time rosTime(std::int64_t ns) {
 // checked and queued as every setpoint is.
 void WindingCell::subscribeSetpoints() {
   for (const cws::SetpointRow& row : cws::setpointTable()) {
-    const std::string topic = row.topic, machine = row.machine_topic;
-    auto subscribe = [&](const std::string& t, uint32_t queue) {
-      return [this, &row, t, queue](auto m) {
-        using M = typename decltype(m)::type;
-        setpoint_subs_.push_back(subscribeRow<M>(row, t, queue));
-      };
-    };
-    if (!topic.empty() && !visitSetpointMessage(row.kind, subscribe(topic, 100))) {
-      throw std::logic_error("the setpoint table names topic " + topic + " for " + row.name +
-                             ", but the node reads no message for it");
-    }
-    if (o_.machine_inputs && !machine.empty() &&
-        !visitMachineMessage(row.kind, subscribe(machine, 1000))) {
-      throw std::logic_error("the setpoint table names machine topic " + machine + " for " +
+    const std::string topic = row.topic;
+    const std::string machine = o_.machine_inputs ? row.machine_topic : "";
+    if (topic.empty() && machine.empty()) continue;
+    const bool read = visitRowMessages(row.kind, [&](auto m) {
+      using Messages = decltype(m);
+      if (!topic.empty()) {
+        setpoint_subs_.push_back(subscribeRow<typename Messages::own>(row, topic, 100));
+      }
+      if (!machine.empty()) {
+        setpoint_subs_.push_back(subscribeRow<typename Messages::machine>(row, machine, 1000));
+      }
+    });
+    if (!read) {
+      throw std::logic_error("the setpoint table names topic " + topic + " " + machine + " for " +
                              row.name + ", but the node reads no message for it");
     }
   }

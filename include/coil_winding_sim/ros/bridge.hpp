@@ -152,43 +152,29 @@ bool portPoint(const geometry_msgs::PointStamped& msg, const Frames& frames,
 // the node's own) and of its machine topics (SetpointRow::machine_topic,
 // the machine interface's, docs/MACHINE_INTERFACE.md; the node subscribes
 // to them with ~machine_inputs, and a machine bag's replay reads them).
-// visitSetpointMessage and visitMachineMessage call f(RowMessage<M>{
-// required}) with the message type M of `kind`'s topic (required: a
-// machine bag's replay needs the topic); false for a kind with none.
-// setpointOf reads a message as its row's setpoint. Adding a message:
-// its case here and its setpointOf.
-template <class M>
-struct RowMessage {
-  using type = M;
-  bool required;
+// visitRowMessages calls f(RowMessages<...>{}) with the two message
+// types of `kind`'s row, `own` and `machine`, and whether a machine bag's
+// replay needs its machine topic; false for a kind with none. setpointOf
+// reads a message as its row's setpoint. Adding a message: its place
+// here and its setpointOf.
+template <class Own, class Machine, bool kMachineRequired>
+struct RowMessages {
+  using own = Own;
+  using machine = Machine;
+  static constexpr bool machine_required = kMachineRequired;
 };
 template <class F>
-bool visitSetpointMessage(cws::Setpoint::Kind kind, F&& f) {
+bool visitRowMessages(cws::Setpoint::Kind kind, F&& f) {
+  using Kind = cws::Setpoint::Kind;
   switch (kind) {
-    case cws::Setpoint::Kind::kCoreSpeed:
-      f(RowMessage<coil_winding_sim::CoreSpeedSetpoint>{false});
+    case Kind::kCoreSpeed:
+      f(RowMessages<coil_winding_sim::CoreSpeedSetpoint, sensor_msgs::JointState, true>{});
       return true;
-    case cws::Setpoint::Kind::kSupplyTension:
-      f(RowMessage<coil_winding_sim::TensionSetpoint>{false});
+    case Kind::kSupplyTension:
+      f(RowMessages<coil_winding_sim::TensionSetpoint, coil_winding_sim::TensionSetpoint, true>{});
       return true;
-    case cws::Setpoint::Kind::kPortPosition:
-      f(RowMessage<geometry_msgs::PointStamped>{false});
-      return true;
-    default:
-      return false;
-  }
-}
-template <class F>
-bool visitMachineMessage(cws::Setpoint::Kind kind, F&& f) {
-  switch (kind) {
-    case cws::Setpoint::Kind::kCoreSpeed:
-      f(RowMessage<sensor_msgs::JointState>{true});
-      return true;
-    case cws::Setpoint::Kind::kSupplyTension:
-      f(RowMessage<coil_winding_sim::TensionSetpoint>{true});
-      return true;
-    case cws::Setpoint::Kind::kPortPosition:
-      f(RowMessage<geometry_msgs::PointStamped>{false});
+    case Kind::kPortPosition:
+      f(RowMessages<geometry_msgs::PointStamped, geometry_msgs::PointStamped, false>{});
       return true;
     default:
       return false;
