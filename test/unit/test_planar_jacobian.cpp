@@ -4,8 +4,10 @@
 // slipping and just touching the core, the supply port's constraint.
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <random>
 
+#include "coil_winding_sim/core/constraints/frame_constraints.hpp"
 #include "coil_winding_sim/core/implicit/planar_formulation.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 
@@ -14,21 +16,20 @@ namespace {
 
 const std::string kDefault = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
 
-// The Newton matrix entries of one effect, -(dF/dx + alpha dF/dv), against
-// -(F(x + e) - F(x - e)) / 2e with v = alpha (x - x_hat) moving along.
-void checkEffect(cws::PlanarFormulation& form, const cws::ForceEffect& effect, int capacity,
+// The Newton matrix entries of one effect (or of the port constraint),
+// -(dF/dx + alpha dF/dv), against -(F(x + e) - F(x - e)) / 2e with v =
+// alpha (x - x_hat) moving along. `assemble` adds its forces.
+void checkEffect(cws::PlanarFormulation& form, const std::string& name,
+                 const std::function<void(cws::PlanarAssembly&)>& assemble, int capacity,
                  double& worst_relative) {
   cws::PlanarState& s = form.trialState();
   const int first = s.first, n = s.n;
-  const bool multiplier = effect.name() == std::string("supply");
   cws::PlanarAssembly a, ap, am;
   a.resize(capacity);
   ap.resize(capacity);
   am.resize(capacity);
   a.begin(first, n, true, true, s.alpha);
-  if (multiplier) a.setConstraint(0.0, 1.0);
-  cws::PlanarSink sink(s, a);
-  effect.addForces(sink);
+  assemble(a);
   const int unknowns = 2 * (n - first) + 1;
   Eigen::MatrixXd analytic = Eigen::MatrixXd::Zero(unknowns, unknowns);
   for (int r = 0; r < unknowns; ++r) {
@@ -36,7 +37,10 @@ void checkEffect(cws::PlanarFormulation& form, const cws::ForceEffect& effect, i
       if (a.matrix().inBand(r, c)) analytic(r, c) = a.matrix().at(r, c);
     }
   }
-  double scale = analytic.cwiseAbs().maxCoeff();
+  // (Over the points' rows and columns, those compared: a constraint's
+  // scaled row would dwarf them.)
+  const int points = 2 * (n - first);
+  double scale = analytic.topLeftCorner(points, points).cwiseAbs().maxCoeff();
   if (scale == 0.0) return;
   const double eps = 1e-9;  // [m]
   for (int c = 0; c < 2 * (n - first); ++c) {
@@ -45,8 +49,7 @@ void checkEffect(cws::PlanarFormulation& form, const cws::ForceEffect& effect, i
       s.x(k, i) += sign * eps;
       s.v(k, i) += sign * s.alpha * eps;
       out.begin(first, n, true, false, s.alpha);
-      cws::PlanarSink out_sink(s, out);
-      effect.addForces(out_sink);
+      assemble(out);
       s.x(k, i) -= sign * eps;
       s.v(k, i) -= sign * s.alpha * eps;
     };
@@ -56,8 +59,8 @@ void checkEffect(cws::PlanarFormulation& form, const cws::ForceEffect& effect, i
       const double fd = -(ap.forces()[r] - am.forces()[r]) / (2.0 * eps);
       const double err = std::abs(fd - analytic(r, c)) / scale;
       worst_relative = std::max(worst_relative, err);
-      EXPECT_LT(err, 1e-4) << effect.name() << " row " << r << " col " << c << ": fd " << fd
-                           << " analytic " << analytic(r, c);
+      EXPECT_LT(err, 1e-4) << name << " row " << r << " col " << c << ": fd " << fd << " analytic "
+                           << analytic(r, c);
     }
   }
 }
@@ -90,10 +93,22 @@ void checkAllAt(double t_s, double jitter, unsigned seed,
   for (cws::ForceEffect* e : model.effectList()) {
     double worst = 0.0;
     if (auto* h = dynamic_cast<cws::EffectHistory*>(e)) h->beginStep(cws::NewtonView(s));
-    checkEffect(form, *e, capacity, worst);
+    auto assemble = [&](cws::PlanarAssembly& a) {
+      cws::PlanarSink sink(s, a);
+      e->addForces(sink);
+    };
+    checkEffect(form, e->name(), assemble, capacity, worst);
     ::testing::Test::RecordProperty(std::string(e->name()) + "_worst_relative",
                                     std::to_string(worst));
   }
+  // The supply's port constraint, lambda_port above.
+  double worst = 0.0;
+  const double scale = scene.wire.stretch.elastic_rigidity / scene.wire.segment_length;
+  auto port = [&](cws::PlanarAssembly& a) {
+    cws::addPlanarPortConstraint(s, model.portMotion(s.t), scale, a);
+  };
+  checkEffect(form, "port constraint", port, capacity, worst);
+  ::testing::Test::RecordProperty("port_constraint_worst_relative", std::to_string(worst));
 }
 
 }  // namespace

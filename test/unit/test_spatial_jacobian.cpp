@@ -8,6 +8,7 @@
 // assembly holds it within an evaluation) and the multipliers.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
@@ -20,16 +21,19 @@ namespace {
 
 const std::string k3d = std::string(CWS_SOURCE_DIR) + "/config/scenes/paper_case_3d.yaml";
 
-// What is checked: one effect, or the frame constraints (effect null).
+// What is checked: one effect, or the constraints (effect null): the
+// frames', and the port's at port_motion where given.
 // frames_q: the quaternions the frames' tangent bases are taken at.
 void assembleOne(const cws::ForceEffect* effect, cws::SpatialState& s, cws::SpatialAssembly& a,
-                 bool port, bool jacobian, const Eigen::Matrix4Xd& frames_q) {
+                 bool port, bool jacobian, const Eigen::Matrix4Xd& frames_q,
+                 const cws::PortMotion* port_motion) {
   a.setFrames(frames_q, s.first, s.n);
   a.begin(s.first, s.n, port, jacobian, s.alpha);
   if (effect) {
     cws::SpatialSink sink(s, a);
     effect->addForces(sink);
   } else {
+    if (port_motion) cws::addSpatialPortConstraint(s, *port_motion, 7.0, a);
     cws::addSpatialFrameConstraints(s, 7.0, a);
   }
   a.finish();
@@ -38,13 +42,13 @@ void assembleOne(const cws::ForceEffect* effect, cws::SpatialState& s, cws::Spat
 // The Newton matrix (d r / d u, r = -F on force rows and F on constraint
 // rows) against central differences, column by column.
 void checkOne(cws::SpatialState& s, const cws::ForceEffect* effect, int capacity, bool port,
-              const char* name, double& worst) {
+              const char* name, double& worst, const cws::PortMotion* port_motion = nullptr) {
   cws::SpatialAssembly a, ap, am;
   a.resize(capacity);
   ap.resize(capacity);
   am.resize(capacity);
   const Eigen::Matrix4Xd frames_q = s.q;
-  assembleOne(effect, s, a, port, true, frames_q);
+  assembleOne(effect, s, a, port, true, frames_q, port_motion);
   const int unknowns = a.unknowns();
   Eigen::MatrixXd analytic = Eigen::MatrixXd::Zero(unknowns, unknowns);
   for (int r = 0; r < unknowns; ++r) {
@@ -68,6 +72,10 @@ void checkOne(cws::SpatialState& s, const cws::ForceEffect* effect, int capacity
   }
   const double global = analytic.cwiseAbs().maxCoeff();
   if (global == 0.0) return;
+  // The central difference's round-off, about 2 eps_machine |F| / eps:
+  // below it (times 1e4, the tolerance's inverse) a column's entries are
+  // not resolved (a follower force alone, whose derivative in p is zero).
+  const double forces = a.forces().head(unknowns).cwiseAbs().maxCoeff();
   // Which rows are constraint rows.
   std::vector<bool> constraint(unknowns, false);
   for (int i = s.first; i < s.n; ++i) {
@@ -111,7 +119,7 @@ void checkOne(cws::SpatialState& s, const cws::ForceEffect* effect, int capacity
     };
     auto eval = [&](double sign, cws::SpatialAssembly& out) {
       move(sign * eps);
-      assembleOne(effect, s, out, port, false, frames_q);
+      assembleOne(effect, s, out, port, false, frames_q, port_motion);
       move(-sign * eps);
     };
     eval(1.0, ap);
@@ -121,8 +129,9 @@ void checkOne(cws::SpatialState& s, const cws::ForceEffect* effect, int capacity
       const double d = (ap.forces()[r] - am.forces()[r]) / (2.0 * eps);
       fd[r] = constraint[r] ? d : -d;
     }
-    const double scale =
-        std::max({analytic.col(c).cwiseAbs().maxCoeff(), fd.cwiseAbs().maxCoeff(), 1e-9 * global});
+    const double round_off = 2.0 * std::numeric_limits<double>::epsilon() * forces / eps;
+    const double scale = std::max({analytic.col(c).cwiseAbs().maxCoeff(), fd.cwiseAbs().maxCoeff(),
+                                   1e-9 * global, 1e4 * round_off});
     for (int r = 0; r < unknowns; ++r) {
       const double err = std::abs(fd[r] - analytic(r, c)) / scale;
       worst = std::max(worst, err);
@@ -207,7 +216,9 @@ Coverage checkAllAt(double t_s, unsigned seed, const std::vector<std::string>& e
                                     std::to_string(worst));
   }
   double worst = 0.0;
-  checkOne(s, nullptr, capacity, port, "frame constraints", worst);
+  const cws::PortMotion port_motion = model.portMotion(s.t);
+  checkOne(s, nullptr, capacity, port, "frame and port constraints", worst,
+           port ? &port_motion : nullptr);
   ::testing::Test::RecordProperty("frame_constraints_worst_relative", std::to_string(worst));
   return cover;
 }

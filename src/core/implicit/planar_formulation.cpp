@@ -37,6 +37,7 @@ quat::Vec4 turnOnto(const Eigen::Vector3d& n, const Eigen::Vector2d& a, const Ei
 PlanarFormulation::PlanarFormulation(NewtonModelView& model, const SolverParams& solver)
     : model_(model),
       multiplier_(model.newtonSetup().port),
+      port_scale_(model.newtonSetup().elastic_rigidity / model.constants().segment_length),
       point_mass_(model.constants().point_mass),
       point_inertia_(model.constants().point_inertia),
       newton_(NewtonSettings::of(solver)),
@@ -124,6 +125,9 @@ const PlanarAssembly& PlanarFormulation::assemble(bool jacobian) {
   assembly_.begin(state_.first, state_.n, multiplier_, jacobian, state_.alpha);
   PlanarSink sink(state_, assembly_);
   for (const ForceEffect* e : effects_) e->addForces(sink);
+  if (multiplier_) {
+    addPlanarPortConstraint(state_, model_.portMotion(state_.t), port_scale_, assembly_);
+  }
   return assembly_;
 }
 

@@ -22,7 +22,7 @@ SpatialFormulation::SpatialFormulation(NewtonModelView& model, const SolverParam
   for (ForceEffect* e : model.effectList()) effects_.push_back(e);
   for (EffectHistory* h : model.historyList()) histories_.push_back(h);
   // Constraint rows in the force rows' unit: the axial stiffness EA / l
-  // [N/m] for a direction (as the planar port constraint).
+  // [N/m] for a direction (the frames' and the port's).
   scale_direction_ = model.newtonSetup().elastic_rigidity / segment_length_;
   state_.p.setZero(3, cap);
   state_.v.setZero(3, cap);
@@ -102,6 +102,8 @@ const SpatialAssembly& SpatialFormulation::assemble(bool jacobian, int jacobian_
   assembly_.begin(state_.first, state_.n, port_, jacobian, state_.alpha, jacobian_top);
   SpatialSink sink(state_, assembly_);
   for (const ForceEffect* e : effects_) e->addForces(sink);
+  if (port_)
+    addSpatialPortConstraint(state_, model_.portMotion(state_.t), scale_direction_, assembly_);
   addSpatialFrameConstraints(state_, scale_direction_, assembly_);
   assembly_.finish();
   return assembly_;

@@ -479,6 +479,10 @@ PointReport WireModel::livePoint(int i) const {
   return r;
 }
 
+PortMotion WireModel::portMotion(double t) const {
+  return supply_ ? supply_->port(t) : PortMotion();
+}
+
 std::vector<double> WireModel::history() const {
   std::vector<double> h;
   for (const EffectHistory* e : effects_.histories()) e->appendHistory(h);

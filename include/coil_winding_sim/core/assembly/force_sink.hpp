@@ -13,6 +13,10 @@
 //   addPointForce(i, f, power) force on point i [N], booked as `power` says
 //   addPointStiffness(i, K)    d f_i / d p_i [N/m]
 //   addPointDamping(i, D)      d f_i / d v_i [N s/m]
+//   addFollowerForce(i, f, power)
+//                              a force f [N] on point i along frame i's
+//                              zeta axis, turning with the frame (the
+//                              supply's pull), with its derivative
 //   addFrameMoment(i, m, power[, dm_domega])
 //                              moment on frame i [N m], and its derivative in
 //                              the frame's angular velocity [N m s] where it
@@ -86,6 +90,9 @@ class ExplicitSink {
   }
   void addPointStiffness(int, const Eigen::Matrix3d&) {}
   void addPointDamping(int, const Eigen::Matrix3d&) {}
+  void addFollowerForce(int i, double f, ForcePower power) {
+    addPointForce(i, f * quat::zeta(k_.q.col(i)), power);
+  }
 
   // Omega = (2 / lambda) G(q_j) q_j+1; the moment's generalized forces
   // -lambda m . dOmega/dq: 2 G(q_j+1)^T m on q_j, -2 G(q_j)^T m on q_j+1
@@ -156,6 +163,18 @@ class PlanarSink {
   }
   void addPointDamping(int i, const Eigen::Matrix3d& d) {
     a_.addDamping(i, i, e_.transpose() * d * e_);
+  }
+  // Frame i's zeta is segment i-1's direction u: d(f u)/dx_i = f (I - u
+  // u^T) / |d|, and the opposite on point i-1.
+  void addFollowerForce(int i, double f, ForcePower power) {
+    const Eigen::Vector2d d = s_.segment(i - 1);
+    const double len = d.norm();
+    const Eigen::Vector2d u = d / len;
+    a_.addForce(i, f * u);
+    (power == ForcePower::kApplied ? a_.f_work : a_.f_dissipative).col(i) += f * u;
+    const Eigen::Matrix2d k = (f / len) * (Eigen::Matrix2d::Identity() - u * u.transpose());
+    a_.addStiffness(i, i, k);
+    a_.addStiffness(i, i - 1, -k);
   }
 
   // Joint j turns by dphi about n from frame j to frame j+1 (segment j;
@@ -258,6 +277,11 @@ class SpatialSink {
   }
   void addPointStiffness(int i, const Eigen::Matrix3d& k) { a_.addStiffnessPP(i, i, k); }
   void addPointDamping(int i, const Eigen::Matrix3d& d) { a_.addDampingPP(i, i, d); }
+  void addFollowerForce(int i, double f, ForcePower power) {
+    const quat::Vec4 q = s_.q.col(i);
+    addPointForce(i, f * quat::zeta(q), power);
+    if (a_.wantsJacobian()) a_.addStiffnessPQ(i, i, f * quat::zetaJacobian(q));
+  }
 
   // As the explicit sink's; the derivatives of Omega are -(2 / lambda)
   // G(q_j+1) and (2 / lambda) G(q_j), and G(q)^T m is linear in q.

@@ -41,8 +41,11 @@
 
 namespace cws {
 
+struct PlanarState;
+class PlanarAssembly;
 struct SpatialState;
 class SpatialAssembly;
+struct PortMotion;
 
 // The 3-D implicit formulation's frame constraints for frames first..n-1,
 // held exactly by the multipliers s.mu(1..2, i) (frame_constraints_spatial.cpp):
@@ -50,6 +53,18 @@ class SpatialAssembly;
 // [N/m]; their forces mu . dc/dx and the derivatives of those. (4), the
 // unit norm, holds by construction: Newton turns the frames (SpatialAssembly).
 void addSpatialFrameConstraints(const SpatialState& s, double scale_direction, SpatialAssembly& a);
+
+// The port constraint (22) of a Newton step with a supply, the port at
+// `port` (port_constraint.cpp): in the plane g = cross(u, x_L - p_s) = 0
+// (u the last segment's direction), in 3-D (p_L - p_s) . (xi_L, eta_L) =
+// 0, held by the multipliers s.lambda_port. Adds their forces lambda
+// dg/dx, the moving port's work on the wire, the rows -scale g (scale
+// [N/m]: a row in N, like the force rows, EA / l) and, with the Jacobian,
+// their gradients and lambda's second-derivative blocks.
+void addPlanarPortConstraint(const PlanarState& s, const PortMotion& port, double scale,
+                             PlanarAssembly& a);
+void addSpatialPortConstraint(const SpatialState& s, const PortMotion& port, double scale,
+                              SpatialAssembly& a);
 
 // Motion of the supply port [m], [m/s], [m/s^2], world frame.
 struct PortMotion {

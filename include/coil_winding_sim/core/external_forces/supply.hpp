@@ -24,16 +24,19 @@
 
 namespace cws {
 
-class Supply : public ForceEffect, public EffectHistory {
+class Supply : public SinkEffect<Supply>, public EffectHistory {
  public:
   Supply(const WireConstants& c, const Scene& s, const RotatingCore* core);
 
   const char* name() const override { return "supply"; }
-  // The boundary segment's tension on the last point, per formulation
-  // (supply.cpp).
-  void addForces(ExplicitSink& s) const override { addExplicit(s.kinematics(), s.forces()); }
-  void addForces(PlanarSink& s) const override { addPlanar(s.state(), s.assembly()); }
-  void addForces(SpatialSink& s) const override { addSpatial(s.state(), s.assembly()); }
+  // The boundary segment pulls the last point outwards along its frame's
+  // zeta with the tension: a follower force, written once on the sink. (The
+  // port constraint that holds the port on that line is the constraints':
+  // constraints/frame_constraints.hpp.)
+  template <class Sink>
+  void law(Sink& s) const {
+    s.addFollowerForce(s.n() - 1, tension_, ForcePower::kApplied);
+  }
   // The commanded port's samples before t are past.
   void commit(const AcceptedStep& step) override;
 
@@ -58,11 +61,6 @@ class Supply : public ForceEffect, public EffectHistory {
   double boundaryLength() const { return c_.segment_length * (1.0 + strain_); }
 
  private:
-  void addExplicit(const WireKinematics& k, WireForces& f) const;
-  void addPlanar(const PlanarState& s, PlanarAssembly& a) const;
-  void addSpatial(const SpatialState& s, SpatialAssembly& a) const;
-
-  const WireConstants& c_;
   HysteresisParams stretch_;  // the law new wire is stretched along
   const RotatingCore* core_;  // null: the port does not traverse
   Eigen::Vector3d port0_world_, axis_world_;

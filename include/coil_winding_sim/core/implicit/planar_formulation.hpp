@@ -94,7 +94,8 @@ class PlanarFormulation : public NewtonFormulation {
   NewtonModelView& model_;
   std::vector<ForceEffect*> effects_;
   std::vector<EffectHistory*> histories_;
-  bool multiplier_;  // a supply port constraint
+  bool multiplier_;    // a supply port constraint
+  double port_scale_;  // its row's scale, EA / l [N/m]
   double point_mass_, point_inertia_;
   NewtonSettings newton_;
   Eigen::Vector3d p_boundary_world_, v_boundary_world_;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "coil_winding_sim/core/base/wire_types.hpp"
+#include "coil_winding_sim/core/constraints/frame_constraints.hpp"
 
 namespace cws {
 
@@ -39,6 +40,9 @@ class NewtonModelView {
   virtual void acceptNewtonFlags() = 0;
   // Null when the scene needs no core.
   virtual const RotatingCore* core() const = 0;
+  // The supply port's motion at time t [s] (newtonSetup().port: the scene
+  // has a supply), for the port constraint.
+  virtual PortMotion portMotion(double t) const = 0;
   // Pose and motion at time t [s] of the prescribed point first-1 (the
   // clamp, or the last point the core carries) and of its frame, and
   // whether it moves with the core.

@@ -144,6 +144,7 @@ class WireModel : public OdeSystem, public NewtonModelView {
   const std::vector<ForceEffect*>& effectList() override { return all_; }
   const std::vector<EffectHistory*>& historyList() override { return effects_.histories(); }
   void acceptNewtonFlags() override { newton_flags_ = true; }
+  PortMotion portMotion(double t) const override;
 
   const Eigen::VectorXd& initialState() const { return y0_; }
   const WireConstants& constants() const override { return c_; }
