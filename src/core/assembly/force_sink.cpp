@@ -1,56 +1,8 @@
-// The joint moments of the two Newton sinks (force_sink.hpp): a rotational
-// spring's moment and tangent mapped to each formulation's unknowns.
+// The 3-D sink's joint moment (force_sink.hpp): a rotational spring's
+// moment and tangent mapped to the quaternions' blocks.
 #include "coil_winding_sim/core/assembly/force_sink.hpp"
 
 namespace cws {
-
-void PlanarSink::addJointMoment(int j, double lambda, const Eigen::Vector3d& m_vec,
-                                const Eigen::Vector3d& dm_vec) {
-  // The moment about n, m = sum_c m_c n_material[c], and its tangent in
-  // kappa, sum_c dm_c n_material[c]^2 (the components the plane moves).
-  double m = 0.0, dm = 0.0;
-  for (int c = 0; c < 3; ++c) {
-    const double w = s_.n_material[c];
-    if (w == 0.0) continue;
-    m += w * m_vec[c];
-    dm += w * w * dm_vec[c];
-  }
-  // Generalized force on dphi: Q = -d(lambda W)/d dphi = -m cos(dphi / 2);
-  // d dphi / dx is gb on point j+1, -gb - ga on j and ga on j-1.
-  const bool prescribed = j == s_.first - 1;
-  const double q = -m * cos_half_;
-  const Eigen::Vector2d g_mid = -gb_.gradient - ga_.gradient;
-  a_.addForce(j + 1, q * gb_.gradient);
-  a_.addForce(j, q * g_mid);
-  if (prescribed) {
-    a_.addBoundaryTorque(-q);
-  } else {
-    a_.addForce(j - 1, q * ga_.gradient);
-  }
-  if (!a_.wantsJacobian()) return;
-  // dq g_r g_c^T + q d^2 dphi / dx_r dx_c over points j-1, j, j+1; dphi =
-  // phi_b - phi_a, whose second derivatives are +-hb and +-ha.
-  const double dq = -dm * cos_half_ * cos_half_ / lambda + 0.5 * m * sin_half_;
-  const Eigen::Matrix2d qhb = q * gb_.hessian;
-  const Eigen::Matrix2d k_bb = dq * gb_.gradient * gb_.gradient.transpose() + qhb;
-  const Eigen::Matrix2d k_bm = dq * gb_.gradient * g_mid.transpose() - qhb;
-  a_.addStiffness(j + 1, j + 1, k_bb);
-  a_.addStiffness(j + 1, j, k_bm);
-  a_.addStiffness(j, j + 1, k_bm.transpose());
-  if (prescribed) {
-    a_.addStiffness(j, j, dq * g_mid * g_mid.transpose() + qhb);
-    return;
-  }
-  const Eigen::Matrix2d qha = q * ga_.hessian;
-  const Eigen::Matrix2d k_ma = dq * g_mid * ga_.gradient.transpose() + qha;
-  const Eigen::Matrix2d k_ba = dq * gb_.gradient * ga_.gradient.transpose();
-  a_.addStiffness(j, j, dq * g_mid * g_mid.transpose() + qhb - qha);
-  a_.addStiffness(j, j - 1, k_ma);
-  a_.addStiffness(j - 1, j, k_ma.transpose());
-  a_.addStiffness(j - 1, j - 1, dq * ga_.gradient * ga_.gradient.transpose() - qha);
-  a_.addStiffness(j + 1, j - 1, k_ba);
-  a_.addStiffness(j - 1, j + 1, k_ba.transpose());
-}
 
 void SpatialSink::addJointMoment(int j, double lambda, const Eigen::Vector3d& m,
                                  const Eigen::Vector3d& dm) {

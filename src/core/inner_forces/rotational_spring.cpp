@@ -139,35 +139,37 @@ template <class Sink>
 void RotationalSpring::law(Sink& s) const {
   if (in_shared_pass_) return;
   // The components this formulation moves (the plane: those along its
-  // normal; none for torsion).
-  bool any = false;
+  // normal; none for torsion), each with its spring, found once.
+  struct Moved {
+    const RotationalSpring* spring;
+    int component, law;
+  };
+  Moved moved[3];
+  int count = 0;
   for (const RotationalSpring* r : {this, static_cast<const RotationalSpring*>(partner_)}) {
     if (!r) continue;
-    for (int i = 0; i < r->count_; ++i) any = any || s.jointComponent(r->first_ + i);
+    for (int i = 0; i < r->count_; ++i) {
+      if (s.jointComponent(r->first_ + i)) moved[count++] = {r, r->first_ + i, i};
+    }
   }
-  if (!any) return;
+  if (count == 0) return;
+  const bool mapped = s.returnMapping();
   for (int j = s.first() - 1; j + 1 < s.n(); ++j) {
     const double lambda = jointLength(j);
     const Eigen::Vector3d omega = s.darboux(j, lambda);
-    // Each spring's components: moment and tangent from its own laws
-    // (forces alone, with the lines decided here: the moment alone).
-    const bool tangent = !s.returnMapping() || s.jacobian(j);
+    // Each component's moment and tangent from its own law (forces alone,
+    // with the lines decided here: the moment alone).
+    const bool tangent = !mapped || s.jacobian(j);
     Eigen::Vector3d m = Eigen::Vector3d::Zero(), dm = Eigen::Vector3d::Zero();
-    auto laws = [&](const RotationalSpring& r) {
-      for (int i = 0; i < r.count_; ++i) {
-        const int c = r.first_ + i, idx = j * r.count_ + i;
-        if (!s.jointComponent(c)) continue;
-        if (!tangent) {
-          m[c] = r.stressOf(omega[c], idx);
-          continue;
-        }
-        double k;
-        m[c] = r.stressTangent(omega[c], idx, s.returnMapping(), k);
-        dm[c] = k;
+    for (int k = 0; k < count; ++k) {
+      const RotationalSpring& r = *moved[k].spring;
+      const int c = moved[k].component, idx = j * r.count_ + moved[k].law;
+      if (tangent) {
+        m[c] = r.stressTangent(omega[c], idx, mapped, dm[c]);
+      } else {
+        m[c] = r.stressOf(omega[c], idx);
       }
-    };
-    laws(*this);
-    if (partner_) laws(*partner_);
+    }
     s.addJointMoment(j, lambda, m, dm);
   }
 }
