@@ -13,7 +13,7 @@
 
 namespace cws_ros {
 
-const char* const kSnapshotFormat = "coil_winding_sim/snapshot/5";
+const char* const kSnapshotFormat = "coil_winding_sim/snapshot/6";
 const char* const kSnapshotTopic = "/coil_winding_sim/snapshot";
 
 namespace {
@@ -49,7 +49,13 @@ coil_winding_sim::SimulationSnapshot toSnapshotMsg(const cws::SimulationState& s
   m.state = s.model.y;
   m.history = s.model.history;
   for (int i = 0; i < 4; ++i) m.core[i] = s.model.core[i];
-  m.tension = s.model.tension_N;
+  for (const cws::Setpoint& sp : s.held) {
+    coil_winding_sim::HeldSetpoint h;
+    h.kind = sp.name();
+    h.value = sp.value;
+    h.value2 = sp.value2;
+    m.setpoints.push_back(h);
+  }
   m.points_added = s.model.points_added;
   m.committed_time = s.model.committed_time_s;
   m.port_distance0 = s.model.port_distance0_m;
@@ -98,25 +104,30 @@ cws::SimulationState fromSnapshotMsg(const coil_winding_sim::SimulationSnapshot&
                   static_cast<unsigned long long>(sum));
     throw std::runtime_error(text);
   }
-  // The core's motion reference and the tension are not checked by the core
-  // library's restore: a non-finite value would only show as a failed step.
+  // The core's motion reference is not checked by the core library's
+  // restore: a non-finite value would only show as a failed step. (The
+  // setpoints held pass their rows' checks there.)
   for (int i = 0; i < 4; ++i) {
     if (!std::isfinite(m.core[i])) {
       throw std::runtime_error("snapshot core motion reference is not finite");
     }
   }
-  if (!std::isfinite(m.tension) || m.tension < 0.0) {
-    throw std::runtime_error("snapshot tension " + std::to_string(m.tension) +
-                             " N is not a finite, non-negative number");
-  }
   cws::SimulationState s;
+  for (const coil_winding_sim::HeldSetpoint& h : m.setpoints) {
+    const cws::SetpointRow* row = cws::setpointRowNamed(h.kind);
+    if (!row) throw std::runtime_error("snapshot holds an unknown setpoint '" + h.kind + "'");
+    cws::Setpoint sp;
+    sp.kind = row->kind;
+    sp.value = h.value;
+    sp.value2 = h.value2;
+    s.held.push_back(sp);
+  }
   s.scene_yaml = m.scene_yaml;
   s.time_s = m.time;
   s.model.points = m.points;
   s.model.y = m.state;
   s.model.history = m.history;
   for (int i = 0; i < 4; ++i) s.model.core[i] = m.core[i];
-  s.model.tension_N = m.tension;
   s.model.points_added = m.points_added;
   s.model.committed_time_s = m.committed_time;
   s.model.port_distance0_m = m.port_distance0;

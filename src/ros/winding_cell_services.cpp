@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "coil_winding_sim/core/base/text_format.hpp"
+#include "coil_winding_sim/core/external_forces/supply.hpp"
 #include "coil_winding_sim/core/scene/setpoint_limits.hpp"
 #include "coil_winding_sim/ros/bridge.hpp"
 #include "coil_winding_sim/ros/snapshot_bag.hpp"
@@ -121,7 +122,9 @@ bool WindingCell::onSnapshot(coil_winding_sim::Snapshot::Request& req,
     state = sim_->saveState();
     // The setpoints not yet applied belong to the state too.
     state.model.core[3] = sim_->model().core() ? speed_setpoint_.load() : state.model.core[3];
-    if (sim_->model().supply()) state.model.tension_N = tension_setpoint_;
+    if (sim_->model().supply()) {
+      cws::holdSetpoint(state, cws::Setpoint::supplyTension(tension_setpoint_));
+    }
     t = stamp();
   }
   try {
@@ -149,7 +152,8 @@ bool WindingCell::onRestore(coil_winding_sim::Restore::Request& req,
     const cws::SimulationState state = fromSnapshotMsg(
         readSnapshotBagIsolated(req.path, this_executable_.c_str(), kRestoreTimeout));
     auto restored = cws::Simulation::fromState(state);
-    // Its setpoints pass the checks of the setpoint topics.
+    // Its core speed passes the checks of the setpoint topics (the held
+    // setpoints passed their rows' checks in fromState).
     const cws::Scene& scene = restored->scene();
     const cws::SetpointLimits limits = cws::SetpointLimits::of(scene.process);
     std::string why;
@@ -157,17 +161,14 @@ bool WindingCell::onRestore(coil_winding_sim::Restore::Request& req,
       why = cws::coreSpeedRefusal(limits, state.model.core[3]);
       if (!why.empty()) why = cws::coreSpeedText(state.model.core[3]) + " " + why;
     }
-    if (why.empty() && restored->model().supply()) {
-      why = cws::tensionRefusal(limits, state.model.tension_N);
-      if (!why.empty()) why = cws::tensionText(state.model.tension_N) + " " + why;
-    }
     if (!why.empty()) throw std::runtime_error("'" + req.path + "': its setpoint, " + why);
     {
       std::lock_guard<std::mutex> lock(sim_mutex_);
       setScene(scene);
       replace(std::move(restored));
       speed_setpoint_ = state.model.core[3];
-      tension_setpoint_ = sim_->model().supply() ? state.model.tension_N : scene_.process.tension;
+      tension_setpoint_ =
+          sim_->model().supply() ? sim_->model().supply()->tension() : scene_.process.tension;
     }
     // The live parameters show the snapshot's friction and damping (outside
     // the simulation's lock: the server's callback takes it).

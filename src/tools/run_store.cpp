@@ -29,7 +29,7 @@ uint64_t coreBuildHash() {
 
 namespace {
 
-constexpr char kMagic[] = "cws-stability-checkpoint/2";
+constexpr char kMagic[] = "cws-stability-checkpoint/3";
 
 // Little binary writer and reader: numbers as their bytes, strings and
 // vectors with their length first.
@@ -99,7 +99,22 @@ void fields(Io& io, Checkpoint& c) {
   io.vec(m.y);
   io.vec(m.history);
   for (double& v : m.core) io.pod(v);
-  io.pod(m.tension_N);
+  // The setpoints held, three numbers each: kind, value, value2 (a kind
+  // the table lacks is dropped; the file's checksum guards the rest).
+  std::vector<double> held;
+  for (const cws::Setpoint& sp : s.held) {
+    held.insert(held.end(), {static_cast<double>(sp.kind), sp.value, sp.value2});
+  }
+  io.vec(held);
+  s.held.clear();
+  for (std::size_t i = 0; i + 3 <= held.size(); i += 3) {
+    if (!(held[i] >= 0.0 && held[i] < static_cast<double>(cws::setpointTable().size()))) continue;
+    cws::Setpoint sp;
+    sp.kind = static_cast<cws::Setpoint::Kind>(static_cast<int>(held[i]));
+    sp.value = held[i + 1];
+    sp.value2 = held[i + 2];
+    s.held.push_back(sp);
+  }
   io.pod(m.points_added);
   io.pod(m.committed_time_s);
   io.pod(m.port_distance0_m);

@@ -95,7 +95,8 @@ TEST(BadInput, RestoreOfBadFiles) {
     bad.push_back({tmpPath("wrong_type.bag"), "std_msgs/String"});
   }
   // Snapshots with values no run can have: another format, a non-finite or
-  // absurd core speed, a negative tension.
+  // absurd core speed, a negative tension, a setpoint the table does not
+  // have or the state carries.
   {
     rosbag::Bag in(good, rosbag::bagmode::Read);
     rosbag::View view(in);
@@ -118,7 +119,30 @@ TEST(BadInput, RestoreOfBadFiles) {
     write(
         "fast.bag", [](auto& m) { m.core[3] = 1e6; }, "max_core_speed_rpm");
     write(
-        "negative_tension.bag", [](auto& m) { m.tension = -1.0; }, "tension");
+        "negative_tension.bag",
+        [](auto& m) {
+          coil_winding_sim::HeldSetpoint h;
+          h.kind = "tension";
+          h.value = -1.0;
+          m.setpoints.push_back(h);  // (the last of a kind counts)
+        },
+        "tension -1 N is negative");
+    write(
+        "unknown_setpoint.bag",
+        [](auto& m) {
+          coil_winding_sim::HeldSetpoint h;
+          h.kind = "feed speed";
+          m.setpoints.push_back(h);
+        },
+        "unknown setpoint 'feed speed'");
+    write(
+        "held_speed.bag",
+        [](auto& m) {
+          coil_winding_sim::HeldSetpoint h;
+          h.kind = "core speed";
+          m.setpoints.push_back(h);
+        },
+        "which the model's state carries");
   }
   // One bit of one number changed in the file (a plausible position): only
   // the checksum tells. The same number changed in a message written anew

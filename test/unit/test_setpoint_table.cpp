@@ -44,7 +44,7 @@ TEST(SetpointTable, OneRowPerKindInTheOrderOfTheKinds) {
     EXPECT_EQ(static_cast<std::size_t>(row.kind), k) << row.name;
     EXPECT_TRUE(names.insert(row.name).second) << "two rows named " << row.name;
     EXPECT_NE(row.target, nullptr) << row.name;
-    EXPECT_STRNE(row.snapshot_field, "") << row.name;
+    EXPECT_EQ(cws::setpointRowNamed(row.name), &row);
     if (*row.topic) {
       EXPECT_TRUE(topics.insert(row.topic).second) << "two rows on topic " << row.topic;
       EXPECT_STRNE(row.message_field, "") << row.name;
@@ -99,7 +99,13 @@ TEST(SetpointTable, EveryKindsValueSurvivesASnapshot) {
     EXPECT_EQ(std::string(row.machine_topic).rfind("machine/", 0), 0u) << row.name;
     EXPECT_TRUE(machine_topics.insert(row.machine_topic).second) << row.machine_topic;
   }
-  const std::unique_ptr<cws::Simulation> back = cws::Simulation::fromState(sim.saveState());
+  // The rows that hold a value keep it in the state; the core's speed and
+  // the port's path are the model's state.
+  cws::SimulationState state = sim.saveState();
+  std::set<std::string> held;
+  for (const cws::Setpoint& sp : state.held) EXPECT_TRUE(held.insert(sp.name()).second);
+  EXPECT_EQ(held, (std::set<std::string>{"tension", "friction", "damping"}));
+  const std::unique_ptr<cws::Simulation> back = cws::Simulation::fromState(state);
   EXPECT_EQ(back->model().core()->command(), 50.0);
   EXPECT_EQ(back->model().supply()->tension(), 40.0);
   EXPECT_TRUE(back->portCommanded());
@@ -108,4 +114,12 @@ TEST(SetpointTable, EveryKindsValueSurvivesASnapshot) {
   EXPECT_EQ(back->scene().contact.kinetic_friction, 0.2);
   EXPECT_EQ(back->scene().damping.translational, 1.0);
   EXPECT_EQ(back->scene().damping.rotational, 1e-6);
+  // A held value passes its row's check on restore.
+  cws::holdSetpoint(state, cws::Setpoint::supplyTension(1e6));
+  try {
+    cws::Simulation::fromState(state);
+    ADD_FAILURE() << "a tension beyond the limit was restored";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("process.max_tension"), std::string::npos) << e.what();
+  }
 }

@@ -17,7 +17,6 @@ ModelState WireModel::saveState(const Eigen::VectorXd& y) const {
   m.y.assign(y.data(), y.data() + size());
   m.history = history();
   if (core_) core_->exportState(m.core);
-  m.tension_N = supply_ ? supply_->tension() : 0.0;
   m.points_added = points_added_;
   m.committed_time_s = committed_time_;
   m.port_distance0_m = port_distance0_;
@@ -127,7 +126,6 @@ void WireModel::restoreState(const ModelState& m, Eigen::VectorXd& y) {
   for (EffectHistory* e : effects_.histories()) e->restoreHistory(in);
   if (!in.atEnd()) throw std::runtime_error("snapshot history is too long for this scene");
   if (core_) core_->restoreState(m.core);
-  if (supply_) supply_->setTension(m.tension_N);
   points_added_ = m.points_added;
   committed_time_ = m.committed_time_s;
   port_distance0_ = m.port_distance0_m;

@@ -90,6 +90,10 @@ SimulationState Simulation::saveState() const {
   st.scene_yaml = sceneToYamlText(scene_);
   st.time_s = t_;
   st.model = model_->saveState(state());
+  for (const SetpointRow& row : setpointTable()) {
+    Setpoint held;
+    if (row.held && row.held(*this, held)) st.held.push_back(held);
+  }
   st.next_step_s = stepper_->nextStep();
   st.last_step_s = stepper_->lastStep();
   st.counts = stepper_->counts();
@@ -98,6 +102,16 @@ SimulationState Simulation::saveState() const {
   st.max_penetration_m = max_penetration_;
   st.wall_time_s = wall_s_;
   return st;
+}
+
+void holdSetpoint(SimulationState& st, const Setpoint& sp) {
+  for (Setpoint& held : st.held) {
+    if (held.kind == sp.kind) {
+      held = sp;
+      return;
+    }
+  }
+  st.held.push_back(sp);
 }
 
 std::unique_ptr<Simulation> Simulation::fromState(const SimulationState& st) {
@@ -110,6 +124,21 @@ std::unique_ptr<Simulation> Simulation::fromState(const SimulationState& st) {
   }
   sim->model_->restoreState(st.model, sim->y_);
   sim->t_ = st.time_s;
+  // The setpoints held, through their rows' checks and targets (not
+  // logged: the scene's own values start a run, and these were logged
+  // where they were set).
+  for (const Setpoint& held : st.held) {
+    const SetpointRow& row = setpointRow(held.kind);
+    if (!row.held) {
+      throw std::runtime_error(std::string("snapshot holds a ") + row.name +
+                               " setpoint, which the model's state carries");
+    }
+    try {
+      sim->applyUnlogged(held);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(std::string("snapshot's ") + row.name + " setpoint: " + e.what());
+    }
+  }
   // The scene's commands due by then are in the state restored.
   sim->commands_.takeDue(sim->t_, [](double, const Setpoint&) {});
   sim->stepper_->restore(st.next_step_s, st.last_step_s, st.counts);

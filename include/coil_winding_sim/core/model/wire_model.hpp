@@ -75,7 +75,6 @@ struct ModelState {
   std::vector<double> y;          // the state vector's components in use
   std::vector<double> history;    // all effects' history, in effect order
   double core[4] = {0, 0, 0, 0};  // RotatingCore reference state (if any)
-  double tension_N = 0.0;         // supply tension (if any)
   int points_added = 0;
   double committed_time_s = 0.0;
   double port_distance0_m = 0.0;

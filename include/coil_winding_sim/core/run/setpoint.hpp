@@ -7,8 +7,9 @@
 // accepted (the error estimate, snapshots). Adding a setpoint: its Kind and
 // factory here, its row in setpointTable (src/core/run/setpoint.cpp), the
 // model's target, and its message if it needs a new one (the node
-// subscribes to a row's topic and machine topic, and a machine bag's
-// replay reads the latter: winding_cell_inputs.cpp, ros/bridge.hpp).
+// subscribes to a row's topic and machine topic, a machine bag's replay
+// reads the latter, and a snapshot keeps what its row holds:
+// winding_cell_inputs.cpp, ros/bridge.hpp).
 #pragma once
 
 #include <Eigen/Core>
@@ -64,9 +65,11 @@ struct SetpointRow {
   // what the model refuses (std::invalid_argument, SceneError), with the
   // run unchanged.
   void (*target)(Simulation& sim, const Setpoint& sp);
-  // Where a snapshot keeps it: a field of SimulationSnapshot.msg, or the
-  // scene key the resolved scene carries.
-  const char* snapshot_field;
+  // What a snapshot keeps of it: the setpoint it holds now
+  // (SimulationState::held; false: none, as friction in a scene without
+  // friction), applied again on restore. Null: the model's state carries
+  // it (the core's motion reference, the port's path ahead).
+  bool (*held)(const Simulation& sim, Setpoint& out);
   // The node's topic that sets it and its message's field ("": none; the
   // node subscribes to every topic named here).
   const char* topic;
@@ -84,6 +87,8 @@ struct SetpointRow {
 // Every kind, in the order of Kind's values.
 const std::vector<SetpointRow>& setpointTable();
 const SetpointRow& setpointRow(Setpoint::Kind kind);
+// The row of that name ("tension"), or null.
+const SetpointRow* setpointRowNamed(const std::string& name);
 // Empty when `sp` is allowed under `limits`; else what is wrong with it,
 // with its subject: "core speed 700 rad/s is beyond +-628.3 rad/s (...)".
 std::string setpointRefusal(const SetpointLimits& limits, const Setpoint& sp);

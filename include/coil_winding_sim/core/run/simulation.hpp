@@ -19,16 +19,22 @@ namespace cws {
 
 // The full state of a run: enough to continue it exactly (same numbers to
 // rounding) in a new Simulation. Yield points, stick states and anchors,
-// supply points, the core's motion and the integrator's step are included.
+// supply points, the core's motion and the integrator's step are included,
+// and the setpoints held that the model's state does not carry.
 struct SimulationState {
   std::string scene_yaml;  // the resolved scene
   double time_s = 0.0;
   ModelState model;
+  // What the setpoint table's rows hold now (SetpointRow::held), one per
+  // kind at most; applied in this order on restore.
+  std::vector<Setpoint> held;
   double next_step_s = 0.0, last_step_s = 0.0;
   StepCounts counts;
   double max_residual = 0.0, max_axial_force_N = 0.0, max_penetration_m = 0.0;
   double wall_time_s = 0.0;
 };
+// Holds sp in st in place of any of its kind.
+void holdSetpoint(SimulationState& st, const Setpoint& sp);
 
 class Simulation {
  public:
