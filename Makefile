@@ -20,9 +20,13 @@
 #   make compare-demo   the same on synthetic bags with a known perturbation
 #   make calibrate-demo wire_sim calibrate on synthetic recordings with known values
 #                 (CALIBRATE_OUT, default out/calibrate_demo)
-#   make screenshots    the README's rviz pictures, taken as its commands run (Xvfb)
+#   make screenshots    the rviz pictures of README.md and docs/cell.md, taken as their
+#                 commands run (Xvfb)
 #   make test     build and run all tests; non-zero exit if any test fails
-#   make format   clang-format -i all C++ sources
+#   make docs-check     README.md at most 300 lines, docs/PERFORMANCE.md at most 400,
+#                 every relative link of the documents resolves (src/tools/check_docs.py;
+#                 needs no build)
+#   make format   clang-format -i all C++ sources (format-check: only check them)
 #   make clean    remove the workspace .ws/
 #
 # Variables: JOBS (default 2), BUILD_TYPE (default Release), SKIP_DEPS=1 skips `deps`,
@@ -77,7 +81,7 @@ CATKIN_MAKE := catkin_make --directory $(WS) \
   -DCATKIN_ENABLE_TESTING=ON \
   -DCMAKE_EXPORT_COMPILE_COMMANDS=ON
 
-.PHONY: deps build run reference study coil-study bench work-precision stability robustness compare compare-demo calibrate-demo screenshots test format format-check clean
+.PHONY: deps build run reference study coil-study bench work-precision stability robustness compare compare-demo calibrate-demo screenshots test format format-check docs-check clean
 
 deps:
 ifeq ($(SKIP_DEPS),1)
@@ -187,7 +191,7 @@ compare: deps
 	  --out "$(COMPARE_OUT)" $(ARGS)
 
 # The comparison on synthetic bags: tension +2 N with 0.2 N noise, machine 5 ms
-# late, profile 0.1 mm out (README's example).
+# late, profile 0.1 mm out (the example of docs/compare-and-calibrate.md).
 compare-demo: deps
 	mkdir -p out/compare_demo
 	$(PYTHON) src/tools/make_synthetic_bags.py --combined-bag out/compare_demo/synthetic.bag \
@@ -201,8 +205,9 @@ CALIBRATE_OUT ?= out/calibrate_demo
 calibrate-demo: build
 	WIRE_SIM=$(WIRE_SIM) src/tools/calibrate_demo.sh $(CALIBRATE_OUT)
 
-# The README's rviz pictures, each taken as the command beside it runs
-# (src/tools/rviz_screenshot.sh; test_screenshots takes them too).
+# The rviz pictures of README.md and docs/cell.md, each taken as the command
+# beside it in docs/cell.md runs (src/tools/rviz_screenshot.sh;
+# test_screenshots takes them too).
 screenshots: build
 	source $(DEVEL_DIR)/setup.bash && src/tools/rviz_screenshot.sh docs/rviz_winding_cell.png \
 	  real_time_factor:=0
@@ -232,8 +237,8 @@ coil-study: build
 # (gtest now, rostest later) through ctest. catkin registers each test for ctest via
 # run_tests.py --return-code, so a test fails when its process exits non-zero
 # (failed case, crash, timeout) or when it wrote no JUnit result file. The sources'
-# format (.clang-format) is checked first.
-test: build format-check
+# format (.clang-format) and the documents (docs-check) are checked first.
+test: build format-check docs-check
 	$(CATKIN_MAKE) -j$(JOBS) tests
 	@if [ ! -x "$(UNIT_TESTS)" ]; then \
 	  echo "test: unit test binary $(UNIT_TESTS) was not built" >&2; exit 1; \
@@ -264,6 +269,13 @@ format:
 
 format-check:
 	$(if $(strip $(CXX_SOURCES)),clang-format --dry-run -Werror $(CXX_SOURCES),@echo "format: no sources")
+
+# The documents cannot grow back (issue 61): README.md at most 300 lines,
+# docs/PERFORMANCE.md at most 400, and every relative link (and its #anchor)
+# of README.md, docs/*.md and docs/history/*.md names a file that exists.
+# Needs no build and no Debian package beyond python3.
+docs-check:
+	$(PYTHON) $(ROOT)/src/tools/check_docs.py $(ROOT)
 
 clean:
 	rm -rf $(WS)
