@@ -27,7 +27,8 @@ LINE_LIMITS = {"README.md": 300, "docs/PERFORMANCE.md": 400}
 # (a title may follow) or at the closing parenthesis.
 LINK = re.compile(r"!?\[[^\]]*\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)")
 FENCE = re.compile(r"^\s*(```|~~~)")
-CODE_SPAN = re.compile(r"(`+)(.+?)\1")
+# A code span may run over a line break, not over an empty line.
+CODE_SPAN = re.compile(r"(`+)((?:(?!\n\s*\n).)+?)\1", re.DOTALL)
 HEADING = re.compile(r"^(#{1,6})\s+(.*?)\s*#*\s*$")
 
 
@@ -45,18 +46,30 @@ def documents(root):
     return [name for name in names if os.path.isfile(os.path.join(root, name))]
 
 
-def prose_lines(text, blank_code=True):
-    """(line number, line) outside fenced code blocks, code spans blanked
-    unless blank_code is false."""
+def prose(text):
+    """The text with fenced code blocks and code spans blanked (spaces),
+    so that offsets and line numbers stay those of the file."""
+    lines = text.split("\n")
     in_fence = False
-    for number, line in enumerate(text.splitlines(), start=1):
+    for i, line in enumerate(lines):
         if FENCE.match(line):
             in_fence = not in_fence
-            continue
-        if not in_fence:
-            if blank_code:
-                line = CODE_SPAN.sub(lambda m: " " * len(m.group(0)), line)
-            yield number, line
+            lines[i] = ""
+        elif in_fence:
+            lines[i] = ""
+    return CODE_SPAN.sub(lambda m: re.sub(r"[^\n]", " ", m.group(0)), "\n".join(lines))
+
+
+def headings(text):
+    """The headings' texts outside fenced code blocks, code spans kept."""
+    in_fence = False
+    for line in text.split("\n"):
+        if FENCE.match(line):
+            in_fence = not in_fence
+        elif not in_fence:
+            match = HEADING.match(line)
+            if match:
+                yield match.group(2)
 
 
 def slug(heading):
@@ -73,11 +86,8 @@ def anchors(path, cache):
         found = set()
         counts = {}
         with open(path, encoding="utf-8") as f:
-            for _, line in prose_lines(f.read(), blank_code=False):
-                match = HEADING.match(line)
-                if not match:
-                    continue
-                base = slug(match.group(2))
+            for heading in headings(f.read()):
+                base = slug(heading)
                 n = counts.get(base, 0)
                 counts[base] = n + 1
                 found.add(base if n == 0 else "%s-%d" % (base, n))
@@ -104,32 +114,33 @@ def check(root):
         path = os.path.join(root, name)
         with open(path, encoding="utf-8") as f:
             text = f.read()
-        for number, line in prose_lines(text):
-            for match in LINK.finditer(line):
-                target = match.group(1)
-                if re.match(r"^[a-zA-Z][a-zA-Z0-9+.-]*:", target) or target.startswith("//"):
-                    continue  # http:, https:, mailto: ...
-                file_part, _, fragment = target.partition("#")
-                file_part = urllib.parse.unquote(file_part)
-                if file_part:
-                    linked = os.path.normpath(
-                        os.path.join(os.path.dirname(path), file_part)
-                    )
-                else:
-                    linked = path
-                where = "%s:%d" % (name, number)
-                if not os.path.exists(linked):
+        checked = prose(text)
+        for match in LINK.finditer(checked):
+            number = checked.count("\n", 0, match.start()) + 1
+            target = match.group(1)
+            if re.match(r"^[a-zA-Z][a-zA-Z0-9+.-]*:", target) or target.startswith("//"):
+                continue  # http:, https:, mailto: ...
+            file_part, _, fragment = target.partition("#")
+            file_part = urllib.parse.unquote(file_part)
+            if file_part:
+                linked = os.path.normpath(
+                    os.path.join(os.path.dirname(path), file_part)
+                )
+            else:
+                linked = path
+            where = "%s:%d" % (name, number)
+            if not os.path.exists(linked):
+                problems.append(
+                    "%s: link to %s: no such file (%s)"
+                    % (where, target, os.path.relpath(linked, root))
+                )
+                continue
+            if fragment and linked.endswith(".md") and os.path.isfile(linked):
+                if urllib.parse.unquote(fragment).lower() not in anchors(linked, cache):
                     problems.append(
-                        "%s: link to %s: no such file (%s)"
+                        "%s: link to %s: no heading with that anchor in %s"
                         % (where, target, os.path.relpath(linked, root))
                     )
-                    continue
-                if fragment and linked.endswith(".md") and os.path.isfile(linked):
-                    if urllib.parse.unquote(fragment).lower() not in anchors(linked, cache):
-                        problems.append(
-                            "%s: link to %s: no heading with that anchor in %s"
-                            % (where, target, os.path.relpath(linked, root))
-                        )
     return problems
 
 
