@@ -10,7 +10,8 @@
 // of the misfit, with floors for the misfit's small minima and for other
 // basins that fit almost as well; a key pinned down must lie within 3
 // sigma of the truth (99.7 % for Gaussian noise; over four noise seeds the
-// keys pinned down came out 0.1 to 2.1 sigma off, README).
+// keys pinned down came out 0.1 to 2.1 sigma off,
+// docs/compare-and-calibrate.md).
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>

@@ -1,11 +1,12 @@
-// The README's rviz pictures, taken as its commands run: the cell's default
-// job in rviz/winding_cell.rviz and the 14-turn coil in rviz/coil.rviz,
-// each through src/tools/rviz_screenshot.sh on a virtual screen (Xvfb).
+// The rviz pictures of README.md and docs/cell.md, taken as their commands
+// run: the cell's default job in rviz/winding_cell.rviz and the 14-turn
+// coil in rviz/coil.rviz, each through src/tools/rviz_screenshot.sh on a
+// virtual screen (Xvfb).
 // Each picture must show rviz drawing the scene, not an empty or black
 // window: more than 2,000 colours (3,600 measured for the cell, 11,000 for
 // the coil: the wire's force colours, the layers' spheres, the text)
 // against 1,155 of rviz's window with nothing to draw. `make
-// screenshots` writes the same pictures to docs/ for the README, where a
+// screenshots` writes the same pictures to docs/ for those documents, where a
 // person looks at them.
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,5 +1,5 @@
 // The core library's folders form layers: each includes only folders below
-// it (README.md, "Layout"). This test reads every source and
+// it (docs/develop.md, "Layout"). This test reads every source and
 // header of the core and fails on an include that runs back up or sideways,
 // on a folder missing from the table below, and on a file outside every
 // folder.

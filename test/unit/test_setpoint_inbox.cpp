@@ -1,5 +1,5 @@
 // The setpoint inbox (core/run/setpoint_inbox): the admission of stamps
-// (README, "Setpoint stamps") and the handing over of what the callbacks
+// (docs/cell.md, "Bad input") and the handing over of what the callbacks
 // received to the loop. Stamps in nanoseconds of the sender's clock.
 #include <gtest/gtest.h>
 
