@@ -205,9 +205,9 @@ CALIBRATE_OUT ?= out/calibrate_demo
 calibrate-demo: build
 	WIRE_SIM=$(WIRE_SIM) src/tools/calibrate_demo.sh $(CALIBRATE_OUT)
 
-# The rviz pictures of README.md and docs/cell.md, each taken as the command
-# beside it in docs/cell.md runs (src/tools/rviz_screenshot.sh;
-# test_screenshots takes them too).
+# The rviz pictures of README.md and docs/cell.md, each taken as its command
+# (docs/cell.md) runs (src/tools/rviz_screenshot.sh; test_screenshots takes
+# them too).
 screenshots: build
 	source $(DEVEL_DIR)/setup.bash && src/tools/rviz_screenshot.sh docs/rviz_winding_cell.png \
 	  real_time_factor:=0
