@@ -193,12 +193,15 @@ TEST(Allocation, FreeWireContactStepsAllocateNothing) {
 // nothing.
 TEST(Allocation, ManyPairCouplingsAllocateNothing) {
   using A = cws::SpatialAssembly;
-  constexpr int kPoints = 234;
+  // (Points 0..kPoints-1: the last pair's point, 61 + 2 * 87 = 235, is one
+  // of them.)
+  constexpr int kPoints = 240;
   A a;
   a.resize(kPoints);
   a.begin(0, kPoints, true, true, 1e4);
   for (int x = 0; x < 88; ++x) {
     const int pa = 61 + x * 2;
+    ASSERT_LT(pa, kPoints);
     a.addPairCoupling(pa, pa - 60, 0.3, Eigen::Matrix3d::Identity() * 2e6);
   }
   const int unknowns = a.unknowns(), blocks = (unknowns + A::kPerPoint - 1) / A::kPerPoint;
