@@ -19,15 +19,17 @@ FreeWireContact::FreeWireContact(const WireConstants& c, const Contact& contact)
   p_built_.setZero(3, c.capacity);
 }
 
-bool FreeWireContact::geometry(const Eigen::Matrix3Xd& p, int first, int a, int b,
-                               Geometry& g) const {
+template <class Positions>
+bool FreeWireContact::geometry(const Positions& p, int first, int a, int b, Geometry& g) const {
   const int lo = std::max(first, b - 1), hi = std::min(b + 1, a - 1 - skip_);
   if (a < first || lo > hi) return false;
   double best = -1.0;
+  const Eigen::Vector3d p_a = p(a);
   for (int m = lo; m <= hi; ++m) {
-    const Eigen::Vector3d d = p.col(m + 1) - p.col(m);
-    const double t = std::clamp((p.col(a) - p.col(m)).dot(d) / d.squaredNorm(), 0.0, 1.0);
-    const Eigen::Vector3d delta = p.col(a) - (p.col(m) + t * d);
+    const Eigen::Vector3d p_m = p(m);
+    const Eigen::Vector3d d = p(m + 1) - p_m;
+    const double t = std::clamp((p_a - p_m).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    const Eigen::Vector3d delta = p_a - (p_m + t * d);
     const double dist = delta.norm();
     if (best >= 0.0 && dist >= best) continue;
     best = dist;
@@ -35,6 +37,11 @@ bool FreeWireContact::geometry(const Eigen::Matrix3Xd& p, int first, int a, int 
     g = Geometry{m, t, delta, inside ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::Zero()};
   }
   return best > 0.0;
+}
+
+bool FreeWireContact::geometry(const Eigen::Matrix3Xd& p, int first, int a, int b,
+                               Geometry& g) const {
+  return geometry([&p](int i) -> Eigen::Vector3d { return p.col(i); }, first, a, b, g);
 }
 
 FreeWireContact::PairForce FreeWireContact::pairForce(const Geometry& g, const Eigen::Vector3d& r_v,
@@ -81,44 +88,32 @@ FreeWireContact::PairForce FreeWireContact::pairForce(const Geometry& g, const E
   return out;
 }
 
-void FreeWireContact::addExplicit(const WireKinematics& k, WireForces& f) const {
+template <class Sink>
+void FreeWireContact::law(Sink& s) const {
+  const bool frozen = s.flagsFrozen(), jacobian = s.jacobian();
+  const double alpha = s.velocityGain();
+  // Newton steps divide friction by at least stick_speed (viscous below
+  // it); explicit ones take the sliding direction as it is.
+  const double floor_speed = frozen ? contact_.stickSpeed() : 0.0;
+  const auto p = [&s](int i) -> Eigen::Vector3d { return s.p(i); };
   for (const Pair& pair : pairs_) {
+    if (frozen && !pair.trial_active) continue;
     Geometry g;
-    if (!geometry(k.p_world, c_.first, pair.a, pair.b, g)) continue;
-    if (g.delta.norm() >= touch_distance_) continue;
+    if (!geometry(p, s.first(), pair.a, pair.b, g)) continue;
+    // (An active pair's spring stays linear past h = 0 within a solve.)
+    if (!frozen && g.delta.norm() >= touch_distance_) continue;
     const int m = g.m;
-    const Eigen::Vector3d r_v =
-        k.v_world.col(pair.a) - (1.0 - g.t) * k.v_world.col(m) - g.t * k.v_world.col(m + 1);
-    const PairForce pf = pairForce(g, r_v, 0.0, false, 0.0);
+    const Eigen::Vector3d r_v = s.v(pair.a) - (1.0 - g.t) * s.v(m) - g.t * s.v(m + 1);
+    const PairForce pf = pairForce(g, r_v, alpha, jacobian, floor_speed);
     // On the point, and its reaction on the segment's ends.
-    f.f_world.col(pair.a) += pf.f;
-    f.f_world.col(m) -= (1.0 - g.t) * pf.f;
-    f.f_world.col(m + 1) -= g.t * pf.f;
-    f.f_dissipative_world.col(pair.a) += pf.f_dissipative;
-    f.f_dissipative_world.col(m) -= (1.0 - g.t) * pf.f_dissipative;
-    f.f_dissipative_world.col(m + 1) -= g.t * pf.f_dissipative;
+    s.addPointForce(pair.a, pf.f, pf.f_dissipative);
+    s.addPointForce(m, -(1.0 - g.t) * pf.f, -(1.0 - g.t) * pf.f_dissipative);
+    s.addPointForce(m + 1, -g.t * pf.f, -g.t * pf.f_dissipative);
+    if (jacobian) s.addPairCoupling(pair.a, m, g.t, pf.df);
   }
 }
-
-void FreeWireContact::addSpatial(const SpatialState& s, SpatialAssembly& a) const {
-  for (const Pair& pair : pairs_) {
-    if (!pair.trial_active) continue;
-    Geometry g;
-    if (!geometry(s.p, s.first, pair.a, pair.b, g)) continue;
-    const int m = g.m;
-    const Eigen::Vector3d r_v = s.v.col(pair.a) - (1.0 - g.t) * s.v.col(m) - g.t * s.v.col(m + 1);
-    // An active pair's spring stays linear past h = 0 within the solve.
-    const PairForce pf = pairForce(g, r_v, s.alpha, a.wantsJacobian(), contact_.stickSpeed());
-    a.addForce(pair.a, pf.f);
-    a.addForce(m, -(1.0 - g.t) * pf.f);
-    a.addForce(m + 1, -g.t * pf.f);
-    a.f_dissipative.col(pair.a) += pf.f_dissipative;
-    a.f_dissipative.col(m) -= (1.0 - g.t) * pf.f_dissipative;
-    a.f_dissipative.col(m + 1) -= g.t * pf.f_dissipative;
-    // The matrix holds -dF/dx: the pair's block in delta is -df.
-    if (a.wantsJacobian()) a.addPairCoupling(pair.a, m, g.t, -pf.df);
-  }
-}
+template void FreeWireContact::law(ExplicitSink&) const;
+template void FreeWireContact::law(SpatialSink&) const;
 
 void FreeWireContact::beginSpatial(const SpatialState& s0) {
   // (After a restore the list is built here, from the step's start.)

@@ -21,6 +21,22 @@
 //                              moment on frame i [N m], and its derivative in
 //                              the frame's angular velocity [N m s] where it
 //                              has one
+// A law between two points far apart along the wire (free-wire contact,
+// in the explicit and 3-D sinks):
+//   jacobian()                 whether this evaluation wants derivatives
+//   flagsFrozen()              contact flags stay as the step's start set
+//                              them (Newton: EffectHistory::beginStep and
+//                              recheck), else decided at every evaluation
+//   velocityGain()             d v / d p of the step, alpha [1/s] (v =
+//                              alpha (p - p_hat); 0 in explicit steps)
+//   addPointForce(i, f, f_dissipative)
+//                              force f [N] on point i, f_dissipative of it
+//                              booked as dissipation, the rest conservative
+//   addPairCoupling(a, m, t, df)
+//                              d f_a / d delta [N/m] of point a against
+//                              segment m at t along it (delta = p_a - the
+//                              segment's point), its reaction on the
+//                              segment's ends (a coupling outside the band)
 // A law at the joints between neighbouring frames j and j+1 (j from
 // first-1; rotational springs):
 //   darboux(j, lambda)         the joint's curvature-twist vector Omega in
@@ -44,9 +60,9 @@
 //                              rounds), else frozen within the solve
 // SinkEffect<Law> (force_effect.hpp) turns a class with `template <class
 // Sink> void law(Sink&) const` into a ForceEffect of all three integrators.
-// An effect whose law is not yet written on the sink (contact, free-wire
-// contact, the supply) reads the sink's own state and writes its own
-// mapping: kinematics()/forces(), state()/assembly().
+// An effect whose law is not yet written on the sink (contact) reads the
+// sink's own state and writes its own mapping: kinematics()/forces(),
+// state()/assembly().
 #pragma once
 
 #include <Eigen/Core>
@@ -93,6 +109,15 @@ class ExplicitSink {
   void addFollowerForce(int i, double f, ForcePower power) {
     addPointForce(i, f * quat::zeta(k_.q.col(i)), power);
   }
+
+  bool jacobian() const { return false; }
+  bool flagsFrozen() const { return false; }
+  double velocityGain() const { return 0.0; }
+  void addPointForce(int i, const Eigen::Vector3d& f, const Eigen::Vector3d& f_dissipative) {
+    f_.f_world.col(i) += f;
+    f_.f_dissipative_world.col(i) += f_dissipative;
+  }
+  void addPairCoupling(int, int, double, const Eigen::Matrix3d&) {}
 
   // Omega = (2 / lambda) G(q_j) q_j+1; the moment's generalized forces
   // -lambda m . dOmega/dq: 2 G(q_j+1)^T m on q_j, -2 G(q_j)^T m on q_j+1
@@ -281,6 +306,18 @@ class SpatialSink {
     const quat::Vec4 q = s_.q.col(i);
     addPointForce(i, f * quat::zeta(q), power);
     if (a_.wantsJacobian()) a_.addStiffnessPQ(i, i, f * quat::zetaJacobian(q));
+  }
+
+  bool jacobian() const { return a_.wantsJacobian(); }
+  bool flagsFrozen() const { return true; }
+  double velocityGain() const { return s_.alpha; }
+  void addPointForce(int i, const Eigen::Vector3d& f, const Eigen::Vector3d& f_dissipative) {
+    a_.addForce(i, f);
+    a_.f_dissipative.col(i) += f_dissipative;
+  }
+  // (The matrix holds -dF/dx: the pair's block in delta is -df.)
+  void addPairCoupling(int a, int m, double t, const Eigen::Matrix3d& df) {
+    if (a_.wantsJacobian()) a_.addPairCoupling(a, m, t, -df);
   }
 
   // As the explicit sink's; the derivatives of Omega are -(2 / lambda)

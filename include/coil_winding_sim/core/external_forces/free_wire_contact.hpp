@@ -48,11 +48,11 @@ class FreeWireContact : public ForceEffect, public EffectHistory {
   FreeWireContact(const WireConstants& c, const Contact& contact);
 
   const char* name() const override { return "free_wire_contact"; }
-  // Written per formulation (free_wire_contact.cpp); wire contact is
-  // refused in the plane: nothing to add there.
-  void addForces(ExplicitSink& s) const override { addExplicit(s.kinematics(), s.forces()); }
+  // The law, written once on the sink (law below); wire contact is refused
+  // in the plane: nothing to add there.
+  void addForces(ExplicitSink& s) const override { law(s); }
   void addForces(PlanarSink& /*s*/) const override {}
-  void addForces(SpatialSink& s) const override { addSpatial(s.state(), s.assembly()); }
+  void addForces(SpatialSink& s) const override { law(s); }
   void beginStep(const NewtonView& s0) override {
     if (s0.spatial()) beginSpatial(*s0.spatial());
   }
@@ -85,8 +85,11 @@ class FreeWireContact : public ForceEffect, public EffectHistory {
                    Eigen::Matrix3d& df_a) const;
 
  private:
-  void addExplicit(const WireKinematics& k, WireForces& f) const;
-  void addSpatial(const SpatialState& s, SpatialAssembly& a) const;
+  // Each touching pair's force on its point, the reaction on the segment's
+  // ends, and the pair's coupling: touching as the positions say in
+  // explicit steps, as the frozen flag says in Newton steps.
+  template <class Sink>
+  void law(Sink& s) const;
   void beginSpatial(const SpatialState& s0);
   bool recheckSpatial(const SpatialState& s);
   struct Pair {
@@ -104,6 +107,9 @@ class FreeWireContact : public ForceEffect, public EffectHistory {
     double t;
     Eigen::Vector3d delta, tangent;
   };
+  // (p(i): point i's position [m], world frame.)
+  template <class Positions>
+  bool geometry(const Positions& p, int first, int a, int b, Geometry& g) const;
   bool geometry(const Eigen::Matrix3Xd& p, int first, int a, int b, Geometry& g) const;
   // The force on point a at the pair's geometry and relative velocity
   // r_v = v_a - (1 - t) v_m - t v_m+1; with jacobian, df = dF / d p_a
