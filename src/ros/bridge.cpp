@@ -57,7 +57,7 @@ void addCoilMarkers(const cws::Simulation& sim, const cws::CoilReport& r, const 
   // (The live wire's turns: retired wire lies buried under them.)
   for (const cws::TurnReport& t : r.turns) {
     for (int i = std::max(t.first_point, m.retiredPoints()); i < t.first_point + t.points; ++i) {
-      const geometry_msgs::Point p = point(m.point(i).p_world);
+      const geometry_msgs::Point p = point(cws::wirePoint(m, i).p_world);
       layers.points.push_back(p);
       layers.colors.push_back(layerColor(r.point_layer[i]));
       if (t.overlap && r.point_layer[i] > t.planned_max) {
@@ -88,13 +88,13 @@ coil_winding_sim::WireState toWireState(const cws::Simulation& sim, const ros::T
   msg.positions.reserve(n);
   const bool core = m.core() && !sim.scene().core.cylinders.empty();
   for (int i = 0; i < n; ++i) {
-    const cws::PointReport r = m.point(i);
+    const cws::PointReport r = cws::wirePoint(m, i);
     msg.positions.push_back(point(r.p_world));
     msg.axial_force.push_back(r.axial_force_N);
     msg.curvature.push_back(r.curvature_1pm);
     msg.plastic_curvature.push_back(r.plastic_curvature_1pm);
     msg.twist.push_back(r.twist_rad_per_m);
-    msg.stand_off.push_back(core ? m.standOff(i) : std::numeric_limits<double>::quiet_NaN());
+    msg.stand_off.push_back(core ? cws::standOff(m, i) : std::numeric_limits<double>::quiet_NaN());
     msg.in_contact.push_back(r.in_contact);
     msg.stick.push_back(r.stick);
   }
@@ -114,7 +114,7 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
   msg.bulging_height = b.valid ? b.height_m : std::numeric_limits<double>::quiet_NaN();
   msg.build_up_height = b.valid ? b.build_up_m : std::numeric_limits<double>::quiet_NaN();
   msg.bulging_index = b.valid ? b.index : -1;
-  const int last = m.lastInContact();
+  const int last = cws::lastInContact(m);
   msg.wound_length = last > 0 ? last * m.constants().segment_length : 0.0;
   msg.fed_length = m.fedLength();
   msg.core_turns = sim.coreTurns();
@@ -226,8 +226,8 @@ visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros:
                                           visualization_msgs::Marker::LINE_STRIP);
     w.scale.x = diameter;
     for (int i = start; i < end; ++i) {
-      const cws::PointReport r = m.point(i);
-      w.points.push_back(point(rigid ? m.pointCore(i) : r.p_world));
+      const cws::PointReport r = cws::wirePoint(m, i);
+      w.points.push_back(point(rigid ? cws::wirePointCore(m, i) : r.p_world));
       w.colors.push_back(heat(r.axial_force_N / std::max(1e-9, force_scale_N)));
     }
     out.markers.push_back(w);
@@ -407,14 +407,14 @@ sensor_msgs::PointCloud2 toProfile(const cws::Simulation& sim, const ros::Time& 
   const cws::WireModel& m = sim.model();
   const cws::RotatingCore* core = m.core();
   // The wound part: up to the last point touching the core.
-  const int last = m.contact() ? m.lastInContact() : m.wirePoints() - 1;
+  const int last = m.contact() ? cws::lastInContact(m) : m.wirePoints() - 1;
   // The first point: `turns` turns about the axis back from the last.
   int first = 0;
   if (core && turns > 0.0 && last > 0) {
-    Eigen::Vector3d a = m.pointCore(last);
+    Eigen::Vector3d a = cws::wirePointCore(m, last);
     double turned = 0.0;
     for (first = last; first > 0 && turned < 2.0 * M_PI * turns; --first) {
-      const Eigen::Vector3d b = m.pointCore(first - 1);
+      const Eigen::Vector3d b = cws::wirePointCore(m, first - 1);
       turned += std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.x() * b.x() + a.y() * b.y()));
       a = b;
     }
@@ -433,11 +433,12 @@ sensor_msgs::PointCloud2 toProfile(const cws::Simulation& sim, const ros::Time& 
   sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z"),
       h(cloud, "stand_off");
   for (int i = first; i < first + count; ++i, ++x, ++y, ++z, ++h) {
-    const Eigen::Vector3d p_core = m.pointCore(i);
+    const Eigen::Vector3d p_core = cws::wirePointCore(m, i);
     *x = static_cast<float>(p_core.x());
     *y = static_cast<float>(p_core.y());
     *z = static_cast<float>(p_core.z());
-    *h = section ? static_cast<float>(m.standOff(i)) : std::numeric_limits<float>::quiet_NaN();
+    *h =
+        section ? static_cast<float>(cws::standOff(m, i)) : std::numeric_limits<float>::quiet_NaN();
   }
   return cloud;
 }

@@ -34,14 +34,14 @@ coil_winding_sim::WireStateCompact toWireStateCompact(const cws::Simulation& sim
   msg.carried_xyz.reserve(3 * (carried - from));
   msg.carried_force.reserve(carried - from);
   for (int i = from; i < carried; ++i) {
-    const Eigen::Vector3d p = m.pointCore(i);
+    const Eigen::Vector3d p = cws::wirePointCore(m, i);
     for (int a = 0; a < 3; ++a) msg.carried_xyz.push_back(static_cast<float>(p[a]));
-    msg.carried_force.push_back(static_cast<float>(m.point(i).axial_force_N));
+    msg.carried_force.push_back(static_cast<float>(cws::wirePoint(m, i).axial_force_N));
   }
   msg.free_first = static_cast<uint32_t>(carried);
   msg.free_xyz.reserve(3 * (n - carried));
   for (int i = carried; i < n; ++i) {
-    const cws::PointReport r = m.point(i);
+    const cws::PointReport r = cws::wirePoint(m, i);
     for (int a = 0; a < 3; ++a) msg.free_xyz.push_back(static_cast<float>(r.p_world[a]));
     msg.free_force.push_back(static_cast<float>(r.axial_force_N));
     msg.free_flags.push_back(static_cast<uint8_t>((r.in_contact ? 1 : 0) | (r.stick ? 2 : 0)));

@@ -118,9 +118,9 @@ visualization_msgs::MarkerArray toOverlayMarkers(const cws::Simulation& sim, con
     profile.scale.x = 0.0003;
     profile.color = color(1.0, 1.0, 0.3);
     for (int i = 0; i < b.wound_points && i < m.wirePoints(); ++i) {
-      const Eigen::Vector3d p = m.pointCore(i);
+      const Eigen::Vector3d p = cws::wirePointCore(m, i);
       profile.points.push_back(
-          point(p + (o.profile_magnification - 1.0) * m.standOff(i) * outward(p)));
+          point(p + (o.profile_magnification - 1.0) * cws::standOff(m, i) * outward(p)));
     }
   } else {
     profile.action = visualization_msgs::Marker::DELETE;

@@ -45,7 +45,7 @@ void execute(const std::string& scene_path, const std::vector<std::string>& base
     r.points = m.wirePoints();
     r.p_core.resize(3, r.points);
     for (int i = 0; i < r.points; ++i) {
-      r.p_core.col(i) = m.core() ? m.pointCore(i) : m.point(i).p_world;
+      r.p_core.col(i) = m.core() ? cws::wirePointCore(m, i) : cws::wirePoint(m, i).p_world;
     }
     const cws::BulgeReport b = cws::headlineBulging(m, sim.scene());
     r.bulging_m = b.valid ? b.height_m : 0.0;

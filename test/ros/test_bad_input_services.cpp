@@ -118,31 +118,19 @@ TEST(BadInput, RestoreOfBadFiles) {
         "nan_speed.bag", [](auto& m) { m.core[3] = std::nan(""); }, "not finite");
     write(
         "fast.bag", [](auto& m) { m.core[3] = 1e6; }, "max_core_speed_rpm");
-    write(
-        "negative_tension.bag",
-        [](auto& m) {
-          coil_winding_sim::HeldSetpoint h;
-          h.kind = "tension";
-          h.value = -1.0;
-          m.setpoints.push_back(h);  // (the last of a kind counts)
-        },
-        "tension -1 N is negative");
-    write(
-        "unknown_setpoint.bag",
-        [](auto& m) {
-          coil_winding_sim::HeldSetpoint h;
-          h.kind = "feed speed";
-          m.setpoints.push_back(h);
-        },
-        "unknown setpoint 'feed speed'");
-    write(
-        "held_speed.bag",
-        [](auto& m) {
-          coil_winding_sim::HeldSetpoint h;
-          h.kind = "core speed";
-          m.setpoints.push_back(h);
-        },
-        "which the model's state carries");
+    // A setpoint appended to the snapshot's held ones (the last of a kind
+    // counts).
+    const auto holding = [](const std::string& kind, double value) {
+      return [kind, value](auto& m) {
+        coil_winding_sim::HeldSetpoint h;
+        h.kind = kind;
+        h.value = value;
+        m.setpoints.push_back(h);
+      };
+    };
+    write("negative_tension.bag", holding("tension", -1.0), "tension -1 N is negative");
+    write("unknown_setpoint.bag", holding("feed speed", 0.0), "unknown setpoint 'feed speed'");
+    write("held_speed.bag", holding("core speed", 0.0), "which the model's state carries");
   }
   // One bit of one number changed in the file (a plausible position): only
   // the checksum tells. The same number changed in a message written anew

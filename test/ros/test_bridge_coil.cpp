@@ -66,7 +66,7 @@ TEST(BridgeCoil, OverlapOfALateReversalInMetricsAndMarkers) {
   // turn lifts a layer's rise (sqrt(3)/2 d) above its bulging.
   EXPECT_EQ(m.bulging_height,
             *std::max_element(m.bulging_per_layer.begin(), m.bulging_per_layer.end()));
-  EXPECT_EQ(m.build_up_height, sim.model().bulging().height_m);
+  EXPECT_EQ(m.build_up_height, cws::bulging(sim.model()).height_m);
   EXPECT_GT(m.build_up_height, m.bulging_height + 0.5 * d);
 
   const visualization_msgs::MarkerArray a =
@@ -76,7 +76,7 @@ TEST(BridgeCoil, OverlapOfALateReversalInMetricsAndMarkers) {
   ASSERT_NE(layers, nullptr);
   ASSERT_NE(defects, nullptr);
   ASSERT_EQ(layers->points.size(), layers->colors.size());
-  ASSERT_EQ(layers->points.size(), static_cast<std::size_t>(sim.model().lastInContact() + 1));
+  ASSERT_EQ(layers->points.size(), static_cast<std::size_t>(cws::lastInContact(sim.model()) + 1));
   // The first layer's colour (that of the clamped end): every point resting
   // on the drum has it, at half a diameter out within the penalty law's
   // penetration; no point three quarters of a diameter further out (a layer
@@ -134,7 +134,7 @@ TEST(BridgeOverlay, FiguresBulgeArrowAndProfile) {
                                       {"solver.integrator=bdf2", "wire.segment_length=2e-3"});
   cws::Simulation sim(s);
   sim.run();
-  const cws::BulgeReport b = sim.model().bulging();
+  const cws::BulgeReport b = cws::bulging(sim.model());
   ASSERT_TRUE(b.valid);
   cws_ros::Overlay o;
   o.state = "job done";
@@ -171,7 +171,8 @@ TEST(BridgeOverlay, FiguresBulgeArrowAndProfile) {
   // The profile: one point per wound point, each moved out by 9 stand-offs.
   ASSERT_EQ(profile->points.size(), static_cast<std::size_t>(b.wound_points));
   const cws::RotatingCore* core = sim.model().core();
-  const Eigen::Vector3d p = core->pointCore(sim.time(), sim.model().point(b.index).p_world);
+  const Eigen::Vector3d p =
+      core->pointCore(sim.time(), cws::wirePoint(sim.model(), b.index).p_world);
   const geometry_msgs::Point& q = profile->points[b.index];
   EXPECT_NEAR(std::hypot(q.x, q.y) - std::hypot(p.x(), p.y()), 9.0 * b.height_m, 1e-9);
   o.profile_magnification = 0.0;

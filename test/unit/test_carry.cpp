@@ -41,18 +41,18 @@ void runTo(cws::Simulation& sim, double t) {
 }
 
 // Every wound point's stand-off from its committed position, with no
-// cache: what WireModel::standOff() keeps for carried points, and the
+// cache: what WireModel::liveStandOff() keeps for carried points, and the
 // bulging height from it, must agree.
 void expectStandOffAsRecomputed(const cws::Simulation& sim) {
   const cws::WireModel& m = sim.model();
-  const cws::BulgeReport b = m.bulging();
+  const cws::BulgeReport b = cws::bulging(m);
   if (!b.valid) return;
   const cws::CoreSection section(sim.scene().core);
   double height = 0.0;
   for (int i = 0; i < b.wound_points; ++i) {
     const Eigen::Vector3d p_core = m.core()->pointCore(sim.time(), m.committed().p_world.col(i));
     const double h = section.signedDistance(p_core.head<2>()) - m.constants().radius;
-    EXPECT_NEAR(m.standOff(i), h, 1e-15)
+    EXPECT_NEAR(cws::standOff(m, i), h, 1e-15)
         << "point " << i << ", " << m.carriedPoints() << " carried";
     height = std::max(height, h);
   }
@@ -76,7 +76,7 @@ TEST(Carry, MatchesTheFullModel) {
     shape = std::max(shape, (a.committed().p_world.col(i) - b.committed().p_world.col(i)).norm());
   }
   const double d = 2.0 * a.constants().radius;
-  const double bulge_full = a.bulging().height_m, bulge_carried = b.bulging().height_m;
+  const double bulge_full = cws::bulging(a).height_m, bulge_carried = cws::bulging(b).height_m;
   const double bulge_rel = std::abs(bulge_carried / bulge_full - 1.0);
   std::printf(
       "carry: %d of %d points carried at the end; shape difference %.2e d, bulging %.4f vs "

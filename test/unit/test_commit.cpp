@@ -34,7 +34,7 @@ TEST(Commit, RejectedAttemptLeavesHysteresisUntouched) {
   while (t < 0.004) rk.step(model, t, y, 0.01);
   const std::vector<double> before = model.history();
   ASSERT_FALSE(before.empty());
-  ASSERT_GT(model.point(0).plastic_curvature_1pm, 0.0) << "the root should have yielded";
+  ASSERT_GT(cws::wirePoint(model, 0).plastic_curvature_1pm, 0.0) << "the root should have yielded";
 
   // A far too large step fails the error test; it must change nothing.
   const double error = rk.attempt(model, t, y, 1e-4);

@@ -131,8 +131,8 @@ double proppedCantileverError(bool face) {
       "propped cantilever on a %s: tip reaction %.6e N, beam theory %.6e N, rel. error "
       "%.2e, penetration %.2e of the wire radius\n",
       face ? "face" : "cylinder", reaction, expected, reaction / expected - 1.0, h / r_wire);
-  EXPECT_TRUE(sim.model().point(segments).in_contact);
-  EXPECT_FALSE(sim.model().point(segments - 1).in_contact);
+  EXPECT_TRUE(cws::wirePoint(sim.model(), segments).in_contact);
+  EXPECT_FALSE(cws::wirePoint(sim.model(), segments - 1).in_contact);
   EXPECT_LT(sim.model().contact()->maxPenetration(), 0.01 * r_wire);
   return reaction / expected - 1.0;
 }

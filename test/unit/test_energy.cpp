@@ -60,5 +60,5 @@ TEST(Energy, BalanceHoldsInAPlasticDampedRun) {
   EXPECT_GT(e.viscous, 0.0);
   EXPECT_LT(relativeImbalance(e), 1e-5);
   // A permanent bend remains at the root after release.
-  EXPECT_GT(sim.model().point(0).plastic_curvature_1pm, s.wire.bend.yield);
+  EXPECT_GT(cws::wirePoint(sim.model(), 0).plastic_curvature_1pm, s.wire.bend.yield);
 }

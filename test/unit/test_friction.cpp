@@ -96,8 +96,8 @@ TEST_P(FrictionLaw, SlidingSurfaceDragsWithKineticFriction) {
               expected, axial / expected - 1.0);
   EXPECT_NEAR(n, kPress, 0.01 * kPress);
   EXPECT_NEAR(axial / expected, 1.0, 0.01);
-  EXPECT_TRUE(sim.model().point(tip).in_contact);
-  EXPECT_FALSE(sim.model().point(tip).stick);
+  EXPECT_TRUE(cws::wirePoint(sim.model(), tip).in_contact);
+  EXPECT_FALSE(cws::wirePoint(sim.model(), tip).stick);
 }
 
 TEST_P(FrictionLaw, StickHoldsBelowStaticLimitThenSlips) {
@@ -122,7 +122,7 @@ TEST_P(FrictionLaw, StickHoldsBelowStaticLimitThenSlips) {
   while (sim.time() < sim.endTime()) {
     sim.step(sim.endTime());
     const double f = sim.model().axialForce(0);
-    const bool stuck = sim.model().point(tip).stick;
+    const bool stuck = cws::wirePoint(sim.model(), tip).stick;
     if (!loaded && sim.time() > 0.003 && stuck) {
       loaded = true;
       t_loaded = sim.time();
@@ -168,7 +168,7 @@ TEST_P(FrictionLaw, StickSlipRepeatsAtTheStaticLimit) {
   int sticks = 0;
   while (sim.time() < sim.endTime()) {
     sim.step(sim.endTime());
-    const bool stuck = sim.model().point(tip).stick;
+    const bool stuck = cws::wirePoint(sim.model(), tip).stick;
     if (sim.time() < 0.003) {  // the press settles
       was_stuck = stuck;
       continue;

@@ -42,9 +42,9 @@ void expectSameWire(const cws::WireModel& kept, const cws::WireModel& retired) {
   ASSERT_EQ(kept.wirePoints(), retired.wirePoints());
   ASSERT_EQ(kept.retiredPoints(), 0);
   for (int w = 0; w < kept.wirePoints(); ++w) {
-    ASSERT_EQ(kept.pointCore(w), retired.pointCore(w)) << "point " << w;
-    ASSERT_EQ(kept.standOff(w), retired.standOff(w)) << "point " << w;
-    const cws::PointReport a = kept.point(w), b = retired.point(w);
+    ASSERT_EQ(cws::wirePointCore(kept, w), cws::wirePointCore(retired, w)) << "point " << w;
+    ASSERT_EQ(cws::standOff(kept, w), cws::standOff(retired, w)) << "point " << w;
+    const cws::PointReport a = cws::wirePoint(kept, w), b = cws::wirePoint(retired, w);
     EXPECT_NEAR(a.p_world.x(), b.p_world.x(), 1e-15) << "point " << w;
     EXPECT_NEAR(a.p_world.y(), b.p_world.y(), 1e-15) << "point " << w;
     EXPECT_EQ(a.p_world.z(), b.p_world.z()) << "point " << w;
@@ -113,7 +113,7 @@ TEST(RetiredWire, PlanarCoilMatchesTheRunThatKeepsEveryPoint) {
   EXPECT_EQ(kept.stepper().counts().accepted, retired.stepper().counts().accepted);
   expectSameWire(kept.model(), retired.model());
   expectSameEnergy(kept, retired);
-  EXPECT_EQ(kept.model().bulging().height_m, retired.model().bulging().height_m);
+  EXPECT_EQ(cws::bulging(kept.model()).height_m, cws::bulging(retired.model()).height_m);
 }
 
 // A snapshot after a retirement carries the retired wire: the continued run
@@ -129,8 +129,10 @@ TEST(RetiredWire, SnapshotAfterARetirementContinues) {
   EXPECT_EQ(b->model().retiredPoints(), a.model().retiredPoints());
   EXPECT_EQ(b->model().wirePoints(), a.model().wirePoints());
   for (int w = 0; w < a.model().wirePoints(); ++w) {
-    ASSERT_EQ(a.model().pointCore(w), b->model().pointCore(w)) << "point " << w;
-    ASSERT_NEAR(a.model().point(w).axial_force_N, b->model().point(w).axial_force_N, 1e-6) << w;
+    ASSERT_EQ(cws::wirePointCore(a.model(), w), cws::wirePointCore(b->model(), w)) << "point " << w;
+    ASSERT_NEAR(cws::wirePoint(a.model(), w).axial_force_N,
+                cws::wirePoint(b->model(), w).axial_force_N, 1e-6)
+        << w;
   }
   EXPECT_NEAR(a.energy().imbalance(), b->energy().imbalance(), 1e-12);
   const double t_end = a.time() + 0.05;
@@ -138,7 +140,8 @@ TEST(RetiredWire, SnapshotAfterARetirementContinues) {
   while (b->time() < t_end) b->step(t_end);
   double largest = 0.0;
   for (int w = 0; w < std::min(a.model().wirePoints(), b->model().wirePoints()); ++w) {
-    largest = std::max(largest, (a.model().pointCore(w) - b->model().pointCore(w)).norm());
+    largest = std::max(
+        largest, (cws::wirePointCore(a.model(), w) - cws::wirePointCore(b->model(), w)).norm());
   }
   // 50 ms of winding on: within a hundredth of the wire's diameter.
   EXPECT_LT(largest, 1e-5);

@@ -42,7 +42,7 @@ void continuedRunMatches(const std::string& law_key) {
   EXPECT_EQ(a.state().head(size), b->state().head(size));
   EXPECT_EQ(a.model().history(), b->model().history());
   int stuck = 0;
-  for (int i = 0; i < a.model().constants().n; ++i) stuck += a.model().point(i).stick;
+  for (int i = 0; i < a.model().constants().n; ++i) stuck += cws::wirePoint(a.model(), i).stick;
   EXPECT_GT(stuck, 0) << "stick states should be in use";
 }
 }  // namespace

@@ -167,7 +167,8 @@ TEST(Stability, PlanarDrumStaysInItsPlane) {
       if (i >= static_cast<int>(n_body.size())) n_body.push_back(nb);
       n_body_change = std::max(n_body_change, (nb - n_body[i]).norm());
       if (i > 0)
-        twist_rad_per_m = std::max(twist_rad_per_m, std::abs(sim.model().point(i).twist_rad_per_m));
+        twist_rad_per_m =
+            std::max(twist_rad_per_m, std::abs(cws::wirePoint(sim.model(), i).twist_rad_per_m));
     }
   }
   const cws::RunMeasures m = cws::measureRun(sim);

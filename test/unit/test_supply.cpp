@@ -96,13 +96,13 @@ TEST(Supply, DrumDrawsWireAtConstantTension) {
   const Eigen::Vector3d e = s.supply.port_position_world - k.p_world.col(n - 1);
   EXPECT_LT((e - e.dot(zeta) * zeta).norm(), 1e-9);
   // Wire wound tight at 30 N lies on the drum: no bulging.
-  const cws::BulgeReport bulge = sim.model().bulging();
+  const cws::BulgeReport bulge = cws::bulging(sim.model());
   std::printf("supply bulging: %.3e m over %d wound points\n", bulge.height_m, bulge.wound_points);
   ASSERT_TRUE(bulge.valid);
   EXPECT_LT(bulge.height_m, 0.02 * r);
   // The fixed end stays on its cylinder (centreline at R + r).
   EXPECT_LT(worst_fixed_end, 1e-12);
-  EXPECT_TRUE(sim.model().point(1).in_contact);
+  EXPECT_TRUE(cws::wirePoint(sim.model(), 1).in_contact);
   // Energy: the core's and the supply's work, including the energy the
   // drawn-in wire brings, balance kinetic + elastic + dissipated.
   const cws::EnergyReport en = sim.energy();
@@ -162,7 +162,7 @@ TEST(Supply, TraversingPortWindsASpiral) {
   std::printf(
       "spiral: port at z = %.4f mm, last point at z = %.4f mm, wire twist at the port "
       "%.3e rad/m\n",
-      1e3 * port_z, 1e3 * k.p_world(2, n - 1), sim.model().point(n - 2).twist_rad_per_m);
+      1e3 * port_z, 1e3 * k.p_world(2, n - 1), cws::wirePoint(sim.model(), n - 2).twist_rad_per_m);
   EXPECT_NEAR(k.p_world(2, 0), 0.0, 1e-15);
   EXPECT_GT(k.p_world(2, n - 1), 0.5 * port_z);
   for (int i = 0; i < n; ++i) EXPECT_LT(k.p_world(2, i), port_z + 1e-6) << "point " << i;

@@ -104,7 +104,7 @@ struct FarPart {
 inline FarPart farPart(const cws::Simulation& sim, double from_x) {
   FarPart f;
   for (int i = 0; i < sim.model().constants().n; ++i) {
-    const cws::PointReport r = sim.model().point(i);
+    const cws::PointReport r = cws::wirePoint(sim.model(), i);
     if (r.p_world.x() < from_x) continue;
     f.v += sim.model().committed().v_world(2, i);
     f.z += r.p_world.z();

@@ -442,21 +442,6 @@ EnergyReport WireModel::energy(const Eigen::VectorXd& y) const {
 
 double WireModel::axialForce(int j) const { return stretching_->axialForce(committed_, j); }
 
-PointReport WireModel::point(int w) const {
-  if (w >= c_.retired) return livePoint(w - c_.retired);
-  const RetiredPoint& q = retired_[w];
-  PointReport r;
-  static_cast<PointFigures&>(r) = q;
-  r.p_world = core_->pointWorld(committed_time_, q.p_core);
-  return r;
-}
-
-Eigen::Vector3d WireModel::pointCore(int w) const {
-  if (w < c_.retired) return retired_[w].p_core;
-  placeCarriedWire();
-  return core_->pointCore(committed_time_, committed_.p_world.col(w - c_.retired));
-}
-
 PointReport WireModel::livePoint(int i) const {
   placeCarriedWire();
   PointReport r;

@@ -1,7 +1,7 @@
 // The wound wire of WireModel: wire the core carries rigidly
 // (solver.carry_stuck_wire) taken on and released as CarriedWire decides,
-// its deferred placement for the Newton-step methods, and the stand-off and
-// bulging reports of the wound wire.
+// its deferred placement for the Newton-step methods, and a live point's
+// stand-off (the whole wire's reports: run/wire_report.cpp).
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -85,10 +85,6 @@ void WireModel::placeCarriedWire(Eigen::VectorXd& y) const {
   carried_state_placed_ = true;
 }
 
-double WireModel::standOff(int w) const {
-  return w < c_.retired ? retired_[w].stand_off_m : liveStandOff(w - c_.retired);
-}
-
 double WireModel::liveStandOff(int i) const {
   // A carried point's stand-off is fixed while the core carries it: found
   // once (CoreSection::signedDistance is a search over directions), not at
@@ -100,48 +96,6 @@ double WireModel::liveStandOff(int i) const {
   placeCarriedWire();
   const Eigen::Vector3d p_core = core_->pointCore(committed_time_, committed_.p_world.col(i));
   return section_->signedDistance(p_core.head<2>()) - c_.radius;
-}
-
-int WireModel::lastInContact() const {
-  int last = -1;
-  if (!contact_) return last;
-  for (int i = 1; i < c_.n; ++i) {
-    if (contact_->inContact(i)) last = i;
-  }
-  if (last >= 0) return c_.retired + last;
-  for (int w = c_.retired - 1; w >= 1; --w) {
-    if (retired_[w].in_contact) return w;
-  }
-  return -1;
-}
-
-BulgeReport WireModel::bulging() const {
-  placeCarriedWire();
-  BulgeReport b;
-  if (!contact_ || !section_) return b;
-  const int last_contact = lastInContact();
-  if (last_contact < 0) return b;
-  b.valid = true;
-  b.wound_points = last_contact + 1;
-  b.height_m = 0.0;
-  // Retired wire: its largest stand-off was found as it retired.
-  int w = 0;
-  if (c_.retired > 0 && last_contact >= c_.retired) {
-    b.height_m = retired_.max_stand_off_m;
-    b.index = retired_.max_stand_off_point;
-    w = c_.retired;
-  }
-  for (; w <= last_contact; ++w) {
-    const double h = standOff(w);
-    if (h > b.height_m || b.index < 0) {
-      b.height_m = std::max(0.0, h);
-      b.index = w;
-    }
-  }
-  b.build_up_m = b.height_m;
-  b.arc_length_m = b.index * c_.segment_length;
-  b.p_core = pointCore(b.index);
-  return b;
 }
 
 }  // namespace cws

@@ -5,7 +5,7 @@
 
 #include "coil_winding_sim/core/external_forces/contact.hpp"
 #include "coil_winding_sim/core/machine/traverse_profile.hpp"
-#include "coil_winding_sim/core/model/wire_model.hpp"
+#include "coil_winding_sim/core/run/wire_report.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {
@@ -53,7 +53,7 @@ std::vector<int> layersOf(const WireModel& m, const std::vector<Eigen::Vector3d>
 CoilReport reportCoil(const WireModel& m, const Scene& s) {
   CoilReport r;
   if (!m.contact() || !m.core() || s.core.cylinders.empty()) return r;
-  const int last = m.lastInContact();
+  const int last = lastInContact(m);
   if (last < 1) return r;
   r.valid = true;
   const double d = s.wire.diameter, rise = 0.5 * std::sqrt(3.0) * d;
@@ -66,8 +66,8 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
   r.point_turn.assign(last + 1, 1);
   double unwrapped = 0.0, previous = 0.0;
   for (int i = 0; i <= last; ++i) {
-    const Eigen::Vector3d p = p_core[i] = m.pointCore(i);
-    stand_off[i] = m.standOff(i);
+    const Eigen::Vector3d p = p_core[i] = wirePointCore(m, i);
+    stand_off[i] = standOff(m, i);
     axial[i] = p.z() - axial0;
     const double a = std::atan2(p.y(), p.x());
     if (i > 0) unwrapped += std::remainder(a - previous, kTwoPi);
@@ -154,7 +154,7 @@ CoilReport reportCoil(const WireModel& m, const Scene& s) {
 }
 
 BulgeReport headlineBulging(const WireModel& m, const Scene& s, const CoilReport* coil) {
-  BulgeReport b = m.bulging();
+  BulgeReport b = bulging(m);
   if (!b.valid || !s.physics.wire_contact) return b;
   CoilReport own;
   if (!coil) {
@@ -171,7 +171,7 @@ BulgeReport headlineBulging(const WireModel& m, const Scene& s, const CoilReport
   b.height_m = coil->bulging_m;
   b.index = coil->bulging_index;
   b.arc_length_m = b.index * m.constants().segment_length;
-  b.p_core = m.pointCore(b.index);
+  b.p_core = wirePointCore(m, b.index);
   return b;
 }
 

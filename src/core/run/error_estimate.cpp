@@ -24,13 +24,13 @@ bool newtonSteps(const Scene& scene) {
 // Point i at the end of a run, in the core frame where there is a core.
 Eigen::Vector3d pointOf(const Simulation& sim, int i) {
   const WireModel& m = sim.model();
-  return m.core() ? m.pointCore(i) : m.point(i).p_world;
+  return m.core() ? wirePointCore(m, i) : wirePoint(m, i).p_world;
 }
 
 // How many points the wound curve of a run holds: to its last point on the core
 // (the whole wire where nothing is wound).
 int woundCount(const Simulation& sim) {
-  const BulgeReport b = sim.model().bulging();
+  const BulgeReport b = bulging(sim.model());
   const int n = sim.model().wirePoints();
   return b.valid && b.wound_points >= 2 ? std::min(b.wound_points, n) : n;
 }

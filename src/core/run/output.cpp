@@ -238,7 +238,7 @@ void writeWireCsv(const Simulation& sim, std::ostream& out) {
   // Turn and layer of the wound wire (0 beyond it, or without a coil).
   const CoilReport coil = reportCoil(sim.model(), sim.scene());
   for (int i = 0; i < sim.model().wirePoints(); ++i) {
-    const PointReport r = sim.model().point(i);
+    const PointReport r = wirePoint(sim.model(), i);
     const bool wound = i < static_cast<int>(coil.point_turn.size());
     out << i << ',' << r.p_world.x() << ',' << r.p_world.y() << ',' << r.p_world.z() << ','
         << r.axial_force_N << ',' << r.curvature_1pm << ',' << r.plastic_curvature_1pm << ','
@@ -251,9 +251,9 @@ void writeShapeCsv(const Simulation& sim, std::ostream& out) {
   const WireModel& m = sim.model();
   out << "index,x_core,y_core,z_core,stand_off_m,in_contact,stick\n" << std::setprecision(12);
   for (int i = 0; i < m.wirePoints(); ++i) {
-    const Eigen::Vector3d p = m.pointCore(i);
-    const PointReport r = m.point(i);
-    out << i << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << m.standOff(i) << ','
+    const Eigen::Vector3d p = wirePointCore(m, i);
+    const PointReport r = wirePoint(m, i);
+    out << i << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << standOff(m, i) << ','
         << int(r.in_contact) << ',' << int(r.stick) << '\n';
   }
 }

@@ -53,22 +53,6 @@ struct PointReport : PointFigures {
   Eigen::Vector3d p_world;
 };
 
-// Bulging (wire lifting off the core): the stand-off of the wound wire's
-// centreline from the core's winding surface, the convex hull of the
-// cylinders widened by the wire radius, measured in the core's cross-section.
-// The wound part runs from the fixed end to the last point touching the core.
-struct BulgeReport {
-  bool valid = false;         // false: no core or nothing wound
-  double height_m = 0.0;      // largest stand-off (0 when the wire lies on the core)
-  double build_up_m = 0.0;    // largest stand-off from the core (headlineBulging) [m]
-  int index = -1;             // the point where it occurs
-  double arc_length_m = 0.0;  // its natural arc length from the fixed end
-  Eigen::Vector3d p_core = Eigen::Vector3d::Zero();  // its position, core frame [m]
-  int wound_points = 0;                              // points of the wound part
-};
-// (WireModel::bulging is the stand-off alone; reports use
-// headlineBulging, coil_report.hpp.)
-
 // Everything a model needs besides its scene to continue a run exactly.
 struct ModelState {
   int points = 0;                 // n
@@ -165,15 +149,15 @@ class WireModel : public OdeSystem, public NewtonModelView {
 
   // The whole wire, from its fixed end: the points retired from the live
   // arrays (retireBuriedWire), then the live points 0..n-1, so that live
-  // point i is whole-wire point retiredPoints() + i. The reports below take
-  // whole-wire indices w.
+  // point i is whole-wire point retiredPoints() + i (its reports:
+  // run/wire_report.hpp). contactSurface takes whole-wire indices w.
   int wirePoints() const { return c_.retired + c_.n; }
   int retiredPoints() const { return c_.retired; }
   const RetiredWire& retiredWire() const { return retired_; }
-  PointReport point(int w) const;
-  // Point w's position in the core frame at the last accepted step [m]
-  // (needs a core).
-  Eigen::Vector3d pointCore(int w) const;
+  // Live point i's figures and its stand-off from the winding surface [m]
+  // (needs a core) at the last accepted step, as a retirement records them.
+  PointReport livePoint(int i) const;
+  double liveStandOff(int i) const;
   // The surface point w touched in contact slot s at the last accepted step
   // (Contact::surface; retired wire: when it retired); -1: none.
   int contactSurface(int w, int s) const {
@@ -222,11 +206,8 @@ class WireModel : public OdeSystem, public NewtonModelView {
   double committedTime() const { return committed_time_; }
   // Natural length of wire drawn in through the port since the start [m].
   double fedLength() const;
-  // Bulging of the wound wire at the last accepted step (needs contact).
-  BulgeReport bulging() const;
-  // Stand-off of whole-wire point w from the winding surface [m] (needs a
-  // core).
-  double standOff(int w) const;
+  // The core's cross-section (null: a core without cylinders, or none).
+  const CoreSection* section() const { return section_.get(); }
   // Points 1..carriedPoints() move rigidly with the core and are not
   // integrated (solver.carry_stuck_wire); 0 otherwise.
   int carriedPoints() const { return c_.first - 1; }
@@ -234,7 +215,7 @@ class WireModel : public OdeSystem, public NewtonModelView {
   // points and the boundary point first-1, as the Newton-step ones do): an
   // accepted step then places only the boundary point. The other carried
   // points are placed in committed() when the whole wire is next read
-  // (committed(), bulging(), standOff(), point()), and in a state vector by
+  // (committed(), livePoint(), liveStandOff()), and in a state vector by
   // placeCarriedWire(y), which energy(y) and saveState(y) require first
   // (Simulation::state() and Simulation::energy() call it). This keeps a
   // step's cost independent of the wound wire's length.
@@ -258,9 +239,6 @@ class WireModel : public OdeSystem, public NewtonModelView {
   long pointsRetired() const override { return c_.retired; }
 
  private:
-  // Live point i's stand-off [m].
-  double liveStandOff(int i) const;
-  PointReport livePoint(int i) const;
   // How many points may retire now: the carried wire more than keepTurns()
   // turns about the core axis behind the first integrated point (0: none).
   int retirablePoints() const;

@@ -12,6 +12,7 @@
 #include "coil_winding_sim/core/run/input_log.hpp"
 #include "coil_winding_sim/core/run/pace_profile.hpp"
 #include "coil_winding_sim/core/run/setpoint.hpp"
+#include "coil_winding_sim/core/run/wire_report.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 #include "coil_winding_sim/core/time_steppers/time_stepper.hpp"
 
