@@ -46,11 +46,14 @@ visualization_msgs::MarkerArray toOverlayMarkers(const cws::Simulation& sim, con
   lines.push_back(o.state);
   lines.push_back("t = " + format("%.4f", sim.time()) + " s, " + format("%.3f", sim.coreTurns()) +
                   " turns");
-  lines.push_back("real-time factor " + format("%.3g", o.pace.real_time_factor) + " (target " +
-                  (o.pace.target_real_time_factor > 0.0
-                       ? format("%.3g", o.pace.target_real_time_factor)
-                       : std::string("as fast as possible")) +
-                  (o.pace.keeping_pace ? ", on pace)" : ", BEHIND)"));
+  // (A cell that does not wind has no pace to show: its factor is 0.)
+  const std::string target = o.pace.target_real_time_factor > 0.0
+                                 ? format("%.3g", o.pace.target_real_time_factor)
+                                 : std::string("as fast as possible");
+  lines.push_back(o.winding ? "real-time factor " + format("%.3g", o.pace.real_time_factor) +
+                                  " (target " + target +
+                                  (o.pace.keeping_pace ? ", on pace)" : ", BEHIND)")
+                            : "real-time factor - (not winding; target " + target + ")");
   lines.push_back(m.supply() ? "tension " + format("%.4g", o.tension_setpoint_N) + " N set, " +
                                    format("%.4g", m.portAxialForce()) + " N at the port"
                              : std::string("no supply"));

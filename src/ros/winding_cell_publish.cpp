@@ -137,6 +137,7 @@ void WindingCell::publishMarkers() {
   overlay.pace.real_time_factor = realTimeFactor();
   overlay.pace.target_real_time_factor = pace_.target();
   overlay.pace.keeping_pace = keeping_pace_ || paused_ || finished();
+  overlay.winding = !(paused_ || failed_ || holding());
   overlay.tension_setpoint_N = tension_setpoint_;
   overlay.force_max_N = force_max_N_;
   overlay.profile_magnification = o_.profile_magnification;

@@ -81,6 +81,7 @@ visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros:
 struct Overlay {
   std::string state;                   // the cell's state in words
   Pace pace;                           // real-time factor, target, keeping pace
+  bool winding = true;                 // false: paused, held or stopped (no pace)
   double tension_setpoint_N = 0.0;     // [N]
   double force_min_N = 0.0;            // the wire's colour range [N]
   double force_max_N = 1.0;            // [N]
