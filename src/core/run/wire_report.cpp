@@ -47,7 +47,6 @@ int lastInContact(const WireModel& m) {
 BulgeReport bulging(const WireModel& m) {
   BulgeReport b;
   if (!m.contact() || !m.section()) return b;
-  m.committed();  // (places deferred carried wire)
   const int last_contact = lastInContact(m);
   if (last_contact < 0) return b;
   b.valid = true;
