@@ -13,10 +13,11 @@
 // --tool=callgrind bench_block_lu.
 //
 // pairCouplings: the 3-D system of 234 free points (robustness case 2's
-// span when wound wire was released onto free wire, issue 57) with 0, 40
-// or 88 pairs of touching free segments, each a point against the segment
-// about one turn (60 points) before it: the band's factorization, the
-// pairs' (PairCouplingSolve) and one Newton direction.
+// span when wound wire was released onto free wire, issue 57) with 0, 40,
+// 88, 160 or 256 pairs of touching free segments (case 2's slowest
+// stretches reached 128-256), each a point against the segment about one
+// turn (60 points) before it: the band's factorization, the pairs'
+// (PairCouplingSolve) and one Newton direction.
 #include <benchmark/benchmark.h>
 
 #include <random>
@@ -94,7 +95,13 @@ void pairCouplings(benchmark::State& st) {
 
 }  // namespace
 
-BENCHMARK(pairCouplings)->Arg(0)->Arg(40)->Arg(88)->Unit(benchmark::kMicrosecond);
+BENCHMARK(pairCouplings)
+    ->Arg(0)
+    ->Arg(40)
+    ->Arg(88)
+    ->Arg(160)
+    ->Arg(256)
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK_TEMPLATE(fillAndSolve, 10, 7)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(fillAndSolve, 8, 6)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(fillAndSolve, 7, 7)->Arg(0)->Arg(1);

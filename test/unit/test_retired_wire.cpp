@@ -35,7 +35,7 @@ cws::Scene planarCoil(int points) {
 }
 
 // Every point of two runs of one coil: the same position in the core frame
-// and stand-off (bit for bit), the same contact flags, the figures of the
+// and stand-off (bit for bit, the clamp's to rounding), the same contact flags, the figures of the
 // retired points as they were (the strains and curvatures to rounding:
 // carried wire is placed anew in the world at each report).
 void expectSameWire(const cws::WireModel& kept, const cws::WireModel& retired) {
@@ -43,7 +43,14 @@ void expectSameWire(const cws::WireModel& kept, const cws::WireModel& retired) {
   ASSERT_EQ(kept.retiredPoints(), 0);
   for (int w = 0; w < kept.wirePoints(); ++w) {
     ASSERT_EQ(cws::wirePointCore(kept, w), cws::wirePointCore(retired, w)) << "point " << w;
-    ASSERT_EQ(cws::standOff(kept, w), cws::standOff(retired, w)) << "point " << w;
+    // (The clamp, point 0, is placed through the core's pose at the end in
+    // the run that keeps it, and was stored at its retirement in the other:
+    // the same to rounding.)
+    if (w == 0) {
+      ASSERT_NEAR(cws::standOff(kept, w), cws::standOff(retired, w), 1e-15);
+    } else {
+      ASSERT_EQ(cws::standOff(kept, w), cws::standOff(retired, w)) << "point " << w;
+    }
     const cws::PointReport a = cws::wirePoint(kept, w), b = cws::wirePoint(retired, w);
     EXPECT_NEAR(a.p_world.x(), b.p_world.x(), 1e-15) << "point " << w;
     EXPECT_NEAR(a.p_world.y(), b.p_world.y(), 1e-15) << "point " << w;

@@ -156,6 +156,69 @@ TEST(Flanges, AFrozenFlangeEndsWhereTheFlangeEnds) {
   EXPECT_EQ(force().norm(), 0.0);
 }
 
+// A point that a Newton solve's recheck finds on a surface, then off it,
+// then on it again (grazing a flange: on, its spring pushes the point out;
+// off, nothing holds it) keeps the surface for the rest of the step with
+// the penalty law clipped, k h where it touches and nothing where it does
+// not: a loss is then no change, so the solve ends instead of turning the
+// flag at every round down to steps of 1e-8 s (issue 57). A new step
+// counts afresh, and the commit takes what the geometry finds.
+TEST(Flanges, AGrazingPointKeepsItsSurfaceClippedAfterTwoChangesInAStep) {
+  const cws::Scene s = flangeScene(4e-3);
+  const cws::RotatingCore core(s.core, 0.0);
+  Bench b(s, 6, 1);
+  cws::Contact contact(b.c, s, core);
+  const Eigen::Vector3d axis = s.core.axis_world.normalized();
+  const double r = b.c.radius, h1 = 1e-5;
+  const double at0 = firstFlangeAt(s), swept = sweptRadius(s);
+  // Point 1 `depth` [m] into the first flange, 1 mm inside its reach.
+  auto place = [&](double depth) {
+    Eigen::Vector3d p = s.core.position_world + (swept + 1e-3) * Eigen::Vector3d::UnitX();
+    return Eigen::Vector3d(p + (at0 + r - depth - p.dot(axis)) * axis);
+  };
+  cws::SpatialState st;
+  st.first = 1;
+  st.n = 6;
+  st.alpha = 1e4;
+  st.p.setZero(3, 6);
+  for (int i = 2; i < 6; ++i) st.p.col(i) = Eigen::Vector3d(0.0, -50e-3, i * 1e-3);
+  st.v.setZero(3, 6);
+  st.q.setZero(4, 6);
+  st.qd.setZero(4, 6);
+  st.mu.setZero(3, 6);
+  st.p.col(1) = place(-h1);  // the step starts off the flange
+  contact.beginStep(cws::NewtonView(st));
+  st.p.col(1) = place(h1);
+  EXPECT_TRUE(contact.recheck(cws::NewtonView(st)));  // found
+  st.p.col(1) = place(-h1);
+  EXPECT_TRUE(contact.recheck(cws::NewtonView(st)));  // lost
+  st.p.col(1) = place(h1);
+  EXPECT_TRUE(contact.recheck(cws::NewtonView(st)));  // found again: clipped from now on
+  st.p.col(1) = place(-h1);
+  EXPECT_FALSE(contact.recheck(cws::NewtonView(st)));  // lost: no change
+  // The clipped law: k h1 into the flange, nothing off it.
+  cws::SpatialAssembly a;
+  a.resize(6);
+  auto force = [&] {
+    a.begin(st.first, st.n, false, false, st.alpha);
+    cws::SpatialSink sink(st, a);
+    contact.addForces(sink);
+    return Eigen::Vector3d(a.forces().segment<3>(a.pRow(1)));
+  };
+  EXPECT_EQ(force().norm(), 0.0);
+  st.p.col(1) = place(h1);
+  EXPECT_LT((force() - s.contact.stiffness * h1 * axis).norm(), 1e-9 * s.contact.stiffness * h1);
+  // The step's end as the geometry finds it: off the flange.
+  st.p.col(1) = place(-h1);
+  for (int i = 1; i < 6; ++i) b.k.p_world.col(i) = st.p.col(i);
+  contact.commit({0.0, b.k, false});
+  EXPECT_LT(contact.surface(1, 1), 0);
+  // The next step rechecks afresh: a change is reported again.
+  contact.beginStep(cws::NewtonView(st));
+  st.p.col(1) = place(h1);
+  EXPECT_TRUE(contact.recheck(cws::NewtonView(st)));
+}
+
 // A point in the corner of a cylinder and a flange feels both: the sum of
 // the two penalty forces, each along its own normal.
 TEST(Flanges, ACornerPointFeelsTheCoreAndTheFlange) {

@@ -34,6 +34,7 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
   trial_stuck_.assign(slots, 0);
   trial_sign_.assign(slots, 1);
   trial_releases_.assign(slots, 0);
+  trial_switches_.assign(slots, 0);
   const std::size_t span_slots =
       static_cast<std::size_t>(std::min(c_.capacity, kReservedSpan)) * slots_;
   trial_anchor_core_.assign(span_slots, Eigen::Vector3d::Zero());
@@ -247,6 +248,7 @@ void Contact::retireFront(int k) {
   dropFront(trial_stuck_, drop, used, char{0});
   dropFront(trial_sign_, drop, used, static_cast<signed char>(1));
   dropFront(trial_releases_, drop, used, static_cast<signed char>(0));
+  dropFront(trial_switches_, drop, used, static_cast<signed char>(0));
   if (deepest_in_wire_.point >= 0) {
     deepest_in_wire_.point -= k;
     deepest_in_wire_.segment = std::max(0, deepest_in_wire_.segment - k);

@@ -31,6 +31,9 @@ void Contact::addSpatial(const SpatialState& s, SpatialAssembly& a) const {
     double h;
     Eigen::Matrix3d dn;
     if (!geometry_.spatialSurface(i, surface, p, nrm, h, jacobian ? &dn : nullptr)) continue;
+    // A slot that turned at every recheck: the law clipped, as explicit
+    // steps take it (recheckSpatial).
+    if (h <= 0.0 && trial_switches_[x] >= kMaxSwitches) continue;
     // The core's velocity as the scheme gives it (one_leg_step.hpp), and
     // the relative velocity r = v - u with its normal part.
     const Eigen::Vector3d u = s.carried.velocity(p);
@@ -151,6 +154,7 @@ void Contact::beginSpatial(const SpatialState& s0) {
   const int base = s0.first * slots_;  // the span-indexed arrays' first slot
   for (int x = s0.first * slots_; x < s0.n * slots_; ++x) {
     trial_surface_[x] = surface_[x];
+    trial_switches_[x] = 0;
     if (!friction_) continue;
     trial_stuck_[x] = stuck_[x];
     trial_anchor_core_[x - base] = anchor_core_[x];
@@ -193,6 +197,16 @@ bool Contact::recheckSpatial(const SpatialState& s) {
       // Another segment of the same run of carried wire is the same
       // surface (the solve already took the nearest of its neighbours).
       const bool fresh = !geometry_.sameSurface(surface, trial_surface_[x]);
+      // A surface found and lost again within the step (a point grazing
+      // it: on, its spring pushes the point out; off, nothing holds it) turns
+      // at every recheck, down to steps of 1e-8 s. After kMaxSwitches
+      // changes the slot keeps its surface with the law clipped (no force
+      // where the point is off it, addSpatial), which is the penalty law
+      // itself: a loss is no change, a surface found is taken. The commit
+      // takes the surfaces the geometry finds at the step's end
+      // (docs/history/2026-12-06-contact-that-turns-at-every-recheck.md).
+      if (fresh && trial_switches_[x] >= kMaxSwitches && surface < 0) continue;
+      if (fresh && trial_switches_[x] < kMaxSwitches) ++trial_switches_[x];
       trial_surface_[x] = surface;
       if (fresh) {
         trial_stuck_[x] = 0;

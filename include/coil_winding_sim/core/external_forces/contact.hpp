@@ -270,6 +270,11 @@ class Contact : public ForceEffect, public EffectHistory {
   }
   // How often a slot's stick broke within the present step.
   std::vector<signed char> trial_releases_;
+  // 3-D: how often a slot's surface changed within the present step; from
+  // kMaxSwitches on, the slot's law is clipped and a loss is no change
+  // (recheckSpatial).
+  std::vector<signed char> trial_switches_;
+  static constexpr int kMaxSwitches = 2;
   // 3-D: the surfaces the last recheck found per slot, at time t for points
   // first..n-1 (valid until the step's commit reads them, a new step or a
   // restore): an accepted step's end state is its last recheck's. Per slot

@@ -17,7 +17,9 @@
 // mapping from the committed yield points at every evaluation): the rounds
 // that remain settle contact and stick/slip only, where the frozen lines of
 // the bending laws (their elastic band is narrow) could take turns with
-// them without end.
+// them without end. A factorization that costs many solves (many pairs of
+// free segments, spatial_formulation.hpp) serves while its steps shrink by
+// a fifth, and into the next flag round.
 #pragma once
 
 #include <cmath>
@@ -73,9 +75,18 @@ struct NewtonSettings {
 //                                   factorization for the next directions
 //                                   (secant_steps.hpp); false: no room left
 //   bool recheckFlags()             true: a flag changed
+//   bool costlyFactor()             the present factorization cost many
+//                                   solves: it serves longer
 //   void returnMapping(bool on)     the laws' lines return-mapped (on) or
 //                                   frozen (off)
 // have_factor: the system's matrix holds a usable factorization (in, out).
+
+// How much an old factorization's steps must shrink from one iteration to
+// the next where a factorization costs many solves (Problem::costlyFactor:
+// the many pairs of free segments of wound wire released onto free wire,
+// whose solve grows as their number cubed, pair_coupling_solve.hpp).
+constexpr double kCostlyContraction = 0.8;
+
 template <class Problem>
 NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) {
   NewtonStats st;
@@ -110,8 +121,11 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
         ++st.factorizations;
       }
       const double step = p.direction();
-      // An old factorization that does not contract: refactor here.
-      if (!fresh && !(step < 0.5 * previous)) {
+      // An old factorization that does not contract: refactor here. One
+      // that costs many solves (costlyFactor) serves while the steps shrink
+      // by a fifth.
+      const double contraction = p.costlyFactor() ? kCostlyContraction : 0.5;
+      if (!fresh && !(step < contraction * previous)) {
         have_factor = false;
         continue;
       }
@@ -177,7 +191,9 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
     // hysteresis line's slope): the next round starts from a new Jacobian,
     // as the old one's steps would mostly be cut by the line search. Only
     // the blocks up to the highest changed point are factored again (they
-    // lie near the core, where the elimination ends).
+    // lie near the core, where the elimination ends). A costly
+    // factorization is kept into the round, until its steps stop shrinking.
+    if (p.costlyFactor()) continue;
     have_factor = false;
     top = p.changedTop();
   }

@@ -87,6 +87,7 @@ class PlanarFormulation : public NewtonFormulation {
   // (No secant updates in the plane.)
   void forgetSteps() {}
   bool keepStep() { return true; }
+  bool costlyFactor() const { return false; }
   bool recheckFlags();
   int changedTop() const;
   void returnMapping(bool on) { state_.return_mapping = on; }

@@ -78,6 +78,10 @@ class SpatialFormulation : public NewtonFormulation {
   bool recheckFlags();
   int changedTop() const;
   void returnMapping(bool on) { state_.return_mapping = on; }
+  // From kCostlyPairs pairs of free segments, a factorization costs about
+  // ten solves and more (bench_block_lu's pairCouplings).
+  static constexpr int kCostlyPairs = 32;
+  bool costlyFactor() const { return couplings_.pairs() >= kCostlyPairs; }
 
   NewtonModelView& model_;
   std::vector<ForceEffect*> effects_;
