@@ -78,8 +78,9 @@ class SpatialFormulation : public NewtonFormulation {
   bool recheckFlags();
   int changedTop() const;
   void returnMapping(bool on) { state_.return_mapping = on; }
-  // From kCostlyPairs pairs of free segments, a factorization costs about
-  // ten solves and more (bench_block_lu's pairCouplings).
+  // From kCostlyPairs pairs of free segments outside the band, a
+  // factorization costs from a few times the band's alone (40 pairs: 3.5
+  // times) to a hundred (256 pairs; bench_block_lu's pairCouplings).
   static constexpr int kCostlyPairs = 32;
   bool costlyFactor() const { return couplings_.pairs() >= kCostlyPairs; }
 
