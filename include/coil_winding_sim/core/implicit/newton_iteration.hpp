@@ -56,6 +56,12 @@ struct NewtonSettings {
   }
 };
 
+// How much an old factorization's steps must shrink from one iteration to
+// the next where a factorization costs many solves (Problem::costlyFactor:
+// the many pairs of free segments of wound wire released onto free wire,
+// whose solve grows as their number cubed, pair_coupling_solve.hpp).
+constexpr double kCostlyContraction = 0.8;
+
 // Problem: the formulation's trial state and Newton system, with
 //   double residual(bool jacobian, int top)
 //                                   assembles; the residual's norm. top >= 0 (a
@@ -80,13 +86,6 @@ struct NewtonSettings {
 //   void returnMapping(bool on)     the laws' lines return-mapped (on) or
 //                                   frozen (off)
 // have_factor: the system's matrix holds a usable factorization (in, out).
-
-// How much an old factorization's steps must shrink from one iteration to
-// the next where a factorization costs many solves (Problem::costlyFactor:
-// the many pairs of free segments of wound wire released onto free wire,
-// whose solve grows as their number cubed, pair_coupling_solve.hpp).
-constexpr double kCostlyContraction = 0.8;
-
 template <class Problem>
 NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) {
   NewtonStats st;
