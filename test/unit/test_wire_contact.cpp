@@ -68,6 +68,32 @@ double sweptRadius(const cws::Scene& s) {
   return swept;
 }
 
+// A Newton solve's state of six points: point 1 at p1_world, points 2..5
+// far from everything (point 0 is the prescribed one).
+cws::SpatialState solveState(const Eigen::Vector3d& p1_world) {
+  cws::SpatialState st;
+  st.first = 1;
+  st.n = 6;
+  st.alpha = 1e4;
+  st.p.setZero(3, 6);
+  for (int i = 2; i < 6; ++i) st.p.col(i) = Eigen::Vector3d(0.0, -50e-3, i * 1e-3);
+  st.p.col(1) = p1_world;
+  st.v.setZero(3, 6);
+  st.q.setZero(4, 6);
+  st.qd.setZero(4, 6);
+  st.mu.setZero(3, 6);
+  return st;
+}
+
+// The force [N] contact puts on point 1 with the flags the solve froze.
+Eigen::Vector3d frozenForce(const cws::Contact& contact, const cws::SpatialState& st,
+                            cws::SpatialAssembly& a) {
+  a.begin(st.first, st.n, false, false, st.alpha);
+  cws::SpatialSink sink(st, a);
+  contact.addForces(sink);
+  return a.forces().segment<3>(a.pRow(1));
+}
+
 }  // namespace
 
 // The flanges: k h along the normal into the winding, where h = r - the
@@ -129,27 +155,12 @@ TEST(Flanges, AFrozenFlangeEndsWhereTheFlangeEnds) {
     Eigen::Vector3d p = s.core.position_world + radial * x;
     return Eigen::Vector3d(p + (at0 + r - h1 - p.dot(axis)) * axis);
   };
-  cws::SpatialState st;
-  st.first = 1;
-  st.n = 6;
-  st.alpha = 1e4;
-  st.p.setZero(3, 6);
-  for (int i = 2; i < 6; ++i) st.p.col(i) = Eigen::Vector3d(0.0, -50e-3, i * 1e-3);
-  st.p.col(1) = place(swept + s.core.flange_height - 1e-3);
-  st.v.setZero(3, 6);
-  st.q.setZero(4, 6);
-  st.qd.setZero(4, 6);
-  st.mu.setZero(3, 6);
+  cws::SpatialState st = solveState(place(swept + s.core.flange_height - 1e-3));
   contact.beginStep(cws::NewtonView(st));
   ASSERT_TRUE(contact.recheck(cws::NewtonView(st)));  // the flange is found
   cws::SpatialAssembly a;
   a.resize(6);
-  auto force = [&] {
-    a.begin(st.first, st.n, false, false, st.alpha);
-    cws::SpatialSink sink(st, a);
-    contact.addForces(sink);
-    return Eigen::Vector3d(a.forces().segment<3>(a.pRow(1)));
-  };
+  auto force = [&] { return frozenForce(contact, st, a); };
   EXPECT_LT((force() - k * h1 * axis).norm(), 1e-9 * k * h1);
   // The same depth 1 mm beyond the flange's reach, the flag still frozen.
   st.p.col(1) = place(swept + s.core.flange_height + 1e-3);
@@ -176,17 +187,7 @@ TEST(Flanges, AGrazingPointKeepsItsSurfaceClippedAfterTwoChangesInAStep) {
     Eigen::Vector3d p = s.core.position_world + (swept + 1e-3) * Eigen::Vector3d::UnitX();
     return Eigen::Vector3d(p + (at0 + r - depth - p.dot(axis)) * axis);
   };
-  cws::SpatialState st;
-  st.first = 1;
-  st.n = 6;
-  st.alpha = 1e4;
-  st.p.setZero(3, 6);
-  for (int i = 2; i < 6; ++i) st.p.col(i) = Eigen::Vector3d(0.0, -50e-3, i * 1e-3);
-  st.v.setZero(3, 6);
-  st.q.setZero(4, 6);
-  st.qd.setZero(4, 6);
-  st.mu.setZero(3, 6);
-  st.p.col(1) = place(-h1);  // the step starts off the flange
+  cws::SpatialState st = solveState(place(-h1));  // the step starts off the flange
   contact.beginStep(cws::NewtonView(st));
   st.p.col(1) = place(h1);
   EXPECT_TRUE(contact.recheck(cws::NewtonView(st)));  // found
@@ -199,12 +200,7 @@ TEST(Flanges, AGrazingPointKeepsItsSurfaceClippedAfterTwoChangesInAStep) {
   // The clipped law: k h1 into the flange, nothing off it.
   cws::SpatialAssembly a;
   a.resize(6);
-  auto force = [&] {
-    a.begin(st.first, st.n, false, false, st.alpha);
-    cws::SpatialSink sink(st, a);
-    contact.addForces(sink);
-    return Eigen::Vector3d(a.forces().segment<3>(a.pRow(1)));
-  };
+  auto force = [&] { return frozenForce(contact, st, a); };
   EXPECT_EQ(force().norm(), 0.0);
   st.p.col(1) = place(h1);
   EXPECT_LT((force() - s.contact.stiffness * h1 * axis).norm(), 1e-9 * s.contact.stiffness * h1);
