@@ -209,9 +209,9 @@ calibrate-demo: build
 # (docs/cell.md) runs (src/tools/rviz_screenshot.sh; test_screenshots takes
 # them too).
 screenshots: build
-	source $(DEVEL_DIR)/setup.bash && src/tools/rviz_screenshot.sh docs/rviz_winding_cell.png \
+	set +u && source $(DEVEL_DIR)/setup.bash && set -u && src/tools/rviz_screenshot.sh docs/rviz_winding_cell.png \
 	  real_time_factor:=0
-	source $(DEVEL_DIR)/setup.bash && src/tools/rviz_screenshot.sh docs/rviz_coil_layers.png \
+	set +u && source $(DEVEL_DIR)/setup.bash && set -u && src/tools/rviz_screenshot.sh docs/rviz_coil_layers.png \
 	  scene:=$(ROOT)/config/scenes/two_layers.yaml \
 	  "overrides:=[process.turns=14, process.winding_width=7e-3]" real_time_factor:=0 \
 	  rviz_config:=$(ROOT)/rviz/coil.rviz

@@ -67,23 +67,32 @@ visualization_msgs::MarkerArray toOverlayMarkers(const cws::Simulation& sim, con
   if (o.profile_magnification > 0.0 && b.valid) {
     lines.push_back("yellow: wound profile, stand-off x" + format("%g", o.profile_magnification));
   }
+  // (The layers' legend in two short lines, 4 mm further from the core:
+  // as one line, centred as every line is, it ran into the coil seen from
+  // the side.)
+  const std::size_t legend = lines.size();
   if (coil) {
-    lines.push_back(
-        "layers: blue 1, orange 2, red 3, brown 4+; marks: red overlap, yellow after a gap");
+    lines.push_back("layers: blue 1, orange 2, red 3, brown 4+");
+    lines.push_back("marks: red overlap, yellow after a gap");
   }
   // Lines step down along world -y and along the core axis at once, so
   // that they stand apart both looking down the axis (winding_cell.rviz)
-  // and from the side (coil.rviz).
+  // and from the side (coil.rviz). With the legend, the block starts 5.5
+  // mm higher up the axis, so that its last line stays above the port seen
+  // from the side (looking down the axis, that brings the block closer and
+  // larger: without the legend it stays where it was).
   const Eigen::Vector3d axis = core ? core->axisWorld() : Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d top = (core ? core->originWorld() : Eigen::Vector3d::Zero()) +
-                              Eigen::Vector3d(-0.020, 0.0150, 0.0) + 0.010 * axis;
+                              Eigen::Vector3d(-0.020, 0.0150, 0.0) + (coil ? 0.0155 : 0.010) * axis;
   const Eigen::Vector3d step = Eigen::Vector3d(0.0, -0.0014, 0.0) - 0.0016 * axis;
-  lines.resize(8);  // a fixed count: no stale line stays behind
+  const Eigen::Vector3d legend_offset = Eigen::Vector3d(-0.004, 0.0, 0.0) + 0.001 * axis;
+  lines.resize(9);  // a fixed count: no stale line stays behind
   for (std::size_t k = 0; k < lines.size(); ++k) {
     visualization_msgs::Marker text =
         marker(stamp, frames.world, "cell_status", static_cast<int>(k),
                visualization_msgs::Marker::TEXT_VIEW_FACING);
-    text.pose.position = point(top + static_cast<double>(k) * step);
+    text.pose.position = point(top + static_cast<double>(k) * step +
+                               (k >= legend ? legend_offset : Eigen::Vector3d::Zero()));
     text.scale.z = 0.0009;  // text height [m]
     text.color = k == 0 ? color(1.0, 1.0, 0.6) : color(0.95, 0.95, 0.95);
     text.text = lines[k];
