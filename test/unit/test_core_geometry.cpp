@@ -1,8 +1,11 @@
 // Distances from the core's winding surface (the convex hull of its
-// cylinders) against plane geometry worked out by hand.
+// cylinders) against plane geometry worked out by hand, and core.shape's
+// bobbin as drawn made into that surface.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "coil_winding_sim/core/scene/core_geometry.hpp"
@@ -74,5 +77,98 @@ TEST(CoreSection, HullFacesAreTheFlatSidesOfTheRoundedRectangle) {
     // Both circles touch the line from the inside: distance from centre = R.
     EXPECT_NEAR((q.cylinders[0].center_core - f.from_core).dot(out), -2e-3, 1e-12);
     EXPECT_NEAR((q.cylinders[1].center_core - f.from_core).dot(out), -1e-3, 1e-12);
+  }
+}
+
+// core.shape: a bobbin as drawn, against the closed-form signed distance of
+// a rounded rectangle: with q = |p| - (w/2 - r, h/2 - r) componentwise,
+// |max(q, 0)| + min(max(q_x, q_y), 0) - r.
+namespace {
+double roundedRectangleDistance(const Eigen::Vector2d& p, double w, double h, double r) {
+  const Eigen::Vector2d q = p.cwiseAbs() - Eigen::Vector2d(0.5 * w - r, 0.5 * h - r);
+  return q.cwiseMax(0.0).norm() + std::min(std::max(q.x(), q.y()), 0.0) - r;
+}
+
+cws::Scene shapedScene(const std::string& shape) {
+  return cws::sceneFromYamlText("core: {shape: {kind: rounded_rectangle, " + shape + "}}");
+}
+}  // namespace
+
+TEST(CoreShape, ARoundedRectangleIsItsCornerCylindersAndFlatSides) {
+  const double w = 12e-3, h = 8e-3, r = 1e-3;
+  const cws::Scene s = shapedScene("width: 0.012, height: 0.008, corner_radius: 0.001");
+  ASSERT_EQ(s.core.cylinders.size(), 4u);
+  EXPECT_TRUE(s.core.hull_faces);
+  EXPECT_TRUE(s.core.faces.empty());
+  const cws::CoreSection section(s.core);
+  // Points all around, outside and inside, against the closed form.
+  for (double a = 0.05; a < 6.28; a += 0.21) {
+    for (double rho : {1e-3, 4.5e-3, 6.5e-3, 9e-3}) {
+      const Eigen::Vector2d p = rho * Eigen::Vector2d(std::cos(a), std::sin(a));
+      EXPECT_NEAR(section.signedDistance(p), roundedRectangleDistance(p, w, h, r), 1e-9)
+          << "at (" << p.x() << ", " << p.y() << ")";
+    }
+  }
+}
+
+TEST(CoreShape, ThePapersOutlineGivesItsCylindersInTheirOrder) {
+  // default.yaml's four cylinders, with the flat sides between them.
+  const cws::Scene s = shapedScene("width: 0.020, height: 0.010, corner_radius: 0.0025");
+  const std::vector<Eigen::Vector2d> paper{
+      {7.5e-3, 2.5e-3}, {-7.5e-3, 2.5e-3}, {-7.5e-3, -2.5e-3}, {7.5e-3, -2.5e-3}};
+  ASSERT_EQ(s.core.cylinders.size(), paper.size());
+  for (std::size_t i = 0; i < paper.size(); ++i) {
+    EXPECT_EQ(s.core.cylinders[i].center_core, paper[i]) << "cylinder " << i;
+    EXPECT_EQ(s.core.cylinders[i].radius, 2.5e-3);
+  }
+  EXPECT_TRUE(s.core.hull_faces);
+}
+
+TEST(CoreShape, SidesOfTwiceTheCornerRadiusMakeASlotOrARoundCore) {
+  // Both sides: a round core of radius r.
+  const cws::Scene round = shapedScene("width: 0.008, height: 0.008, corner_radius: 0.004");
+  ASSERT_EQ(round.core.cylinders.size(), 1u);
+  EXPECT_FALSE(round.core.hull_faces);
+  const cws::CoreSection disc(round.core);
+  for (double a = 0.0; a < 6.28; a += 0.5) {
+    EXPECT_NEAR(disc.signedDistance(7e-3 * Eigen::Vector2d(std::cos(a), std::sin(a))), 3e-3, 1e-9);
+  }
+  // One side: a slot, two cylinders and two flat sides.
+  const cws::Scene slot = shapedScene("width: 0.004, height: 0.010, corner_radius: 0.002");
+  ASSERT_EQ(slot.core.cylinders.size(), 2u);
+  EXPECT_TRUE(slot.core.hull_faces);
+  EXPECT_EQ(cws::coreFaces(slot.core).size(), 2u);
+  const cws::CoreSection section(slot.core);
+  for (const Eigen::Vector2d& p : {Eigen::Vector2d(5e-3, 0.0), Eigen::Vector2d(1e-3, 8e-3),
+                                   Eigen::Vector2d(-3e-3, -1e-3), Eigen::Vector2d(0.0, 0.0)}) {
+    EXPECT_NEAR(section.signedDistance(p), roundedRectangleDistance(p, 4e-3, 10e-3, 2e-3), 1e-9);
+  }
+}
+
+TEST(CoreShape, AShapeThatCannotBeMadeIsRefusedByItsKey) {
+  auto refusedKey = [](const std::string& shape) {
+    try {
+      shapedScene(shape);
+    } catch (const cws::SceneError& e) {
+      return e.key();
+    }
+    return std::string("(accepted)");
+  };
+  EXPECT_EQ(refusedKey("width: 0.012, height: 0.008, corner_radius: 0.005"),
+            "core.shape.corner_radius");
+  EXPECT_EQ(refusedKey("width: 0.0, height: 0.008, corner_radius: 0.001"), "core.shape.width");
+  EXPECT_EQ(refusedKey("width: 0.012, height: 0.008, corner_radius: 0.0"),
+            "core.shape.corner_radius");
+  EXPECT_EQ(refusedKey("width: 0.012, height: -0.008, corner_radius: 0.001"), "core.shape.height");
+  // Corners sharper than a segment is long: named by the shape's key.
+  try {
+    cws::sceneFromYamlText(
+        "physics: {contact: true}\n"
+        "core: {shape: {kind: rounded_rectangle, width: 0.012, height: 0.008, "
+        "corner_radius: 0.0005}}");
+    ADD_FAILURE() << "1 mm segments over 0.5 mm corners were accepted";
+  } catch (const cws::SceneError& e) {
+    EXPECT_EQ(e.key(), "wire.segment_length");
+    EXPECT_NE(e.why().find("core.shape.corner_radius"), std::string::npos) << e.why();
   }
 }

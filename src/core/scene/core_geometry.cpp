@@ -4,7 +4,45 @@
 #include <cmath>
 #include <limits>
 
+#include "scene_detail.hpp"
+
 namespace cws {
+
+using detail::fmt;
+
+void applyCoreShape(CoreParams& core) {
+  const CoreShapeParams& shape = core.shape;
+  if (shape.kind != "rounded_rectangle") return;
+  const double w = shape.width, h = shape.height, r = shape.corner_radius;
+  if (!(w > 0.0))
+    throw SceneError("core.shape.width", "a rounded_rectangle needs a width above 0 m");
+  if (!(h > 0.0)) {
+    throw SceneError("core.shape.height", "a rounded_rectangle needs a height above 0 m");
+  }
+  if (!(r > 0.0)) {
+    throw SceneError("core.shape.corner_radius",
+                     "a rounded_rectangle needs corners of a radius above 0 m (wire bent over a "
+                     "sharp edge has no contact normal there)");
+  }
+  if (!(2.0 * r <= std::min(w, h))) {
+    throw SceneError("core.shape.corner_radius",
+                     fmt(r) + " m is more than half the shorter side (" + fmt(std::min(w, h)) +
+                         " m); at most " + fmt(0.5 * std::min(w, h)) + " m");
+  }
+  // The corner cylinders' centres; a side of 2 r (to rounding) has one.
+  double x = 0.5 * w - r, y = 0.5 * h - r;
+  if (x < 1e-9 * r) x = 0.0;
+  if (y < 1e-9 * r) y = 0.0;
+  std::vector<Eigen::Vector2d> centers;
+  for (const Eigen::Vector2d& c : {Eigen::Vector2d(x, y), Eigen::Vector2d(-x, y),
+                                   Eigen::Vector2d(-x, -y), Eigen::Vector2d(x, -y)}) {
+    if (std::find(centers.begin(), centers.end(), c) == centers.end()) centers.push_back(c);
+  }
+  core.cylinders.clear();
+  for (const Eigen::Vector2d& c : centers) core.cylinders.push_back(CylinderParams{c, r});
+  core.faces.clear();
+  core.hull_faces = core.cylinders.size() >= 2;
+}
 
 std::vector<FaceParams> coreFaces(const CoreParams& core) {
   std::vector<FaceParams> faces = core.faces;

@@ -38,6 +38,9 @@ YAML::Node vec2(const Eigen::Vector2d& v);  // flow list [x, y]
 YAML::Node vec3(const Eigen::Vector3d& v);  // flow list [x, y, z]
 
 double readDouble(const YAML::Node& n, const std::string& key);
+std::string readString(const YAML::Node& n, const std::string& key);
+// A whole number from 0 to `most`.
+int readCount(const YAML::Node& n, const std::string& key, int most);
 Eigen::Vector2d readVec2(const YAML::Node& n, const std::string& key);
 Eigen::Vector3d readVec3(const YAML::Node& n, const std::string& key);
 
@@ -55,6 +58,9 @@ void readEntries(const YAML::Node& list, const std::string& key,
 // The scene as a YAML tree (every key, in table order) and back; fromYaml
 // reads a tree that has every key (the defaults with a user's merged over).
 YAML::Node toYaml(const Scene& s);
+// The node at a dotted key name, and the value set there.
+YAML::Node nodeAt(const YAML::Node& root, const std::string& name);
+void setAt(YAML::Node root, const std::string& name, const YAML::Node& value);
 Scene fromYaml(const YAML::Node& root);
 
 // ---------------------------------------------------------------------------

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "coil_winding_sim/core/scene/integrators.hpp"
+#include "coil_winding_sim/core/scene/wire_catalogue.hpp"
 #include "scene_detail.hpp"
 
 namespace cws {
@@ -62,6 +63,7 @@ using Wire = WireParams;
 using Law = HysteresisParams;
 using Contact = ContactParams;
 using Core = CoreParams;
+using Shape = CoreShapeParams;
 using Process = ProcessParams;
 using Solver = SolverParams;
 using Physics = PhysicsSwitches;
@@ -78,7 +80,15 @@ std::vector<SceneKey> declareKeys() {
   const KeyRange kDirection{KeyRange::kDirection, {}, 0, std::nullopt, ""};
   const KeyRange kAutoStep{KeyRange::kPositive, {}, 0, std::nullopt, "auto"};
   return {
-      key<&S::wire, &Wire::diameter>("wire.diameter", "m", kPositive, "wire diameter"),
+      key<&S::wire, &Wire::material>("wire.material", "", oneOf(wireMaterialNames()),
+                                     "paper_table_1: the paper's measured wire; else the "
+                                     "conductor whose values make the keys given as auto"),
+      key<&S::wire, &Wire::nominal_diameter>("wire.nominal_diameter", "m", kNonNegative,
+                                             "the bare conductor's (0: paper_table_1's)"),
+      key<&S::wire, &Wire::insulation_grade>("wire.insulation_grade", "", count(3),
+                                             "IEC 60317-0-1 enamel grade 1-3; 0: bare"),
+      key<&S::wire, &Wire::diameter>("wire.diameter", "m", kPositive,
+                                     "overall diameter: contact and the layers' geometry"),
       key<&S::wire, &Wire::line_density>("wire.line_density", "kg/m", kPositive,
                                          "mass per length (Table 1 prints 7.02e5, a typo)"),
       key<&S::wire, &Wire::length>("wire.length", "m", kPositive,
@@ -131,6 +141,17 @@ std::vector<SceneKey> declareKeys() {
       key<&S::core, &Core::max_angular_acceleration>("core.max_angular_acceleration", "rad/s^2",
                                                      kPositive,
                                                      "limit of the core's speed changes"),
+      key<&S::core, &Core::shape, &Shape::kind>(
+          "core.shape.kind", "", oneOf({"cylinders", "rounded_rectangle"}),
+          "cylinders: core.cylinders and core.faces; rounded_rectangle: made from the three "
+          "below"),
+      key<&S::core, &Core::shape, &Shape::width>("core.shape.width", "m", kNonNegative,
+                                                 "rounded_rectangle: along core x"),
+      key<&S::core, &Core::shape, &Shape::height>("core.shape.height", "m", kNonNegative,
+                                                  "rounded_rectangle: along core y"),
+      key<&S::core, &Core::shape, &Shape::corner_radius>(
+          "core.shape.corner_radius", "m", kNonNegative,
+          "rounded_rectangle: radius of its corners (at most half the shorter side)"),
       list("core.cylinders", "m", kCylinderList, "cylinders: {center: [x, y], radius}"),
       list("core.faces", "m", kFaceList, "flat faces: {from: [x, y], to: [x, y]}"),
       key<&S::core, &Core::hull_faces>("core.hull_faces", "", kAny,

@@ -4,13 +4,17 @@
 // sceneFromYamlText and sceneToYamlText.
 #include <yaml-cpp/eventhandler.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <iterator>
 #include <memory>
 #include <sstream>
 
+#include "coil_winding_sim/core/scene/core_geometry.hpp"
+#include "coil_winding_sim/core/scene/wire_catalogue.hpp"
 #include "scene_detail.hpp"
 
 namespace cws {
@@ -225,30 +229,121 @@ void mergeFile(YAML::Node root, const std::string& path, int depth) {
 }  // namespace
 
 // ---------------------------------------------------------------------------
-// The public entry points: defaults, then the user's keys, then validation.
-Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
-  YAML::Node root = detail::toYaml(Scene{});
-  if (!path.empty()) mergeFile(root, path, 0);
-  for (const std::string& o : overrides) applyOverride(root, o);
+// The public entry points: defaults, then the user's keys, then what other
+// keys make, then validation.
+namespace {
+// The wire's keys that wire.material and its size make where they are
+// given as `auto`.
+const char* const kMadeWireKeys[] = {
+    "wire.diameter",
+    "wire.line_density",
+    "wire.stretch.elastic_rigidity",
+    "wire.stretch.plastic_rigidity",
+    "wire.stretch.yield_strain",
+    "wire.bend.elastic_rigidity",
+    "wire.bend.plastic_rigidity",
+    "wire.bend.yield_curvature",
+    "wire.torsion.elastic_rigidity",
+    "wire.torsion.plastic_rigidity",
+    "wire.torsion.yield_twist",
+};
+
+// The built-in defaults as the tree a scene's keys merge into: the wire's
+// made keys at `auto` (paper_table_1 makes the defaults' values).
+YAML::Node defaultsTree() {
+  const Scene defaults;
+  YAML::Node root = detail::toYaml(defaults);
+  for (const char* key : kMadeWireKeys) detail::setAt(root, key, YAML::Node("auto"));
+  return root;
+}
+
+// Writes the made values into the tree where it holds `auto`; the keys it
+// made, and from what.
+std::vector<std::string> makeWireKeys(YAML::Node& root, std::string& made_from) {
+  auto isAuto = [&](const char* key) {
+    const YAML::Node n = detail::nodeAt(root, key);
+    return n.IsScalar() && n.Scalar() == "auto";
+  };
+  if (std::none_of(std::begin(kMadeWireKeys), std::end(kMadeWireKeys), isAuto)) return {};
+  const std::string material =
+      detail::readString(detail::nodeAt(root, "wire.material"), "wire.material");
+  const double nominal =
+      detail::readDouble(detail::nodeAt(root, "wire.nominal_diameter"), "wire.nominal_diameter");
+  const int grade =
+      detail::readCount(detail::nodeAt(root, "wire.insulation_grade"), "wire.insulation_grade", 3);
+  // A given overall diameter serves for the enamel's mass.
+  const double overall =
+      isAuto("wire.diameter")
+          ? 0.0
+          : detail::readDouble(detail::nodeAt(root, "wire.diameter"), "wire.diameter");
+  const MadeWire w = makeWire(material, nominal, grade, overall);
+  // In the order of kMadeWireKeys.
+  const double values[] = {w.diameter,
+                           w.line_density,
+                           w.stretch.elastic_rigidity,
+                           w.stretch.plastic_rigidity,
+                           w.stretch.yield,
+                           w.bend.elastic_rigidity,
+                           w.bend.plastic_rigidity,
+                           w.bend.yield,
+                           w.torsion.elastic_rigidity,
+                           w.torsion.plastic_rigidity,
+                           w.torsion.yield};
+  static_assert(std::size(values) == std::size(kMadeWireKeys));
+  std::vector<std::string> made;
+  for (std::size_t k = 0; k < std::size(kMadeWireKeys); ++k) {
+    if (!isAuto(kMadeWireKeys[k])) continue;
+    detail::setAt(root, kMadeWireKeys[k], detail::num(values[k]));
+    made.emplace_back(kMadeWireKeys[k]);
+  }
+  made_from = "wire.material " + material;
+  if (material != "paper_table_1") {
+    made_from += ", wire.nominal_diameter " + detail::fmt(nominal) + " m, wire.insulation_grade " +
+                 std::to_string(grade);
+  }
+  return made;
+}
+
+// The merged tree made a scene: the values made from other keys (the
+// wire's, the core's shape), its keys read, then every rule checked.
+Scene sceneOf(YAML::Node root) {
+  std::string made_from;
+  std::vector<std::string> made = makeWireKeys(root, made_from);
   Scene s = detail::fromYaml(root);
+  s.made_keys = std::move(made);
+  s.made_from = std::move(made_from);
+  applyCoreShape(s.core);
   validateScene(s);
   return s;
 }
+}  // namespace
+
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
+  YAML::Node root = defaultsTree();
+  if (!path.empty()) mergeFile(root, path, 0);
+  for (const std::string& o : overrides) applyOverride(root, o);
+  return sceneOf(root);
+}
 
 Scene sceneFromYamlText(const std::string& text) {
-  YAML::Node root = detail::toYaml(Scene{});
+  YAML::Node root = defaultsTree();
   const YAML::Node user = parseOne(text, "(text)", "the scene text");
   if (!user.IsNull()) mergeChecked(root, user, "");
-  Scene s = detail::fromYaml(root);
-  validateScene(s);
-  return s;
+  return sceneOf(root);
 }
 
 std::string sceneToYamlText(const Scene& scene) {
   YAML::Emitter out;
   out.SetDoublePrecision(10);
   out << detail::toYaml(scene);
-  return std::string(out.c_str()) + "\n";
+  std::string text = std::string(out.c_str()) + "\n";
+  // What the scene made from other keys, for the reader.
+  if (!scene.made_keys.empty()) {
+    text += "# made from " + scene.made_from +
+            " (docs/MODEL.md, \"Wire from a material and a size\"):\n";
+    for (const std::string& key : scene.made_keys) text += "#   " + key + "\n";
+  }
+  return text;
 }
 
 }  // namespace cws

@@ -207,7 +207,9 @@ void segmentsWithinRadius(const Scene& s) {
   if (!s.physics.contact) return;
   for (std::size_t i = 0; i < s.core.cylinders.size(); ++i) {
     if (s.modelSegmentLength() > s.core.cylinders[i].radius) {
-      const std::string radius = "core.cylinders[" + std::to_string(i) + "].radius";
+      const std::string radius = s.core.shape.kind == "rounded_rectangle"
+                                     ? std::string("core.shape.corner_radius")
+                                     : "core.cylinders[" + std::to_string(i) + "].radius";
       throw SceneError("wire.segment_length",
                        "segments of " + fmt(s.modelSegmentLength()) +
                            " m (from wire.segment_length and wire.length) are longer than " +

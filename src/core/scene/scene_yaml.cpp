@@ -77,11 +77,14 @@ bool readBool(const YAML::Node& n, const std::string& key) {
   }
 }
 
+}  // namespace
+
 std::string readString(const YAML::Node& n, const std::string& key) {
   if (!n.IsScalar()) throw SceneError(key, "expected a word, got " + describe(n));
   return n.Scalar();
 }
 
+namespace {
 // A count of points: only what the conversion to int needs; validateScene
 // checks the range.
 int readPointCount(const YAML::Node& n, const std::string& key) {
@@ -94,6 +97,8 @@ int readPointCount(const YAML::Node& n, const std::string& key) {
   return static_cast<int>(v);
 }
 
+}  // namespace
+
 // A whole number from 0 to `most`.
 int readCount(const YAML::Node& n, const std::string& key, int most) {
   const double v = readDouble(n, key);
@@ -103,7 +108,6 @@ int readCount(const YAML::Node& n, const std::string& key, int most) {
   }
   return static_cast<int>(v);
 }
-}  // namespace
 
 Eigen::Vector3d readVec3(const YAML::Node& n, const std::string& key) {
   if (!n.IsSequence() || n.size() != 3) {
@@ -189,6 +193,8 @@ std::vector<std::string> splitDotted(const std::string& name) {
   }
 }
 
+}  // namespace
+
 // A chain of nodes rather than one reassigned variable: assigning to a
 // yaml-cpp node overwrites the node it refers to.
 void setAt(YAML::Node root, const std::string& name, const YAML::Node& value) {
@@ -207,6 +213,7 @@ YAML::Node nodeAt(const YAML::Node& root, const std::string& name) {
   return chain.back();
 }
 
+namespace {
 // One key's value as YAML.
 struct ValueToYaml {
   const Scene& s;

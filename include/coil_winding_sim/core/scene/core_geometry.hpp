@@ -9,6 +9,16 @@
 
 namespace cws {
 
+// core.shape made into the core's cylinders and faces, the one place that
+// does it: a rounded_rectangle becomes its corner cylinders, counter-
+// clockwise from (+x, +y) as the paper's core lists them, with
+// core.hull_faces for the flat sides (core.cylinders, core.faces and
+// core.hull_faces given beside it are replaced); a side of twice the corner
+// radius shares its corners' cylinder (two cylinders make a slot, one a
+// round core). kind cylinders: nothing changes. Throws SceneError naming the
+// core.shape key that cannot make a section.
+void applyCoreShape(CoreParams& core);
+
 // The flat faces of the core: those listed in core.faces plus, with
 // core.hull_faces, the sides of the convex hull between neighbouring
 // cylinders (the outer common tangents), counter-clockwise.

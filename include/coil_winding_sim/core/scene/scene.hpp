@@ -46,10 +46,16 @@ class SceneError : public std::runtime_error {
 // unit length: generalized strain x (strain [-], curvature [1/m] or twist
 // [rad/m]) against generalized stress (force [N] or moment [N m]).
 struct WireParams {
-  double diameter = 1.0e-3;                          // [m]
-  double line_density = 7.02e-3;                     // [kg/m] (Table 1, corrected)
-  double length = 0.05;                              // initial wire length [m]
-  double segment_length = 1.0e-3;                    // largest natural segment length [m]
+  // The wire from what a user knows (scene/wire_catalogue.hpp): the keys
+  // below it given as `auto` are made from these three when the scene is
+  // loaded (paper_table_1: Table 1's numbers, the values below).
+  std::string material = "paper_table_1";
+  double nominal_diameter = 0.0;   // bare conductor [m]; 0: paper_table_1's own 1.0 mm
+  int insulation_grade = 0;        // IEC 60317-0-1 grade 1-3 of the enamel; 0: bare
+  double diameter = 1.0e-3;        // overall: contact and the layers' geometry [m]
+  double line_density = 7.02e-3;   // [kg/m] (Table 1, corrected)
+  double length = 0.05;            // initial wire length [m]
+  double segment_length = 1.0e-3;  // largest natural segment length [m]
   HysteresisParams stretch{4.89e4, 1.10e3, 8.0e-4};  // EA [N], yield strain
   HysteresisParams bend{3.06e-3, 1.13e-4, 1.6};      // EI [N m^2], [1/m]
   HysteresisParams torsion{4.32e-3, 9.0e-5, 1.31};   // GJ [N m^2], [rad/m]
@@ -86,6 +92,18 @@ struct FaceParams {
   Eigen::Vector2d to_core{0.0, 0.0};    // [m]
 };
 
+// A bobbin as drawn (core.shape). kind "cylinders": the core is
+// core.cylinders and core.faces as given. kind "rounded_rectangle": a
+// width x height section (core x, y) [m] with corners of corner_radius [m],
+// made into its corner cylinders and the flat sides between them
+// (applyCoreShape, core_geometry.hpp).
+struct CoreShapeParams {
+  std::string kind = "cylinders";
+  double width = 0.0;          // [m]
+  double height = 0.0;         // [m]
+  double corner_radius = 0.0;  // [m]
+};
+
 // The rigid core: turns about its z axis, which passes through `position`
 // along `axis` (world frame).
 struct CoreParams {
@@ -102,6 +120,7 @@ struct CoreParams {
   // With physics.flanges: the distance between them [m]; 0: the winding
   // width (a traverse set wider than the bobbin reverses late).
   double flange_spacing = 0.0;
+  CoreShapeParams shape;  // made into cylinders, faces and hull_faces on loading
 };
 
 // Keys whose name says rpm carry revolutions per minute; everything else is
@@ -273,6 +292,10 @@ struct Scene {
   StartParams start;
   EndParams end;
   OutputParams output;
+  // The keys the loaded scene made from others (given as `auto`), and from
+  // what, for print-scene; not a key.
+  std::vector<std::string> made_keys;
+  std::string made_from;
 
   // Number of segments and the natural segment length actually used: the
   // wire's length divided into equal segments no longer than segment_length.
