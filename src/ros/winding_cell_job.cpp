@@ -7,6 +7,8 @@
 #include <limits>
 
 #include "coil_winding_sim/core/base/text_format.hpp"
+#include "coil_winding_sim/core/run/coil_report.hpp"
+#include "coil_winding_sim/core/run/quality_report.hpp"
 #include "coil_winding_sim/ros/winding_cell.hpp"
 
 namespace cws_ros {
@@ -147,7 +149,22 @@ std::string WindingCell::cellState(std::string& message) const {
                     jobRealTimeFactor(),
                     b.valid ? (cws::formatNumber(1e3 * b.height_m, "%.4f") + " mm").c_str()
                             : "none (nothing wound)");
-      done_text_ = {sim_.get(), sim_->time(), text};
+      // What the wire went through, where it matters (quality_report.hpp).
+      const cws::CoilReport coil = cws::reportCoil(sim_->model(), sim_->scene());
+      const cws::QualityReport q = cws::reportQuality(sim_->model(), sim_->scene(), coil);
+      std::string quality;
+      if (q.plastic_elongation > 0.0) {
+        quality += "; the wire stretched for good by up to " +
+                   cws::formatNumber(100.0 * q.plastic_elongation, "%.3g") +
+                   " % (its cross-section " +
+                   cws::formatNumber(100.0 * q.cross_section_lost, "%.3g") + " % smaller)";
+      }
+      if (!q.turns_past_limits.empty()) {
+        quality += "; " + std::to_string(q.turns_past_limits.size()) +
+                   " turns strained past the enamel's limits (the first: turn " +
+                   std::to_string(q.turns_past_limits.front()) + ")";
+      }
+      done_text_ = {sim_.get(), sim_->time(), std::string(text) + quality};
     }
     message = done_text_.text;
     if (plan_stop_) message += "; " + job_note_;

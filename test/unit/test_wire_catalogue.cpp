@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "coil_winding_sim/core/scene/core_geometry.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace {
@@ -129,4 +130,18 @@ TEST(WireCatalogue, WhatCannotBeMadeIsRefusedByItsKey) {
   // The paper's measured wire has one size and no enamel grade.
   EXPECT_EQ(refusedKey("wire: {nominal_diameter: 0.00063}"), "wire.nominal_diameter");
   EXPECT_EQ(refusedKey("wire: {insulation_grade: 1}"), "wire.insulation_grade");
+}
+
+TEST(WireCatalogue, TheUsersCoilSceneIsItsWireOnItsBobbin) {
+  const cws::Scene s =
+      cws::loadScene(std::string(CWS_SOURCE_DIR) + "/config/scenes/user_coil.yaml", {});
+  EXPECT_DOUBLE_EQ(s.wire.diameter, 0.704e-3);
+  EXPECT_EQ(s.made_keys.size(), 11u);
+  ASSERT_EQ(s.core.cylinders.size(), 4u);
+  EXPECT_EQ(s.core.cylinders[0].center_core, Eigen::Vector2d(5e-3, 3e-3));
+  EXPECT_EQ(s.core.cylinders[0].radius, 1e-3);
+  EXPECT_TRUE(s.core.hull_faces);
+  // The clamp holds the wire on the bobbin: its centre half the overall
+  // diameter above the flat side.
+  EXPECT_NEAR(cws::CoreSection(s.core).signedDistance(s.start.position.head<2>()), 0.352e-3, 1e-9);
 }

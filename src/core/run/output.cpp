@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "coil_winding_sim/core/run/quality_report.hpp"
 #include "coil_winding_sim/core/scene/integrators.hpp"
 
 namespace cws {
@@ -188,6 +189,21 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
         << "  \"bulging_position_core_m\": null,\n"
         << "  \"wound_points\": 0,\n";
   }
+  // The wire's stretch and bend against the enamel's limits, and the
+  // window's fill (quality_report.hpp).
+  const QualityReport q = reportQuality(m, sim.scene(), coil);
+  out << "  \"quality\": {\"plastic_elongation\": " << num(q.plastic_elongation)
+      << ", \"plastic_elongation_segment\": " << q.plastic_elongation_segment
+      << ", \"cross_section_lost\": " << num(q.cross_section_lost)
+      << ", \"bending_strain\": " << num(q.bending_strain)
+      << ", \"bending_strain_point\": " << q.bending_strain_point
+      << ", \"bending_limit\": " << num(q.bending_limit)
+      << ", \"elongation_limit\": " << num(q.elongation_limit) << ", \"turns_past_limits\": [";
+  for (std::size_t i = 0; i < q.turns_past_limits.size(); ++i) {
+    out << (i ? ", " : "") << q.turns_past_limits[i];
+  }
+  out << "], \"fill_factor\": "
+      << (std::isnan(q.fill_factor) ? std::string("null") : num(q.fill_factor)) << "},\n";
   // Turns, layers, gaps and overlaps (coil_report.hpp): null without a
   // wound coil.
   out << "  \"coil\": ";

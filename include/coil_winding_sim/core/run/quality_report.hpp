@@ -1,0 +1,50 @@
+// The figures a coil is judged by beside its geometry (coil_report.hpp):
+// how far the wire was stretched for good (plastic elongation thins the
+// conductor and raises its resistance), how far it was bent against what
+// its enamel is tested to stand, and how full the bobbin's winding window
+// is (docs/MODEL.md, "A coil's quality figures").
+#pragma once
+
+#include <limits>
+#include <vector>
+
+namespace cws {
+
+class WireModel;
+struct Scene;
+struct CoilReport;
+
+struct QualityReport {
+  // Largest permanent axial strain of the live wire [-], the segment where
+  // it is (-1: none yielded), and the conductor's cross-section lost to it
+  // at constant volume, eps / (1 + eps) [-].
+  double plastic_elongation = 0.0;
+  int plastic_elongation_segment = -1;
+  double cross_section_lost = 0.0;
+  // Largest bending strain at the conductor's surface of the wound wire,
+  // curvature x bare radius [-], and its point (-1: none).
+  double bending_strain = 0.0;
+  int bending_strain_point = -1;
+  // The enamel's limits (enamelled wire, wire.insulation_grade 1-3; 0 for a
+  // bare wire, which has none): the mandrel wrap's bending strain, and the
+  // minimum elongation at break the surface strain (axial + bending) must
+  // stay below [-]; the turns where the wound wire passed either.
+  double bending_limit = 0.0, elongation_limit = 0.0;
+  std::vector<int> turns_past_limits;
+  // Conductor area of the wound turns over the bobbin's winding window
+  // (flange spacing x flange height) [-]; NaN without flanges.
+  double fill_factor = std::numeric_limits<double>::quiet_NaN();
+};
+
+// The enamel's limits of a wire of nominal bare diameter d [m] (IEC 60317
+// as IS 13730-0-1 and IS 13778-3 reproduce it): the bending strain of a
+// wrap on a mandrel of one diameter, 1/2 (0.14 to 1.6 mm), and the minimum
+// elongation at break by size [-]; 0 outside the sizes held.
+double mandrelBendingLimit(double nominal_diameter);
+double elongationAtBreakLimit(double nominal_diameter);
+
+// The report of the model's wire at its last accepted step; `coil` gives
+// the wound wire's turns (coil_report.hpp).
+QualityReport reportQuality(const WireModel& m, const Scene& s, const CoilReport& coil);
+
+}  // namespace cws
