@@ -92,3 +92,26 @@ TEST(QualityReport, EnamelledWireBentPastItsLimitsIsFlagged) {
   EXPECT_FALSE(sharp.turns_past_limits.empty());
   EXPECT_EQ(sharp.turns_past_limits.front(), 1);
 }
+
+TEST(QualityReport, AHelixOnARoundCoreClimbsOverEightTenthsOfATurn) {
+  // One layer on a round core of 5 mm radius, laid as the traverse moves
+  // by 1.5 wire diameters per turn (turns apart: none pushes on the one
+  // before): a helix, whose axial position climbs evenly with the angle,
+  // from 0.1 to 0.9 of its step over 0.8 x 2 pi.
+  const cws::Scene s = cws::loadScene(
+      std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml",
+      {"core.shape={kind: rounded_rectangle, width: 0.010, height: 0.010, corner_radius: 0.005}",
+       "start.position=[0.0, -0.0055, 0.0]", "process.turns=15", "process.layers=1",
+       "process.traverse_pitch=0.0015"});
+  ASSERT_EQ(s.core.cylinders.size(), 1u);
+  cws::Simulation sim(s);
+  sim.run();
+  const cws::CoilReport coil = cws::reportCoil(sim.model(), s);
+  const cws::QualityReport q = cws::reportQuality(sim.model(), s, coil);
+  ASSERT_EQ(q.crossover_per_layer_rad.size(), 1u);
+  const double helix = 0.8 * 2.0 * M_PI;
+  std::printf("crossover: %.4f rad, a helix's %.4f rad\n", q.crossover_per_layer_rad[0], helix);
+  EXPECT_NEAR(q.crossover_per_layer_rad[0], helix, 0.05 * helix);
+  // The turns of 1 mm wire over the 26 mm x 3 mm window.
+  EXPECT_NEAR(q.fill_factor, coil.turns_wound * M_PI * 1e-6 / 4.0 / (26e-3 * 3e-3), 1e-12);
+}

@@ -202,6 +202,11 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
   for (std::size_t i = 0; i < q.turns_past_limits.size(); ++i) {
     out << (i ? ", " : "") << q.turns_past_limits[i];
   }
+  out << "], \"crossover_per_layer_rad\": [";
+  for (std::size_t i = 0; i < q.crossover_per_layer_rad.size(); ++i) {
+    const double a = q.crossover_per_layer_rad[i];
+    out << (i ? ", " : "") << (std::isnan(a) ? std::string("null") : num(a));
+  }
   out << "], \"fill_factor\": "
       << (std::isnan(q.fill_factor) ? std::string("null") : num(q.fill_factor)) << "},\n";
   // Turns, layers, gaps and overlaps (coil_report.hpp): null without a

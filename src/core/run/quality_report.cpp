@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "coil_winding_sim/core/inner_forces/stretching.hpp"
 #include "coil_winding_sim/core/model/wire_model.hpp"
@@ -27,6 +28,56 @@ double elongationAtBreakLimit(double nominal_diameter) {
   }
   return 0.0;
 }
+
+namespace {
+// Per layer, the median over its whole turns of the angle over which the
+// turn's axial position climbs from 0.1 to 0.9 of its step (turns that
+// step by less than half the pitch, the traverse's reversals, left out).
+std::vector<double> crossoverPerLayer(const WireModel& m, const Scene& s, const CoilReport& coil) {
+  constexpr double kTwoPi = 6.283185307179586;
+  std::vector<std::vector<double>> angles(static_cast<std::size_t>(std::max(coil.layers, 0)));
+  const double pitch = std::abs(s.process.traverse_pitch);
+  // The last turn is the one being laid.
+  for (std::size_t t = 0; t + 1 < coil.turns.size(); ++t) {
+    const TurnReport& turn = coil.turns[t];
+    if (turn.points < 8 || turn.layer < 1 || turn.layer > coil.layers) continue;
+    const int first = turn.first_point, last = turn.first_point + turn.points - 1;
+    const Eigen::Vector3d p0 = wirePointCore(m, first);
+    const double step = wirePointCore(m, last).z() - p0.z();
+    if (pitch == 0.0 || !(std::abs(step) >= 0.5 * pitch)) continue;
+    // Where the climb passes a fraction, between the points either side.
+    double angle = 0.0, previous = std::atan2(p0.y(), p0.x()), climbed_before = 0.0;
+    double from = -1.0, to = -1.0;
+    for (int w = first + 1; w <= last; ++w) {
+      const Eigen::Vector3d p = wirePointCore(m, w);
+      const double a = std::atan2(p.y(), p.x());
+      const double turned = std::abs(std::remainder(a - previous, kTwoPi));
+      previous = a;
+      const double climbed = (p.z() - p0.z()) / step;
+      auto passes = [&](double fraction, double& at) {
+        if (at >= 0.0 || climbed < fraction) return;
+        const double part = climbed > climbed_before
+                                ? (fraction - climbed_before) / (climbed - climbed_before)
+                                : 1.0;
+        at = angle + std::clamp(part, 0.0, 1.0) * turned;
+      };
+      passes(0.1, from);
+      passes(0.9, to);
+      angle += turned;
+      climbed_before = climbed;
+    }
+    if (from >= 0.0 && to >= from) angles[turn.layer - 1].push_back(to - from);
+  }
+  std::vector<double> median(angles.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t l = 0; l < angles.size(); ++l) {
+    std::vector<double>& a = angles[l];
+    if (a.empty()) continue;
+    std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
+    median[l] = a[a.size() / 2];
+  }
+  return median;
+}
+}  // namespace
 
 QualityReport reportQuality(const WireModel& m, const Scene& s, const CoilReport& coil) {
   QualityReport q;
@@ -72,6 +123,7 @@ QualityReport reportQuality(const WireModel& m, const Scene& s, const CoilReport
       q.turns_past_limits.push_back(turn);
     }
   }
+  q.crossover_per_layer_rad = crossoverPerLayer(m, s, coil);
   // Conductor of the turns wound over the winding window.
   if (s.physics.flanges && coil.valid) {
     const double spacing =

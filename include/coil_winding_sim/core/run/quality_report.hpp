@@ -31,6 +31,13 @@ struct QualityReport {
   // stay below [-]; the turns where the wound wire passed either.
   double bending_limit = 0.0, elongation_limit = 0.0;
   std::vector<int> turns_past_limits;
+  // The crossover zone of each layer (index: layer - 1) [rad]: the angle
+  // about the core axis over which a turn climbs from a tenth to nine
+  // tenths of its axial step to the next groove, the median over the
+  // layer's turns (NaN: none measured). A helix, laid as the traverse
+  // moves, climbs over 0.8 of a turn; wire in an orthocyclic layer's
+  // grooves climbs in a short zone.
+  std::vector<double> crossover_per_layer_rad;
   // Conductor area of the wound turns over the bobbin's winding window
   // (flange spacing x flange height) [-]; NaN without flanges.
   double fill_factor = std::numeric_limits<double>::quiet_NaN();
