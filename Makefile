@@ -215,6 +215,9 @@ screenshots: build
 	  scene:=$(ROOT)/config/scenes/two_layers.yaml \
 	  "overrides:=[process.turns=14, process.winding_width=7e-3]" real_time_factor:=0 \
 	  rviz_config:=$(ROOT)/rviz/coil.rviz
+	set +u && source $(DEVEL_DIR)/setup.bash && set -u && src/tools/rviz_screenshot.sh docs/rviz_user_coil.png \
+	  scene:=$(ROOT)/config/scenes/user_coil.yaml real_time_factor:=0 \
+	  rviz_config:=$(ROOT)/rviz/coil.rviz
 
 # Per-step cost against the number of points (Google Benchmark).
 bench: build
