@@ -97,18 +97,21 @@ FitParameter parseFit(const std::string& arg, const cws::Scene& scene) {
   return f;
 }
 
-// Every corner of the box must be a scene the simulation takes (e.g.
-// kinetic friction never above static friction).
+// Every corner of the box, with the keys' order kept (keepKeyOrder), must
+// be a scene the simulation takes.
 void checkCorners(const CalibrationOptions& o) {
   const std::size_t n = o.fit.size();
   if (n > 10) return;
+  const cws::Scene base = cws::loadScene(o.scene, o.overrides);
   for (std::size_t c = 0; c < (std::size_t(1) << n); ++c) {
+    Eigen::VectorXd x(n);
+    for (std::size_t k = 0; k < n; ++k) x[k] = (c >> k) & 1 ? o.fit[k].hi : o.fit[k].lo;
+    x = keepKeyOrder(fitKeys(o), base, x);
     std::vector<std::string> ov = o.overrides;
     std::string label;
     for (std::size_t k = 0; k < n; ++k) {
-      const double v = (c >> k) & 1 ? o.fit[k].hi : o.fit[k].lo;
-      ov.push_back(o.fit[k].key + "=" + cws::formatNumber(v, "%.17g"));
-      label += (k ? ", " : "") + o.fit[k].key + "=" + cws::formatNumber(v);
+      ov.push_back(o.fit[k].key + "=" + cws::formatNumber(x[k], "%.17g"));
+      label += (k ? ", " : "") + o.fit[k].key + "=" + cws::formatNumber(x[k]);
     }
     try {
       cws::loadScene(o.scene, ov);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "coil_winding_sim/core/run/recording_misfit.hpp"
+#include "key_order.hpp"
 #include "sweep_plan.hpp"
 #include "sweep_slurm.hpp"
 
@@ -59,6 +60,9 @@ struct Evaluation {
   int tension_samples = 0, profile_points = 0, profile_pairs = 0;
   Eigen::VectorXd residuals;  // weighted: their sum of squares is the misfit
 };
+
+// The fitted keys' names, in o.fit's order.
+std::vector<std::string> fitKeys(const CalibrationOptions& o);
 
 // The plan of one batch of evaluations: one case per point (values in the
 // keys' units), the options the case runner needs in plan.options.

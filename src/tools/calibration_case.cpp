@@ -114,6 +114,12 @@ const bool kCalibrationKind = registerPlanKind("calibration", [] {
 
 }  // namespace
 
+std::vector<std::string> fitKeys(const CalibrationOptions& o) {
+  std::vector<std::string> keys;
+  for (const FitParameter& f : o.fit) keys.push_back(f.key);
+  return keys;
+}
+
 SweepPlan calibrationPlan(const CalibrationOptions& o, const std::vector<Eigen::VectorXd>& points) {
   SweepPlan p;
   p.kind = "calibration";

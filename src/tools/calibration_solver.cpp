@@ -21,7 +21,10 @@ namespace cws_tools {
 namespace fs = std::filesystem;
 
 Evaluator::Evaluator(const CalibrationOptions& o, std::string exe, std::function<bool()> stop)
-    : o_(o), exe_(std::move(exe)), stop_(std::move(stop)) {}
+    : o_(o),
+      exe_(std::move(exe)),
+      stop_(std::move(stop)),
+      base_(cws::loadScene(o.scene, o.overrides)) {}
 
 Eigen::VectorXd Evaluator::values(const Eigen::VectorXd& u) const {
   Eigen::VectorXd x(u.size());
@@ -29,7 +32,8 @@ Eigen::VectorXd Evaluator::values(const Eigen::VectorXd& u) const {
     const FitParameter& f = o_.fit[k];
     x[k] = f.lo + std::clamp(u[k], 0.0, 1.0) * (f.hi - f.lo);
   }
-  return x;
+  // Within the keys' order: every point evaluated, reported and kept.
+  return keepKeyOrder(fitKeys(o_), base_, x);
 }
 
 std::string Evaluator::describe(const Eigen::VectorXd& u) const {

@@ -46,6 +46,7 @@ class Evaluator {
   Eigen::VectorXd best_u_;
   std::vector<std::pair<Eigen::VectorXd, Evaluation>> history_;
   std::map<std::vector<double>, Evaluation> cache_;
+  cws::Scene base_;  // the scene before the fit: the values of keys not fitted
 };
 
 struct FitOutcome {
