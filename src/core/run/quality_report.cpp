@@ -97,7 +97,7 @@ QualityReport reportQuality(const WireModel& m, const Scene& s, const CoilReport
     const double eps = stretching.plasticStrain(j);
     if (eps > q.plastic_elongation) {
       q.plastic_elongation = eps;
-      q.plastic_elongation_segment = j;
+      q.plastic_elongation_segment = c.retired + j;  // of the whole wire
     }
   }
   q.cross_section_lost = q.plastic_elongation / (1.0 + q.plastic_elongation);

@@ -16,8 +16,9 @@ struct CoilReport;
 
 struct QualityReport {
   // Largest permanent axial strain of the live wire [-], the segment where
-  // it is (-1: none yielded), and the conductor's cross-section lost to it
-  // at constant volume, eps / (1 + eps) [-].
+  // it is (of the whole wire, retired included; -1: none yielded), and the
+  // conductor's cross-section lost to it at constant volume,
+  // eps / (1 + eps) [-].
   double plastic_elongation = 0.0;
   int plastic_elongation_segment = -1;
   double cross_section_lost = 0.0;
