@@ -125,7 +125,7 @@ SweepPlan calibrationPlan(const CalibrationOptions& o, const std::vector<Eigen::
   p.kind = "calibration";
   p.scene = o.scene;
   p.overrides = o.overrides;
-  for (const FitParameter& f : o.fit) p.keys.push_back(f.key);
+  p.keys = fitKeys(o);
   for (const Eigen::VectorXd& x : points) {
     std::vector<std::string> values;
     for (Eigen::Index k = 0; k < x.size(); ++k) values.push_back(cws::formatNumber(x[k], "%.17g"));

@@ -24,6 +24,7 @@ Evaluator::Evaluator(const CalibrationOptions& o, std::string exe, std::function
     : o_(o),
       exe_(std::move(exe)),
       stop_(std::move(stop)),
+      keys_(fitKeys(o)),
       base_(cws::loadScene(o.scene, o.overrides)) {}
 
 Eigen::VectorXd Evaluator::values(const Eigen::VectorXd& u) const {
@@ -33,7 +34,7 @@ Eigen::VectorXd Evaluator::values(const Eigen::VectorXd& u) const {
     x[k] = f.lo + std::clamp(u[k], 0.0, 1.0) * (f.hi - f.lo);
   }
   // Within the keys' order: every point evaluated, reported and kept.
-  return keepKeyOrder(fitKeys(o_), base_, x);
+  return keepKeyOrder(keys_, base_, x);
 }
 
 std::string Evaluator::describe(const Eigen::VectorXd& u) const {

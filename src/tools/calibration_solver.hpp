@@ -46,7 +46,8 @@ class Evaluator {
   Eigen::VectorXd best_u_;
   std::vector<std::pair<Eigen::VectorXd, Evaluation>> history_;
   std::map<std::vector<double>, Evaluation> cache_;
-  cws::Scene base_;  // the scene before the fit: the values of keys not fitted
+  std::vector<std::string> keys_;  // the fitted keys, in o_.fit's order
+  cws::Scene base_;                // the scene before the fit: the values of keys not fitted
 };
 
 struct FitOutcome {
