@@ -120,7 +120,7 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
   msg.core_turns = sim.coreTurns();
   msg.core_angular_velocity = m.core() ? m.core()->omega(sim.time()) : 0.0;
   msg.core_angular_velocity_setpoint = m.core() ? m.core()->command() : 0.0;
-  msg.supply_tension = m.supply() ? m.supply()->tension() : 0.0;
+  msg.supply_tension = m.supply() ? m.supply()->tensionSetpoint() : 0.0;
   msg.port_axial_force = m.supply() ? m.portAxialForce() : 0.0;
   msg.real_time_factor = pace.real_time_factor;
   msg.target_real_time_factor = pace.target_real_time_factor;
@@ -368,6 +368,12 @@ sensor_msgs::JointState toJointStates(const cws::Simulation& sim, const ros::Tim
     msg.name.insert(msg.name.end(), {"port_x", "port_y", "port_z"});
     msg.position.insert(msg.position.end(), {p.x(), p.y(), p.z()});
     msg.velocity.insert(msg.velocity.end(), {v.x(), v.y(), v.z()});
+    // The dancer's arm [m], + storing wire (cell_urdf's joint `dancer`).
+    if (const cws::Tensioner* dancer = supply->tensioner()) {
+      msg.name.push_back("dancer");
+      msg.position.push_back(dancer->armPosition());
+      msg.velocity.push_back(dancer->armVelocity());
+    }
   }
   return msg;
 }
@@ -376,7 +382,7 @@ coil_winding_sim::TensionSetpoint toTensionCommand(const cws::Simulation& sim,
                                                    const ros::Time& stamp) {
   coil_winding_sim::TensionSetpoint msg;
   msg.header.stamp = stamp;
-  msg.tension = sim.model().supply() ? sim.model().supply()->tension() : 0.0;
+  msg.tension = sim.model().supply() ? sim.model().supply()->tensionSetpoint() : 0.0;
   return msg;
 }
 

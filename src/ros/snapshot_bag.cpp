@@ -13,7 +13,7 @@
 
 namespace cws_ros {
 
-const char* const kSnapshotFormat = "coil_winding_sim/snapshot/6";
+const char* const kSnapshotFormat = "coil_winding_sim/snapshot/7";
 const char* const kSnapshotTopic = "/coil_winding_sim/snapshot";
 
 namespace {

@@ -164,6 +164,14 @@ std::string WindingCell::cellState(std::string& message) const {
                    " turns strained past the enamel's limits (the first: turn " +
                    std::to_string(q.turns_past_limits.front()) + ")";
       }
+      if (!std::isnan(q.tension_peak_N)) {
+        quality += "; tension at the load cell " + cws::formatNumber(q.tension_low_N, "%.3g") +
+                   " to " + cws::formatNumber(q.tension_peak_N, "%.3g") + " N";
+        if (!std::isnan(q.tension_ripple_mean_N)) {
+          quality +=
+              ", " + cws::formatNumber(q.tension_ripple_mean_N, "%.2g") + " N of ripple a turn";
+        }
+      }
       done_text_ = {sim_.get(), sim_->time(), std::string(text) + quality};
     }
     message = done_text_.text;

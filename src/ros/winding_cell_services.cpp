@@ -167,8 +167,8 @@ bool WindingCell::onRestore(coil_winding_sim::Restore::Request& req,
       setScene(scene);
       replace(std::move(restored));
       speed_setpoint_ = state.model.core[3];
-      tension_setpoint_ =
-          sim_->model().supply() ? sim_->model().supply()->tension() : scene_.process.tension;
+      tension_setpoint_ = sim_->model().supply() ? sim_->model().supply()->tensionSetpoint()
+                                                 : scene_.process.tension;
     }
     // The live parameters show the snapshot's friction and damping (outside
     // the simulation's lock: the server's callback takes it).

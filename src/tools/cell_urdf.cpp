@@ -45,7 +45,8 @@ std::string cellUrdf(const cws::Scene& scene, const std::string& frame_prefix) {
   u << "<?xml version=\"1.0\"?>\n"
     << "<!-- The simulated winding cell (coil_winding_sim, wire_sim urdf): the core turns\n"
     << "     on the continuous joint spindle about its z axis (the scene's core axis),\n"
-    << "     the supply port moves on port_x, port_y, port_z along the world axes [m].\n"
+    << "     the supply port moves on port_x, port_y, port_z along the world axes [m];\n"
+    << "     a dancer's pulley travels on the prismatic joint dancer (+: stores wire).\n"
     << "     The joints' positions are the node's joint_states. -->\n"
     << "<robot name=\"winding_cell\">\n"
     << "  <link name=\"world\"/>\n  <link name=\"" << p << "core\"/>\n"
@@ -60,6 +61,21 @@ std::string cellUrdf(const cws::Scene& scene, const std::string& frame_prefix) {
     portJoint(u, "port_x", "world", p + "port_x_link", "1 0 0");
     portJoint(u, "port_y", p + "port_x_link", p + "port_y_link", "0 1 0");
     portJoint(u, "port_z", p + "port_y_link", p + "supply_port", "0 0 1");
+    if (scene.supply.tensioner.kind == "dancer") {
+      // The dancer's pulley, drawn 0.1 m behind the port at the start (away
+      // from the core's axis), travelling along that line: + stores wire.
+      const Eigen::Vector3d port = scene.supply.port_position_world;
+      Eigen::Vector3d away = port - o;
+      away -= away.dot(scene.core.axis_world.normalized()) * scene.core.axis_world.normalized();
+      away = away.norm() > 0.0 ? away.normalized() : Eigen::Vector3d::UnitX();
+      const Eigen::Vector3d at = port + 0.1 * away;
+      u << "  <link name=\"" << p << "dancer_pulley\"/>\n"
+        << "  <joint name=\"dancer\" type=\"prismatic\">\n"
+        << "    <parent link=\"world\"/>\n    <child link=\"" << p << "dancer_pulley\"/>\n"
+        << "    <origin xyz=\"" << vec3(at.x(), at.y(), at.z()) << "\" rpy=\"0 0 0\"/>\n"
+        << "    <axis xyz=\"" << vec3(away.x(), away.y(), away.z()) << "\"/>\n"
+        << "    <limit lower=\"-1\" upper=\"1\" effort=\"0\" velocity=\"100\"/>\n  </joint>\n";
+    }
   }
   u << "</robot>\n";
   return u.str();

@@ -1,6 +1,7 @@
 // The winding cell as a URDF (wire_sim urdf): the core on the continuous
 // joint `spindle` about its axis, the supply port on three prismatic joints
-// `port_x`, `port_y`, `port_z` along the world axes. With the node's
+// `port_x`, `port_y`, `port_z` along the world axes, and a dancer's pulley
+// (supply.tensioner.kind dancer) on the prismatic joint `dancer`. With the node's
 // joint_states, robot_state_publisher gives the same frames as the node's
 // own TF (world -> core, world -> supply_port), and a machine's URDF can
 // take the cell's links and joints under a link of its own.

@@ -29,7 +29,7 @@ uint64_t coreBuildHash() {
 
 namespace {
 
-constexpr char kMagic[] = "cws-stability-checkpoint/3";
+constexpr char kMagic[] = "cws-stability-checkpoint/4";
 
 // Little binary writer and reader: numbers as their bytes, strings and
 // vectors with their length first.

@@ -65,6 +65,12 @@ TEST(CellUrdf, PortJointsOnlyWithASupply) {
       cws_tools::cellUrdf(cws::loadScene(kDefaultScene, {"physics.supply=false"}));
   EXPECT_EQ(without.find("<joint name=\"port_x\""), std::string::npos);
   EXPECT_NE(without.find("<joint name=\"spindle\" type=\"continuous\">"), std::string::npos);
+  // A dancer's pulley only with a dancer.
+  EXPECT_EQ(with.find("<joint name=\"dancer\""), std::string::npos);
+  const std::string dancer =
+      cws_tools::cellUrdf(cws::loadScene(kDefaultScene, {"supply.tensioner.kind=dancer"}), "cell");
+  EXPECT_NE(dancer.find("<joint name=\"dancer\" type=\"prismatic\">"), std::string::npos);
+  EXPECT_NE(dancer.find("<child link=\"cell/dancer_pulley\"/>"), std::string::npos);
 }
 
 // urdfMain's exit status, with what it printed on std::cout and std::cerr.

@@ -18,12 +18,14 @@ void runTo(cws::Simulation& sim, double t) {
 
 #ifdef CWS_SOURCE_DIR
 namespace {
-void continuedRunMatches(const std::string& law_key) {
+void continuedRunMatches(const std::string& law_key, const std::vector<std::string>& more = {}) {
   const std::string path = std::string(CWS_SOURCE_DIR) + "/config/scenes/default.yaml";
   // The explicit method: its state is the whole state, so a continued run is
   // the same to the bit (Newton steps: NewtonStepRunContinuesWithoutRetries).
-  cws::Simulation a(
-      cws::loadScene(path, {"process.turns=0.1", "solver.integrator=symplectic_euler", law_key}));
+  std::vector<std::string> keys = {"process.turns=0.1", "solver.integrator=symplectic_euler",
+                                   law_key};
+  keys.insert(keys.end(), more.begin(), more.end());
+  cws::Simulation a(cws::loadScene(path, keys));
   runTo(a, 0.004);
   a.apply(cws::Setpoint::coreSpeed(50.0));
   a.apply(cws::Setpoint::supplyTension(45.0));
@@ -55,6 +57,12 @@ TEST(Snapshot, ContinuedRunMatchesTheOriginal) {
     SCOPED_TRACE(law);
     continuedRunMatches(std::string("contact.friction_law=") + law);
   }
+  // A dancer and a nozzle with friction: the arm, the span, the draw-in
+  // samples and the load cell's trace are history too.
+  SCOPED_TRACE("dancer");
+  continuedRunMatches("contact.friction_law=stick_speed",
+                      {"supply.tensioner.kind=dancer", "supply.nozzle_friction=0.2",
+                       "supply.nozzle_wrap_angle=1.5"});
 }
 
 TEST(Snapshot, NewtonStepRunContinuesWithoutRetries) {

@@ -28,7 +28,18 @@ Supply::Supply(const WireConstants& c, const Scene& s, const RotatingCore* core)
                                    s.wire.diameter, s.traverseLayers())
                    .stalled(s.process.traverse_stall_turn, s.process.traverse_stall_turns)),
       core_origin_world_(s.core.position_world),
-      tension_(s.process.tension) {
+      setpoint_(s.process.tension),
+      tension_(s.process.tension),
+      nozzle_exponent_(s.supply.nozzle_friction * s.supply.nozzle_wrap_angle),
+      stick_speed_(s.contact.stick_speed),
+      segment_length_(c.segment_length) {
+  if (s.supply.tensioner.kind == "dancer") {
+    tensioner_.emplace(s.supply.tensioner, s.wire.stretch.elastic_rigidity, setpoint_);
+  }
+  machine_ = tensioner_ || nozzle_exponent_ > 0.0;
+  // A ripple per turn of the run (turns beyond it grow the list).
+  const double turns = s.process.duration ? 0.0 : s.process.turns;
+  trace_.ripple_per_turn.reserve(static_cast<std::size_t>(std::min(1.5 * turns, 1.0e6)) + 64);
   for (const CylinderParams& cyl : s.core.cylinders) {
     swept_radius_ = std::max(swept_radius_, cyl.center_core.norm() + cyl.radius + c.radius);
   }
@@ -38,8 +49,137 @@ Supply::Supply(const WireConstants& c, const Scene& s, const RotatingCore* core)
 }
 
 void Supply::setTension(double tension) {
-  tension_ = tension;
+  setpoint_ = tension;
+  if (tensioner_) {
+    tensioner_->setSetpoint(tension);
+    return;  // the arm's load: the port follows through the arm
+  }
+  updatePortTension();
+}
+
+void Supply::updatePortTension() {
+  const double behind = tensioner_ ? tensioner_->tension() : setpoint_;
+  tension_ = nozzle_exponent_ > 0.0
+                 ? behind * capstanRatio(nozzle_exponent_, 1.0, draw_in_, stick_speed_)
+                 : behind;
   strain_ = virginStrain(stretch_, tension_);
+}
+
+void Supply::afterStep(double t, double fed_length_m, double measured_N, double core_turns) {
+  trace_.note(core_turns, measured_N);
+  if (!machine_ || !(t > fed_t_s_)) return;
+  // The draw-in speed over the step, held while the tensioner follows it;
+  // the port's tension pulled through the step (tension_) did the work.
+  draw_in_ = drawInSpeed(t, fed_length_m);
+  port_work_ += tension_ * (fed_length_m - fed_m_) * (1.0 + strain_);
+  fed_m_ = fed_length_m;
+  fed_t_s_ = t;
+  if (tensioner_) tensioner_->advance(t, draw_in_);
+  updatePortTension();
+}
+
+double Supply::drawInSpeed(double t, double fed_length_m) {
+  fed_newest_ = (fed_newest_ + 1) % kFedSamples;
+  fed_at_t_[fed_newest_] = t;
+  fed_at_m_[fed_newest_] = fed_length_m;
+  fed_samples_ = std::min(fed_samples_ + 1, kFedSamples);
+  // Back from the newest sample to the first one a segment's length or
+  // more behind it (or the oldest held; the start counts as one).
+  double t0 = 0.0, m0 = 0.0;
+  bool found = false;
+  for (int i = 1; i < fed_samples_; ++i) {
+    const int j = (fed_newest_ - i + kFedSamples) % kFedSamples;
+    t0 = fed_at_t_[j];
+    m0 = fed_at_m_[j];
+    if (std::abs(fed_length_m - m0) >= segment_length_) {
+      found = true;
+      break;
+    }
+  }
+  if (!found && fed_samples_ < kFedSamples) t0 = m0 = 0.0;
+  return t > t0 ? (fed_length_m - m0) / (t - t0) : 0.0;
+}
+
+void TensionTrace::note(double core_turns, double tension_N) {
+  const int now = static_cast<int>(std::floor(core_turns));
+  if (!seen) {
+    peak = low = turn_max = turn_min = tension_N;
+    turn = now;
+    seen = true;
+    return;
+  }
+  if (now != turn) {
+    // A whole turn ended (a turn the core ran backwards through counts too).
+    ripple_per_turn.push_back(turn_max - turn_min);
+    turn = now;
+    turn_max = turn_min = tension_N;
+  }
+  peak = std::max(peak, tension_N);
+  low = std::min(low, tension_N);
+  turn_max = std::max(turn_max, tension_N);
+  turn_min = std::min(turn_min, tension_N);
+}
+
+MachineEnergy Supply::machineEnergy() const {
+  MachineEnergy e;
+  if (!tensioner_) return e;
+  // The tensioner and the nozzle within the balance: the port's work on the
+  // wire drawn in is theirs, what the span did not take the nozzle lost.
+  e.kinetic = tensioner_->kinetic();
+  e.elastic = tensioner_->elastic();
+  e.dissipated = tensioner_->damped() + (port_work_ - tensioner_->drawnWork());
+  e.work_done = tensioner_->loadWork() + tensioner_->payOffWork() + port_work_;
+  return e;
+}
+
+void Supply::appendHistory(std::vector<double>& out) const {
+  out.insert(out.end(), {fed_m_, fed_t_s_, draw_in_, port_work_, trace_.peak, trace_.low,
+                         trace_.seen ? 1.0 : 0.0, static_cast<double>(trace_.turn), trace_.turn_max,
+                         trace_.turn_min, static_cast<double>(trace_.ripple_per_turn.size())});
+  out.insert(out.end(), trace_.ripple_per_turn.begin(), trace_.ripple_per_turn.end());
+  if (tensioner_) {
+    double v[Tensioner::kValues];
+    tensioner_->save(v);
+    out.insert(out.end(), v, v + Tensioner::kValues);
+  }
+  if (machine_) {
+    // The draw-in samples, oldest first.
+    out.push_back(fed_samples_);
+    for (int i = fed_samples_ - 1; i >= 0; --i) {
+      const int j = (fed_newest_ - i + kFedSamples) % kFedSamples;
+      out.insert(out.end(), {fed_at_t_[j], fed_at_m_[j]});
+    }
+  }
+}
+
+void Supply::restoreHistory(HistoryReader& in) {
+  fed_m_ = in.next();
+  fed_t_s_ = in.next();
+  draw_in_ = in.next();
+  port_work_ = in.next();
+  trace_.peak = in.next();
+  trace_.low = in.next();
+  trace_.seen = in.nextInteger(0, 1, "tension trace flag") == 1;
+  trace_.turn = in.nextInteger(-1000000000, 1000000000, "tension trace turn");
+  trace_.turn_max = in.next();
+  trace_.turn_min = in.next();
+  const int turns = in.nextInteger(0, 100000000, "tension trace turns");
+  trace_.ripple_per_turn.clear();
+  for (int i = 0; i < turns; ++i) trace_.ripple_per_turn.push_back(in.next());
+  if (tensioner_) {
+    double v[Tensioner::kValues];
+    for (double& x : v) x = in.next();
+    tensioner_->restore(v);
+  }
+  if (machine_) {
+    fed_samples_ = in.nextInteger(0, kFedSamples, "draw-in samples");
+    fed_newest_ = fed_samples_ > 0 ? fed_samples_ - 1 : 0;
+    for (int i = 0; i < fed_samples_; ++i) {
+      fed_at_t_[i] = in.next();
+      fed_at_m_[i] = in.next();
+    }
+  }
+  updatePortTension();
 }
 
 void Supply::commit(const AcceptedStep& step) { command_.commit(step.t); }

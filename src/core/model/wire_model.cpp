@@ -394,6 +394,9 @@ void WireModel::acceptStep(double t, Eigen::VectorXd& y) {
     // core turning backwards): the supply takes it back at its tension, a
     // point at a time as it passes the port. Two integrated points stay.
     while (portDistance(t, committed_) < 0.0 && c_.n - 2 > c_.first) removeLastPoint(t, y);
+    // The load cell's reading, and the tensioner on the wire drawn in.
+    constexpr double kTwoPi = 6.283185307179586;
+    supply_->afterStep(t, fedLength(), portAxialForce(), core_ ? core_->angle(t) / kTwoPi : 0.0);
   }
   if (carry_) updateCarried(t, y);
   committed_.scheme_core = false;  // (the next step sets its own)
@@ -437,6 +440,14 @@ EnergyReport WireModel::energy(const Eigen::VectorXd& y) const {
   }
   r.work_done = y[0];
   r.viscous = y[1];
+  // A dancer and the nozzle are part of the machine the balance holds.
+  if (supply_) {
+    const MachineEnergy m = supply_->machineEnergy();
+    r.kinetic += m.kinetic;
+    r.elastic += m.elastic;
+    r.viscous += m.dissipated;
+    r.work_done += m.work_done;
+  }
   return r;
 }
 

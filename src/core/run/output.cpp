@@ -207,8 +207,17 @@ void writeSummaryJson(const Simulation& sim, std::ostream& out, const ErrorEstim
     const double a = q.crossover_per_layer_rad[i];
     out << (i ? ", " : "") << (std::isnan(a) ? std::string("null") : num(a));
   }
-  out << "], \"fill_factor\": "
-      << (std::isnan(q.fill_factor) ? std::string("null") : num(q.fill_factor)) << "},\n";
+  const auto orNull = [&](double v) { return std::isnan(v) ? std::string("null") : num(v); };
+  out << "], \"fill_factor\": " << orNull(q.fill_factor)
+      << ", \"tension_peak_N\": " << orNull(q.tension_peak_N)
+      << ", \"tension_low_N\": " << orNull(q.tension_low_N)
+      << ", \"tension_ripple_max_N\": " << orNull(q.tension_ripple_max_N)
+      << ", \"tension_ripple_mean_N\": " << orNull(q.tension_ripple_mean_N)
+      << ", \"tension_ripple_per_turn_N\": [";
+  for (std::size_t i = 0; i < q.tension_ripple_per_turn_N.size(); ++i) {
+    out << (i ? ", " : "") << num(q.tension_ripple_per_turn_N[i]);
+  }
+  out << "]},\n";
   // Turns, layers, gaps and overlaps (coil_report.hpp): null without a
   // wound coil.
   out << "  \"coil\": ";

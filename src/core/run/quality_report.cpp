@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
+#include "coil_winding_sim/core/external_forces/supply.hpp"
 #include "coil_winding_sim/core/inner_forces/stretching.hpp"
 #include "coil_winding_sim/core/model/wire_model.hpp"
 #include "coil_winding_sim/core/run/coil_report.hpp"
@@ -101,6 +103,20 @@ QualityReport reportQuality(const WireModel& m, const Scene& s, const CoilReport
     }
   }
   q.cross_section_lost = q.plastic_elongation / (1.0 + q.plastic_elongation);
+  // The load cell's trace.
+  if (const Supply* supply = m.supply(); supply && supply->trace().seen) {
+    const TensionTrace& tr = supply->trace();
+    q.tension_peak_N = tr.peak;
+    q.tension_low_N = tr.low;
+    q.tension_ripple_per_turn_N = tr.ripple_per_turn;
+    if (!tr.ripple_per_turn.empty()) {
+      q.tension_ripple_max_N =
+          *std::max_element(tr.ripple_per_turn.begin(), tr.ripple_per_turn.end());
+      q.tension_ripple_mean_N =
+          std::accumulate(tr.ripple_per_turn.begin(), tr.ripple_per_turn.end(), 0.0) /
+          static_cast<double>(tr.ripple_per_turn.size());
+    }
+  }
   // Bending at the surface over the wound wire, against the limits turn by
   // turn (the axial strain of live segments added on the stretched side).
   const int wound = static_cast<int>(coil.point_turn.size());

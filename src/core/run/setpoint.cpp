@@ -19,7 +19,7 @@ const std::vector<SetpointRow>& setpointTable() {
        [](Simulation& sim, const Setpoint& sp) { sim.setSupplyTension(sp.value); },
        [](const Simulation& sim, Setpoint& out) {
          if (!sim.model().supply()) return false;
-         out = Setpoint::supplyTension(sim.model().supply()->tension());
+         out = Setpoint::supplyTension(sim.model().supply()->tensionSetpoint());
          return true;
        },
        "tension_setpoint", "tension", "machine/tension/command", false},

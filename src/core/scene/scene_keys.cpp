@@ -68,6 +68,7 @@ using Process = ProcessParams;
 using Solver = SolverParams;
 using Physics = PhysicsSwitches;
 using Supply = SupplyParams;
+using Tensioner = TensionerParams;
 
 // ---------------------------------------------------------------------------
 // The table: key<field's member chain>(dotted name, unit, range, doc), or
@@ -276,6 +277,29 @@ std::vector<SceneKey> declareKeys() {
                                            KeyRange{KeyRange::kPointCount, {}, 0, std::nullopt, ""},
                                            "storage for this many live points (buried wire "
                                            "retires beyond them); 0: estimated"),
+      key<&S::supply, &Supply::tensioner, &Tensioner::kind>(
+          "supply.tensioner.kind", "", oneOf({"ideal", "dancer"}),
+          "ideal: the port's tension is the setpoint; dancer: a spring-loaded arm and a "
+          "servo pay-off between them"),
+      key<&S::supply, &Supply::tensioner, &Tensioner::mass>(
+          "supply.tensioner.mass", "kg", kPositive, "dancer: the arm's moving mass at its pulley"),
+      key<&S::supply, &Supply::tensioner, &Tensioner::stiffness>(
+          "supply.tensioner.stiffness", "N/m", kNonNegative,
+          "dancer: its spring's rate about the centre"),
+      key<&S::supply, &Supply::tensioner, &Tensioner::damping>("supply.tensioner.damping", "N s/m",
+                                                               kNonNegative, "dancer: its damper"),
+      key<&S::supply, &Supply::tensioner, &Tensioner::bandwidth>(
+          "supply.tensioner.bandwidth", "rad/s", kPositive,
+          "dancer: the pay-off's position loop (a double pole there)"),
+      key<&S::supply, &Supply::tensioner, &Tensioner::span_length>(
+          "supply.tensioner.span_length", "m", kPositive,
+          "dancer: wire from the pay-off over the pulley to the nozzle"),
+      key<&S::supply, &Supply::nozzle_friction>(
+          "supply.nozzle_friction", "-", kNonNegative,
+          "the nozzle's capstan friction: the port's tension is exp(mu theta) times the "
+          "tensioner's while wire is drawn in"),
+      key<&S::supply, &Supply::nozzle_wrap_angle>("supply.nozzle_wrap_angle", "rad", kNonNegative,
+                                                  "the wire's wrap over the nozzle"),
 
       key<&S::gravity, &GravityParams::acceleration_world>(
           "gravity.acceleration", "m/s^2", kAny, "gravitational acceleration, world frame"),

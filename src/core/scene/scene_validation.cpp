@@ -298,6 +298,22 @@ void runEnds(const Scene& s) {
   }
 }
 
+// A tensioner or a nozzle stands between the setpoint and a supply's port:
+// set without one, it would do nothing the user asked for.
+void machineNeedsSupply(const Scene& s) {
+  if (s.physics.supply) return;
+  if (s.supply.tensioner.kind != "ideal") {
+    throw SceneError("supply.tensioner.kind", s.supply.tensioner.kind +
+                                                  " needs physics.supply (a port the wire is drawn "
+                                                  "in through)");
+  }
+  if (s.supply.nozzle_friction * s.supply.nozzle_wrap_angle > 0.0) {
+    throw SceneError("supply.nozzle_friction",
+                     "a nozzle with friction needs physics.supply (a port the wire is drawn in "
+                     "through)");
+  }
+}
+
 // Storage: the points the model reserves, bounded before it converts the
 // counts to int or allocates anything.
 void supplyStorage(const Scene& s) {
@@ -420,6 +436,7 @@ const CrossRule kCrossRules[] = {
     {"process.max_tension", setpointsWithinLimits},
     {"process.duration", runEnds},
     {"process.duration", supplyStorage},
+    {"supply.nozzle_wrap_angle", machineNeedsSupply},
     {"solver.fixed_step", fixedStepStable},
     {"solver.initial_step", stepBoundsOrdered},
 };

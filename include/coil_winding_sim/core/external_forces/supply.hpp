@@ -12,17 +12,44 @@
 // process.winding_width for process.layers passes (TraverseProfile), unless
 // a caller commands its path (commandPort): then it follows the commanded
 // samples instead.
+//
+// The tension at the port is the setpoint's with the ideal tensioner and a
+// frictionless nozzle. Otherwise the tensioner and the nozzle
+// (machine/tensioner.hpp) make it from the wire drawn in, after each
+// accepted step (afterStep), for the next step.
 #pragma once
+
+#include <optional>
+#include <vector>
 
 #include "coil_winding_sim/core/assembly/force_effect.hpp"
 #include "coil_winding_sim/core/base/hysteresis.hpp"
 #include "coil_winding_sim/core/constraints/frame_constraints.hpp"
 #include "coil_winding_sim/core/external_forces/port_trajectory.hpp"
 #include "coil_winding_sim/core/machine/rotating_core.hpp"
+#include "coil_winding_sim/core/machine/tensioner.hpp"
 #include "coil_winding_sim/core/machine/traverse_profile.hpp"
 #include "coil_winding_sim/core/scene/scene.hpp"
 
 namespace cws {
+
+// The tension where a machine's load cell sits (after the nozzle), seen at
+// each accepted step: its extremes and the ripple (highest less lowest) of
+// each whole core turn [N].
+struct TensionTrace {
+  double peak = 0.0, low = 0.0;
+  std::vector<double> ripple_per_turn;
+  bool seen = false;
+  int turn = 0;  // the core turn under way
+  double turn_max = 0.0, turn_min = 0.0;
+  void note(double core_turns, double tension_N);
+};
+
+// The tensioner's and the nozzle's energy [J] (zero with the ideal
+// tensioner, which lies outside the balance).
+struct MachineEnergy {
+  double kinetic = 0.0, elastic = 0.0, dissipated = 0.0, work_done = 0.0;
+};
 
 class Supply : public SinkEffect<Supply>, public EffectHistory {
  public:
@@ -51,10 +78,24 @@ class Supply : public SinkEffect<Supply>, public EffectHistory {
   void commandPort(double t_s, const Eigen::Vector3d& p_world, double t_now);
   const PortTrajectory& portCommand() const { return command_; }
   PortTrajectory& portCommand() { return command_; }
-  double tension() const { return tension_; }  // [N]
-  // New supply tension [N] (>= 0): pulls from the next evaluation on; points
-  // drawn in from then on arrive stretched to it.
+  // The tension at the port [N]: what pulls the wire.
+  double tension() const { return tension_; }
+  // The tension setpoint [N] (process.tension and its setpoints).
+  double tensionSetpoint() const { return setpoint_; }
+  // New tension setpoint [N] (>= 0): with the ideal tensioner, pulls from
+  // the next evaluation on; points drawn in from then on arrive stretched
+  // to the port's tension.
   void setTension(double tension);
+  // After an accepted step ending at t [s]: the wire's natural length drawn
+  // in since the start [m], the tension at the port's segment [N] and the
+  // core's turns. The tensioner advances on the draw-in speed, and the
+  // port's tension for the next step follows.
+  void afterStep(double t, double fed_length_m, double measured_N, double core_turns);
+  const TensionTrace& trace() const { return trace_; }
+  const Tensioner* tensioner() const { return tensioner_ ? &*tensioner_ : nullptr; }
+  MachineEnergy machineEnergy() const;
+  void appendHistory(std::vector<double>& out) const override;
+  void restoreHistory(HistoryReader& in) override;
   // Strain of wire at the supply tension (virgin loading curve) [-], and the
   // length of the boundary segment l (1 + strain) [m].
   double tensionStrain() const { return strain_; }
@@ -70,8 +111,29 @@ class Supply : public SinkEffect<Supply>, public EffectHistory {
   double swept_radius_ = 0.0;
   Eigen::Vector3d core_origin_world_;
   PortTrajectory command_;
-  double tension_;  // [N]
-  double strain_;   // [-]
+  double setpoint_;  // [N]
+  double tension_;   // at the port [N]
+  double strain_;    // [-]
+  // The dancer (supply.tensioner.kind dancer), and the nozzle's capstan.
+  std::optional<Tensioner> tensioner_;
+  double nozzle_exponent_ = 0.0;                        // mu theta [-]
+  double stick_speed_;                                  // [m/s] (contact.stick_speed)
+  bool machine_ = false;                                // a dancer or a nozzle with friction
+  double fed_m_ = 0.0, fed_t_s_ = 0.0, draw_in_ = 0.0;  // last step's [m], [s], [m/s]
+  // The wire drawn in at past steps, t [s] and length [m], newest last: the
+  // draw-in speed is taken over the passage of a segment through the port,
+  // since within it the discrete wire's last point moves unevenly (as a
+  // chain on a sprocket does).
+  static constexpr int kFedSamples = 512;
+  double fed_at_t_[kFedSamples] = {}, fed_at_m_[kFedSamples] = {};
+  int fed_samples_ = 0, fed_newest_ = 0;
+  double segment_length_;  // [m]
+  // The draw-in speed [m/s] from the samples, after appending (t, fed).
+  double drawInSpeed(double t, double fed_length_m);
+  double port_work_ = 0.0;  // by the port's tension on the wire drawn in [J]
+  TensionTrace trace_;
+  // The port's tension from the tensioner's and the draw-in speed.
+  void updatePortTension();
 };
 
 }  // namespace cws

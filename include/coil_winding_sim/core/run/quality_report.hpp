@@ -42,6 +42,15 @@ struct QualityReport {
   // Conductor area of the wound turns over the bobbin's winding window
   // (flange spacing x flange height) [-]; NaN without flanges.
   double fill_factor = std::numeric_limits<double>::quiet_NaN();
+  // The tension where a machine's load cell sits, after the nozzle (the
+  // port's segment; Supply::trace): its highest and lowest over the run,
+  // and the ripple (highest less lowest) of each whole core turn, with its
+  // largest and its mean [N]. NaN and empty without a supply.
+  double tension_peak_N = std::numeric_limits<double>::quiet_NaN();
+  double tension_low_N = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> tension_ripple_per_turn_N;
+  double tension_ripple_max_N = std::numeric_limits<double>::quiet_NaN();
+  double tension_ripple_mean_N = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The enamel's limits of a wire of nominal bare diameter d [m] (IEC 60317

@@ -233,9 +233,30 @@ struct PhysicsSwitches {
 
 // The wire supply (paper's section IV): the wire enters through a port at
 // p_s(t) = port_position + the traverse's offset (TraverseProfile) * core axis.
+// What stands between the tension setpoint and the wire at the port
+// (supply.tensioner; docs/MODEL.md, "A tensioner and a nozzle"). kind
+// "ideal": the port's tension is the setpoint. "dancer": a spring-loaded arm
+// whose pulley stores wire, loaded to twice the setpoint, with a servo
+// pay-off that keeps the arm centred; the span of wire from the pay-off over
+// the pulley to the nozzle is elastic.
+struct TensionerParams {
+  std::string kind = "ideal";
+  double mass = 0.03;        // the arm's moving mass at its pulley [kg]
+  double stiffness = 100.0;  // of its spring about the centre [N/m]
+  double damping = 2.0;      // of its damper [N s/m]
+  double bandwidth = 30.0;   // of the pay-off's position loop [rad/s]
+  double span_length = 0.5;  // wire from the pay-off over the pulley to the nozzle [m]
+};
+
 struct SupplyParams {
   Eigen::Vector3d port_position_world{0.0, -0.03, 0.0};  // [m] at t = 0
   int max_points = 0;  // storage for this many points; 0: estimated from the scene
+  TensionerParams tensioner;
+  // Capstan friction of the nozzle the wire runs through to the port: the
+  // port's tension is the tensioner's times exp(mu theta) while wire is drawn
+  // in [-], over its wrap angle theta [rad].
+  double nozzle_friction = 0.0;
+  double nozzle_wrap_angle = 0.0;
 };
 
 struct GravityParams {
