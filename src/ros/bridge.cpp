@@ -11,6 +11,7 @@
 
 #include "coil_winding_sim/core/run/coil_report.hpp"
 #include "coil_winding_sim/core/run/output.hpp"
+#include "coil_winding_sim/core/run/quality_report.hpp"
 #include "coil_winding_sim/core/scene/core_geometry.hpp"
 #include "marker_style.hpp"
 
@@ -41,16 +42,28 @@ std_msgs::ColorRGBA layerColor(int layer) {
   }
 }
 
-// The wound wire as spheres coloured by layer ("coil_layers"), and its
-// defects ("coil_defects"): red around points of an overlapping turn that
-// lie above the traverse's plan, yellow around the turns after a gap.
+// Pale blue below half the enamel's limits, through yellow at 3/4 to red
+// at a limit, magenta past one (apart from the force colours' greens).
+std_msgs::ColorRGBA enamelRiskColor(double risk) {
+  if (risk > 1.0) return color(0.9, 0.0, 0.9);
+  const double f = std::clamp(2.0 * risk - 1.0, 0.0, 1.0);  // 0 at half, 1 at the limit
+  if (f < 0.5) return color(0.55 + 0.9 * f, 0.75 + 0.2 * f, 0.95 - 1.9 * f);  // to yellow
+  return color(1.0, 0.85 * (2.0 - 2.0 * f), 0.0);                             // to red
+}
+
+// The wound wire as spheres coloured by layer, or by the share of its
+// enamel's limits used ("coil_layers"), and its defects ("coil_defects"):
+// red around points of an overlapping turn that lie above the traverse's
+// plan, yellow around the turns after a gap.
 void addCoilMarkers(const cws::Simulation& sim, const cws::CoilReport& r, const ros::Time& stamp,
-                    const Frames& frames, visualization_msgs::MarkerArray& out) {
+                    const Frames& frames, bool enamel_risk, visualization_msgs::MarkerArray& out) {
   const cws::WireModel& m = sim.model();
   const double diameter = 2.0 * m.constants().radius;
   visualization_msgs::Marker layers =
       marker(stamp, frames.world, "coil_layers", 0, visualization_msgs::Marker::SPHERE_LIST);
-  layers.scale.x = layers.scale.y = layers.scale.z = diameter;
+  // (A little wider than the wire's strips, which they would otherwise
+  // flicker through.)
+  layers.scale.x = layers.scale.y = layers.scale.z = 1.08 * diameter;
   visualization_msgs::Marker defects =
       marker(stamp, frames.world, "coil_defects", 0, visualization_msgs::Marker::SPHERE_LIST);
   defects.scale.x = defects.scale.y = defects.scale.z = 1.6 * diameter;
@@ -59,7 +72,8 @@ void addCoilMarkers(const cws::Simulation& sim, const cws::CoilReport& r, const 
     for (int i = std::max(t.first_point, m.retiredPoints()); i < t.first_point + t.points; ++i) {
       const geometry_msgs::Point p = point(cws::wirePoint(m, i).p_world);
       layers.points.push_back(p);
-      layers.colors.push_back(layerColor(r.point_layer[i]));
+      layers.colors.push_back(enamel_risk ? enamelRiskColor(cws::enamelRisk(m, sim.scene(), i))
+                                          : layerColor(r.point_layer[i]));
       if (t.overlap && r.point_layer[i] > t.planned_max) {
         defects.points.push_back(p);
         defects.colors.push_back(color(1.0, 0.0, 0.0, 0.6));
@@ -206,7 +220,8 @@ coil_winding_sim::WindFeedback toWindFeedback(const cws::Simulation& sim, double
 
 visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros::Time& stamp,
                                           const Frames& frames, double force_scale_N,
-                                          std::size_t max_points_per_marker, int retired_from) {
+                                          std::size_t max_points_per_marker, int retired_from,
+                                          bool enamel_risk) {
   visualization_msgs::MarkerArray out;
   const cws::WireModel& m = sim.model();
   const int n = m.wirePoints(), retired = m.retiredPoints();
@@ -273,7 +288,7 @@ visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros:
     out.markers.push_back(p);
   }
   cws::CoilReport coil;
-  if (coilOf(sim, coil)) addCoilMarkers(sim, coil, stamp, frames, out);
+  if (coilOf(sim, coil)) addCoilMarkers(sim, coil, stamp, frames, enamel_risk, out);
   return out;
 }
 

@@ -72,7 +72,8 @@ visualization_msgs::MarkerArray toOverlayMarkers(const cws::Simulation& sim, con
   // the side.)
   const std::size_t legend = lines.size();
   if (coil) {
-    lines.push_back("layers: blue 1, orange 2, red 3, brown 4+");
+    lines.push_back(o.enamel_risk ? "enamel: blue within half its limits, red at one, magenta past"
+                                  : "layers: blue 1, orange 2, red 3, brown 4+");
     lines.push_back("marks: red overlap, yellow after a gap");
   }
   // Lines step down along world -y and along the core axis at once, so

@@ -24,6 +24,7 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh, const std::string& defau
   pnh.param("publish_clock", o.publish_clock, o.publish_clock);
   pnh.param("publish_tf", o.publish_tf, o.publish_tf);
   pnh.param("force_color_max", o.force_color_max_N, o.force_color_max_N);
+  pnh.param<std::string>("coil_color", o.coil_color, o.coil_color);
   pnh.param("profile_magnification", o.profile_magnification, o.profile_magnification);
   pnh.param("stop_at_end", o.stop_at_end, o.stop_at_end);
   pnh.param("exit_at_end", o.exit_at_end, o.exit_at_end);
@@ -84,6 +85,10 @@ void validateNodeOptions(NodeOptions& o, bool sim_time) {
   }
   if (!(o.setpoint_stamp_tolerance_s >= 0.0) || !std::isfinite(o.setpoint_stamp_tolerance_s)) {
     throw std::invalid_argument("~setpoint_stamp_tolerance must be a finite number >= 0 [s]");
+  }
+  if (o.coil_color != "layer" && o.coil_color != "enamel_risk") {
+    throw std::invalid_argument("~coil_color must be layer or enamel_risk, not '" + o.coil_color +
+                                "'");
   }
   if (!(o.force_color_max_N >= 0.0) || !std::isfinite(o.force_color_max_N)) {
     throw std::invalid_argument(

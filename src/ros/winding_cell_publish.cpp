@@ -127,8 +127,8 @@ void WindingCell::publishMarkers() {
     marker_keyframe_s_ = now + kCompactKeyframeS;
   }
   marker_subscribers_ = listeners;
-  marker_pub_.publish(
-      toMarkers(*sim_, stamp(), o_.frames, force_max_N_, 10000, retired_markers_sent_));
+  marker_pub_.publish(toMarkers(*sim_, stamp(), o_.frames, force_max_N_, 10000,
+                                retired_markers_sent_, o_.coil_color == "enamel_risk"));
   retired_markers_sent_ = sim_->model().retiredPoints();
   Overlay overlay;
   std::string words;
@@ -141,6 +141,7 @@ void WindingCell::publishMarkers() {
   overlay.tension_setpoint_N = tension_setpoint_;
   overlay.force_max_N = force_max_N_;
   overlay.profile_magnification = o_.profile_magnification;
+  overlay.enamel_risk = o_.coil_color == "enamel_risk";
   marker_pub_.publish(toOverlayMarkers(*sim_, stamp(), o_.frames, overlay));
 }
 

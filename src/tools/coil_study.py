@@ -3,7 +3,9 @@
 
 Runs wire_sim on config/scenes/two_layers.yaml, shortened to two passes of
 seven turns between flanges 8 mm apart, over a grid of supply tensions and
-traverse pitches; collects each run's coil report (summary.json "coil");
+traverse pitches; collects each run's coil report (summary.json "coil") and
+the quality figures (the wire's permanent elongation, the load cell's peak
+tension and ripple a turn);
 writes coil_study.csv and coil_study.md and draws the coils' cross-sections
 (coil_cross_section.png): every turn where it crosses the plane through the
 core axis and the centre of the core's first cylinder, coloured by layer.
@@ -62,6 +64,16 @@ def run_case(wire_sim, scene, runs, tension, pitch_d):
         return tension, pitch_d, json.load(f), []
 
 
+def quality_columns(q):
+    """The wire's permanent elongation [%], and the load cell's peak tension
+    and mean ripple a turn [N] (summary.json "quality"; "" where absent)."""
+    def rounded(key, scale=1.0, digits=3):
+        v = q.get(key)
+        return "" if v is None else round(v * scale, digits)
+    return [rounded("plastic_elongation", 100.0), rounded("tension_peak_N", 1.0, 2),
+            rounded("tension_ripple_mean_N", 1.0, 3)]
+
+
 def section(run_dir, angle_rad):
     """Each turn's crossing of the plane at angle_rad about the core axis:
     (axial [mm], height of the centre above the core surface [mm], layer)."""
@@ -113,6 +125,7 @@ def main():
 
     cols = ["tension_N", "pitch_d", "turns", "layers", "gaps", "largest_gap_d", "first_gap_turn",
             "overlaps", "first_overlap_turn", "bulging_layer1_mm", "bulging_layer2_mm",
+            "plastic_elongation_pct", "tension_peak_N", "tension_ripple_N",
             "real_time_factor", "status"]
     rows = []
     for t, p in grid:
@@ -124,8 +137,9 @@ def main():
         bulge = c["bulging_per_layer_m"] + [float("nan")] * 2
         rows.append([t, p, c["turns"], c["layers"], c["gaps"], round(c["largest_gap_m"] / D_M, 3),
                      c["first_gap_turn"], c["overlaps"], c["first_overlap_turn"],
-                     round(bulge[0] * 1e3, 3), round(bulge[1] * 1e3, 3),
-                     round(summary["real_time_factor"], 3), "ok"])
+                     round(bulge[0] * 1e3, 3), round(bulge[1] * 1e3, 3)] +
+                    quality_columns(summary.get("quality") or {}) +
+                    [round(summary["real_time_factor"], 3), "ok"])
     with open(os.path.join(out, "coil_study.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(cols)

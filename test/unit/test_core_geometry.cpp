@@ -122,6 +122,16 @@ TEST(CoreShape, ThePapersOutlineGivesItsCylindersInTheirOrder) {
     EXPECT_EQ(s.core.cylinders[i].radius, 2.5e-3);
   }
   EXPECT_TRUE(s.core.hull_faces);
+  // config/scenes/paper_core.yaml: the same cylinders, as the paper lists
+  // them, without the sides.
+  const cws::Scene listed =
+      cws::loadScene(std::string(CWS_SOURCE_DIR) + "/config/scenes/paper_core.yaml", {});
+  ASSERT_EQ(listed.core.cylinders.size(), paper.size());
+  for (std::size_t i = 0; i < paper.size(); ++i) {
+    EXPECT_EQ(listed.core.cylinders[i].center_core, s.core.cylinders[i].center_core);
+    EXPECT_EQ(listed.core.cylinders[i].radius, s.core.cylinders[i].radius);
+  }
+  EXPECT_FALSE(listed.core.hull_faces);
 }
 
 TEST(CoreShape, SidesOfTwiceTheCornerRadiusMakeASlotOrARoundCore) {

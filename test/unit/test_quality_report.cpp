@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "coil_winding_sim/core/run/coil_report.hpp"
@@ -80,14 +81,22 @@ TEST(QualityReport, EnamelledWireBentPastItsLimitsIsFlagged) {
     const cws::Scene s = cws::loadScene(kPaperScene, keys);
     cws::Simulation sim(s);
     sim.run();
-    return cws::reportQuality(sim.model(), s, cws::reportCoil(sim.model(), s));
+    const cws::QualityReport q =
+        cws::reportQuality(sim.model(), s, cws::reportCoil(sim.model(), s));
+    // The share of the limits used where the wire is bent most (rviz's
+    // enamel_risk colours).
+    return std::make_pair(q, cws::enamelRisk(sim.model(), s, q.bending_strain_point));
   };
-  const cws::QualityReport wide = quality("0.0025");
+  const auto [wide, wide_risk] = quality("0.0025");
   EXPECT_DOUBLE_EQ(wide.elongation_limit, 0.30);
   EXPECT_EQ(wide.bending_limit, 0.5);
   EXPECT_NEAR(wide.bending_strain, 0.5 / 3.047, 0.1 * 0.5 / 3.047);
   EXPECT_TRUE(wide.turns_past_limits.empty());
-  const cws::QualityReport sharp = quality("0.0005");
+  // The surface strain over the elongation limit (the axial strain at 30 N
+  // is 3e-4): 0.164 / 0.30.
+  EXPECT_NEAR(wide_risk, 0.5 / 3.047 / 0.30, 0.1 * 0.5 / 3.047 / 0.30);
+  const auto [sharp, sharp_risk] = quality("0.0005");
+  EXPECT_GT(sharp_risk, 1.0);
   EXPECT_NEAR(sharp.bending_strain, 0.5 / 1.047, 0.1 * 0.5 / 1.047);
   EXPECT_FALSE(sharp.turns_past_limits.empty());
   EXPECT_EQ(sharp.turns_past_limits.front(), 1);

@@ -71,12 +71,14 @@ coil_winding_sim::WindingMetrics toMetrics(const cws::Simulation& sim, const ros
 // arrays (WireModel::retireBuriedWire) is rigid on the core and is sent in
 // the core frame, and only where it holds points from `retired_from` on
 // (whole-wire index; 0: every strip). With wire contact, also the live
-// wound wire coloured by layer ("coil_layers") and its overlaps and gaps
-// ("coil_defects").
+// wound wire coloured by layer, or with `enamel_risk` by the share of its
+// enamel's limits used (quality_report.hpp: pale blue within half, yellow
+// to red at a limit, magenta past one) ("coil_layers"), and its overlaps and
+// gaps ("coil_defects").
 visualization_msgs::MarkerArray toMarkers(const cws::Simulation& sim, const ros::Time& stamp,
                                           const Frames& frames, double force_scale_N,
                                           std::size_t max_points_per_marker = 10000,
-                                          int retired_from = 0);
+                                          int retired_from = 0, bool enamel_risk = false);
 // What the overlay shows besides the simulation.
 struct Overlay {
   std::string state;                   // the cell's state in words
@@ -86,6 +88,7 @@ struct Overlay {
   double force_min_N = 0.0;            // the wire's colour range [N]
   double force_max_N = 1.0;            // [N]
   double profile_magnification = 0.0;  // 0: no profile marker
+  bool enamel_risk = false;            // the wound wire coloured by its enamel's risk
 };
 // rviz overlay: the figures as text beside the core ("cell_status"), an
 // arrow and the height at the bulge ("bulge"), and the wound wire's profile

@@ -31,6 +31,7 @@ struct NodeOptions {
   bool publish_clock = false;           // ~publish_clock: the simulated time as /clock
   bool publish_tf = true;               // ~publish_tf: false when robot_state_publisher does
   double force_color_max_N = 0.0;       // ~force_color_max: red [N]; 0: 2 x the tension at start
+  std::string coil_color = "layer";     // ~coil_color: the wound wire by layer or enamel_risk
   double profile_magnification = 10.0;  // ~profile_magnification: 0 hides the profile marker
   // ~stop_at_end: hold at the job's end (scripted runs); false: the cell
   // runs until it is stopped, feeding wire while the core turns.

@@ -81,6 +81,20 @@ std::vector<double> crossoverPerLayer(const WireModel& m, const Scene& s, const 
 }
 }  // namespace
 
+double enamelRisk(const WireModel& m, const Scene& s, int w) {
+  if (s.wire.insulation_grade <= 0) return 0.0;
+  const WireConstants& c = m.constants();
+  const double bare = s.wire.nominal_diameter > 0.0 ? s.wire.nominal_diameter : s.wire.diameter;
+  const double bending = wirePoint(m, w).curvature_1pm * 0.5 * bare;
+  const int j = w - c.retired - 1;  // the live segment ending at the point
+  const double axial = j >= 0 && j + 1 < c.n ? m.stretching().strain(m.committed(), j) : 0.0;
+  const double mandrel = mandrelBendingLimit(bare), elongation = elongationAtBreakLimit(bare);
+  double risk = 0.0;
+  if (mandrel > 0.0) risk = bending / mandrel;
+  if (elongation > 0.0) risk = std::max(risk, (std::max(axial, 0.0) + bending) / elongation);
+  return risk;
+}
+
 QualityReport reportQuality(const WireModel& m, const Scene& s, const CoilReport& coil) {
   QualityReport q;
   const WireConstants& c = m.constants();
@@ -120,7 +134,6 @@ QualityReport reportQuality(const WireModel& m, const Scene& s, const CoilReport
   // Bending at the surface over the wound wire, against the limits turn by
   // turn (the axial strain of live segments added on the stretched side).
   const int wound = static_cast<int>(coil.point_turn.size());
-  const WireKinematics& k = m.committed();
   for (int w = 0; w < wound; ++w) {
     const double bending = wirePoint(m, w).curvature_1pm * 0.5 * bare;
     if (bending > q.bending_strain) {
@@ -128,11 +141,7 @@ QualityReport reportQuality(const WireModel& m, const Scene& s, const CoilReport
       q.bending_strain_point = w;
     }
     if (!enamelled) continue;
-    const int j = w - c.retired - 1;  // the live segment ending at the point
-    const double axial = j >= 0 && j + 1 < c.n ? stretching.strain(k, j) : 0.0;
-    const bool past =
-        (q.bending_limit > 0.0 && bending > q.bending_limit) ||
-        (q.elongation_limit > 0.0 && std::max(axial, 0.0) + bending > q.elongation_limit);
+    const bool past = enamelRisk(m, s, w) > 1.0;
     const int turn = coil.point_turn[w];
     if (past && std::find(q.turns_past_limits.begin(), q.turns_past_limits.end(), turn) ==
                     q.turns_past_limits.end()) {

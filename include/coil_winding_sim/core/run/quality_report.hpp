@@ -60,6 +60,12 @@ struct QualityReport {
 double mandrelBendingLimit(double nominal_diameter);
 double elongationAtBreakLimit(double nominal_diameter);
 
+// How much of its enamel's limits point w of the whole wire has used at the
+// last accepted step: the larger of its bending strain over the mandrel
+// wrap's and its surface strain (axial + bending) over the elongation at
+// break [-]; above 1 it passed one (0 for a bare wire).
+double enamelRisk(const WireModel& m, const Scene& s, int w);
+
 // The report of the model's wire at its last accepted step; `coil` gives
 // the wound wire's turns (coil_report.hpp).
 QualityReport reportQuality(const WireModel& m, const Scene& s, const CoilReport& coil);
