@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "coil_winding_sim/core/run/coil_report.hpp"
+#include "coil_winding_sim/core/run/quality_report.hpp"
 #include "coil_winding_sim/core/run/simulation.hpp"
 
 #ifdef CWS_SOURCE_DIR
@@ -121,6 +122,36 @@ TEST(RetiredWire, PlanarCoilMatchesTheRunThatKeepsEveryPoint) {
   expectSameWire(kept.model(), retired.model());
   expectSameEnergy(kept, retired);
   EXPECT_EQ(cws::bulging(kept.model()).height_m, cws::bulging(retired.model()).height_m);
+}
+
+TEST(RetiredWire, RetiredWireKeepsItsPermanentElongation) {
+  // At 45 N the paper's wire arrives yielded (its yield force is 39 N): the
+  // quality figures read the retired wire's permanent strain as the live.
+  auto coil = [](int points) {
+    cws::Scene s = planarCoil(points);
+    s.process.tension = 45.0;
+    return s;
+  };
+  cws::Simulation kept(coil(0));
+  kept.run();
+  cws::Simulation retired(coil(700));
+  retired.run();
+  ASSERT_GT(retired.model().retiredPoints(), 400);
+  // Each retired segment's strain as the run that keeps it has it.
+  double most_retired = 0.0;
+  for (int w = 0; w < retired.model().retiredPoints(); ++w) {
+    const double eps = retired.model().retiredWire()[w].segment_plastic_strain;
+    most_retired = std::max(most_retired, eps);
+    ASSERT_NEAR(eps, kept.model().stretching().plasticStrain(w), 1e-15) << "segment " << w;
+  }
+  EXPECT_GT(most_retired, 1e-4);
+  const cws::QualityReport a =
+      cws::reportQuality(kept.model(), kept.scene(), cws::reportCoil(kept.model(), kept.scene()));
+  const cws::QualityReport b = cws::reportQuality(
+      retired.model(), retired.scene(), cws::reportCoil(retired.model(), retired.scene()));
+  EXPECT_EQ(a.plastic_elongation, b.plastic_elongation);
+  EXPECT_EQ(a.plastic_elongation_segment, b.plastic_elongation_segment);
+  EXPECT_GE(a.plastic_elongation, most_retired);
 }
 
 // A snapshot after a retirement carries the retired wire: the continued run

@@ -18,6 +18,7 @@ void RetiredWire::exportPoints(std::vector<double>& out) const {
     out.push_back(p.twist_rad_per_m);
     out.push_back((p.in_contact ? 1.0 : 0.0) + (p.stick ? 2.0 : 0.0));
     out.insert(out.end(), p.surface, p.surface + RetiredPoint::kSlots);
+    out.push_back(p.segment_plastic_strain);
   }
 }
 
@@ -55,6 +56,7 @@ void RetiredWire::importPoints(const std::vector<double>& in) {
       }
       p.surface[s] = static_cast<int>(id);
     }
+    p.segment_plastic_strain = v[9 + RetiredPoint::kSlots];
   }
   // (Into the store's own records: what it reserved stays reserved.)
   points_.assign(points.begin(), points.end());

@@ -49,6 +49,7 @@ int WireModel::retireBuriedWire(Eigen::VectorXd& y) {
     // (Wire is carried only where the clamp is on the core: p0_ is core frame.)
     q.p_core = i == 0 ? p0_ : carried_.positionCore(i);
     q.stand_off_m = section_ ? liveStandOff(i) : 0.0;
+    q.segment_plastic_strain = stretching_->plasticStrain(i);
     static_assert(Contact::kMaxSlots <= RetiredPoint::kSlots, "a retired point keeps every slot");
     if (contact_) {
       for (int s = 0; s < contact_->slots(); ++s) q.surface[s] = contact_->surface(i, s);

@@ -97,7 +97,6 @@ double enamelRisk(const WireModel& m, const Scene& s, int w) {
 
 QualityReport reportQuality(const WireModel& m, const Scene& s, const CoilReport& coil) {
   QualityReport q;
-  const WireConstants& c = m.constants();
   // The bare conductor: its nominal diameter, or the wire's where none is
   // given (paper_table_1, a bare wire).
   const double bare = s.wire.nominal_diameter > 0.0 ? s.wire.nominal_diameter : s.wire.diameter;
@@ -106,14 +105,15 @@ QualityReport reportQuality(const WireModel& m, const Scene& s, const CoilReport
     q.bending_limit = mandrelBendingLimit(bare);
     q.elongation_limit = elongationAtBreakLimit(bare);
   }
-  // Permanent elongation over the live segments (retired wire keeps its
-  // figures, not its yield state).
-  const Stretching& stretching = m.stretching();
-  for (int j = 0; j + 1 < c.n; ++j) {
-    const double eps = stretching.plasticStrain(j);
+  // Permanent elongation over the whole wire (retired wire keeps its
+  // figures from when it retired).
+  const int retired = m.retiredPoints();
+  for (int w = 0; w + 1 < m.wirePoints(); ++w) {
+    const double eps = w < retired ? m.retiredWire()[w].segment_plastic_strain
+                                   : m.stretching().plasticStrain(w - retired);
     if (eps > q.plastic_elongation) {
       q.plastic_elongation = eps;
-      q.plastic_elongation_segment = c.retired + j;  // of the whole wire
+      q.plastic_elongation_segment = w;  // of the whole wire
     }
   }
   q.cross_section_lost = q.plastic_elongation / (1.0 + q.plastic_elongation);

@@ -29,6 +29,9 @@ struct RetiredPoint : PointFigures {
   // none), for the layers the coil report finds.
   static constexpr int kSlots = 6;
   int surface[kSlots] = {-1, -1, -1, -1, -1, -1};
+  // Permanent axial strain of the segment from this point to the next
+  // (the stretching law's strain at zero force) [-].
+  double segment_plastic_strain = 0.0;
 };
 
 class RetiredWire {
@@ -50,7 +53,7 @@ class RetiredWire {
   int max_stand_off_point = -1;
 
   // Snapshot form: kValuesPerPoint numbers per point.
-  static constexpr int kValuesPerPoint = 9 + RetiredPoint::kSlots;
+  static constexpr int kValuesPerPoint = 10 + RetiredPoint::kSlots;
   void exportPoints(std::vector<double>& out) const;
   // Throws std::runtime_error naming what is wrong (the store is unchanged).
   void importPoints(const std::vector<double>& in);

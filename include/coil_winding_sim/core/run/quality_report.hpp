@@ -15,8 +15,9 @@ struct Scene;
 struct CoilReport;
 
 struct QualityReport {
-  // Largest permanent axial strain of the live wire [-], the segment where
-  // it is (of the whole wire, retired included; -1: none yielded), and the
+  // Largest permanent axial strain of the whole wire [-] (retired wire as
+  // it was when it retired), the segment where it is (of the whole wire;
+  // -1: none yielded), and the
   // conductor's cross-section lost to it at constant volume,
   // eps / (1 + eps) [-].
   double plastic_elongation = 0.0;
