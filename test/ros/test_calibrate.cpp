@@ -52,6 +52,18 @@ YAML::Node parameter(const YAML::Node& cal, const std::string& key) {
   return YAML::Node();
 }
 
+// A key the data pin down: reported identifiable, within 3 sigma of its
+// true value, and sigma within a tenth of its range.
+void expectRecovered(const YAML::Node& cal, const std::string& key, double value) {
+  const YAML::Node p = parameter(cal, key);
+  ASSERT_TRUE(p["identifiable"].as<bool>()) << key << ": " << p["note"].as<std::string>();
+  const double v = p["value"].as<double>(), sigma = p["sigma"].as<double>();
+  std::printf("%s: %.4g +- %.2g (true %.4g, %.1f sigma off)\n", key.c_str(), v, sigma, value,
+              std::abs(v - value) / sigma);
+  EXPECT_LE(std::abs(v - value), 3.0 * sigma) << key;
+  EXPECT_LE(sigma, 0.1 * (p["hi"].as<double>() - p["lo"].as<double>())) << key;
+}
+
 class Calibrate : public testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -93,13 +105,7 @@ TEST_F(Calibrate, RecoversWhatTheDataPinDownAndFlagsTheRest) {
        {std::pair<std::string, double>{"contact.static_friction", 0.28},
         std::pair<std::string, double>{"contact.kinetic_friction", 0.2},
         std::pair<std::string, double>{"wire.bend.yield_curvature", 2.0}}) {
-    const YAML::Node p = parameter(cal, key);
-    ASSERT_TRUE(p["identifiable"].as<bool>()) << key << ": " << p["note"].as<std::string>();
-    const double v = p["value"].as<double>(), sigma = p["sigma"].as<double>();
-    std::printf("%s: %.4g +- %.2g (true %.4g, %.1f sigma off)\n", key.c_str(), v, sigma, value,
-                std::abs(v - value) / sigma);
-    EXPECT_LE(std::abs(v - value), 3.0 * sigma) << key;
-    EXPECT_LE(sigma, 0.1 * (p["hi"].as<double>() - p["lo"].as<double>())) << key;
+    expectRecovered(cal, key, value);
   }
   // Torsion is off in this scene: its yield point changes nothing.
   const YAML::Node twist = parameter(cal, "wire.torsion.yield_twist");
@@ -125,13 +131,7 @@ TEST_F(Calibrate, FitsADancersSpringAndDamperFromTheTensionTrace) {
   for (const auto& [key, value] :
        {std::pair<std::string, double>{"supply.tensioner.stiffness", 300.0},
         std::pair<std::string, double>{"supply.tensioner.damping", 4.0}}) {
-    const YAML::Node p = parameter(cal, key);
-    ASSERT_TRUE(p["identifiable"].as<bool>()) << key << ": " << p["note"].as<std::string>();
-    const double v = p["value"].as<double>(), sigma = p["sigma"].as<double>();
-    std::printf("%s: %.4g +- %.2g (true %.4g, %.1f sigma off)\n", key.c_str(), v, sigma, value,
-                std::abs(v - value) / sigma);
-    EXPECT_LE(std::abs(v - value), 3.0 * sigma) << key;
-    EXPECT_LE(sigma, 0.1 * (p["hi"].as<double>() - p["lo"].as<double>())) << key;
+    expectRecovered(cal, key, value);
   }
 }
 
