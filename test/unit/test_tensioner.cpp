@@ -128,6 +128,27 @@ TEST(Tensioner, TheNozzlesCapstanRatioIsExpMuTheta) {
   EXPECT_DOUBLE_EQ(cws::capstanRatio(mu, theta, 0.5e-3, vs), std::exp(0.5 * mu * theta));
 }
 
+TEST(Tensioner, TheLoadCellsTraceKeepsWhatItsListHasRoomFor) {
+  // Tension 10 + turn * sin(4 pi turns): each whole turn's ripple is twice
+  // its turn number. A list with room for two: the first two turns listed,
+  // the largest and the mean over all four.
+  cws::TensionTrace trace;
+  trace.ripple_per_turn.reserve(2);
+  for (int k = 0; k <= 4000; ++k) {
+    const double turns = k / 800.0;  // to 5 turns
+    const double n = std::floor(turns) + 1.0;
+    trace.note(turns, 10.0 + n * std::sin(4.0 * kPi * turns));
+  }
+  ASSERT_EQ(trace.ripple_per_turn.size(), 2u);
+  EXPECT_NEAR(trace.ripple_per_turn[0], 2.0, 1e-4);
+  EXPECT_NEAR(trace.ripple_per_turn[1], 4.0, 1e-4);
+  EXPECT_EQ(trace.ripple_turns, 5);
+  EXPECT_NEAR(trace.ripple_max, 10.0, 1e-4);
+  EXPECT_NEAR(trace.ripple_sum / trace.ripple_turns, 6.0, 1e-4);
+  EXPECT_NEAR(trace.peak, 15.0, 1e-4);
+  EXPECT_NEAR(trace.low, 10.0 - 5.0, 1e-3);
+}
+
 #ifdef CWS_SOURCE_DIR
 namespace {
 cws::Scene paperCase(const std::vector<std::string>& more) {

@@ -110,7 +110,11 @@ void TensionTrace::note(double core_turns, double tension_N) {
   }
   if (now != turn) {
     // A whole turn ended (a turn the core ran backwards through counts too).
-    ripple_per_turn.push_back(turn_max - turn_min);
+    const double ripple = turn_max - turn_min;
+    if (ripple_per_turn.size() < ripple_per_turn.capacity()) ripple_per_turn.push_back(ripple);
+    ripple_max = std::max(ripple_max, ripple);
+    ripple_sum += ripple;
+    ++ripple_turns;
     turn = now;
     turn_max = turn_min = tension_N;
   }
@@ -135,7 +139,9 @@ MachineEnergy Supply::machineEnergy() const {
 void Supply::appendHistory(std::vector<double>& out) const {
   out.insert(out.end(), {fed_m_, fed_t_s_, draw_in_, port_work_, trace_.peak, trace_.low,
                          trace_.seen ? 1.0 : 0.0, static_cast<double>(trace_.turn), trace_.turn_max,
-                         trace_.turn_min, static_cast<double>(trace_.ripple_per_turn.size())});
+                         trace_.turn_min, trace_.ripple_max, trace_.ripple_sum,
+                         static_cast<double>(trace_.ripple_turns),
+                         static_cast<double>(trace_.ripple_per_turn.size())});
   out.insert(out.end(), trace_.ripple_per_turn.begin(), trace_.ripple_per_turn.end());
   if (tensioner_) {
     double v[Tensioner::kValues];
@@ -163,8 +169,13 @@ void Supply::restoreHistory(HistoryReader& in) {
   trace_.turn = in.nextInteger(-1000000000, 1000000000, "tension trace turn");
   trace_.turn_max = in.next();
   trace_.turn_min = in.next();
+  trace_.ripple_max = in.next();
+  trace_.ripple_sum = in.next();
+  trace_.ripple_turns = in.nextInteger(0, 1000000000, "tension trace whole turns");
   const int turns = in.nextInteger(0, 100000000, "tension trace turns");
   trace_.ripple_per_turn.clear();
+  trace_.ripple_per_turn.reserve(
+      std::max(trace_.ripple_per_turn.capacity(), static_cast<std::size_t>(turns)));
   for (int i = 0; i < turns; ++i) trace_.ripple_per_turn.push_back(in.next());
   if (tensioner_) {
     double v[Tensioner::kValues];

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 
 #include "coil_winding_sim/core/external_forces/supply.hpp"
 #include "coil_winding_sim/core/inner_forces/stretching.hpp"
@@ -123,12 +122,9 @@ QualityReport reportQuality(const WireModel& m, const Scene& s, const CoilReport
     q.tension_peak_N = tr.peak;
     q.tension_low_N = tr.low;
     q.tension_ripple_per_turn_N = tr.ripple_per_turn;
-    if (!tr.ripple_per_turn.empty()) {
-      q.tension_ripple_max_N =
-          *std::max_element(tr.ripple_per_turn.begin(), tr.ripple_per_turn.end());
-      q.tension_ripple_mean_N =
-          std::accumulate(tr.ripple_per_turn.begin(), tr.ripple_per_turn.end(), 0.0) /
-          static_cast<double>(tr.ripple_per_turn.size());
+    if (tr.ripple_turns > 0) {
+      q.tension_ripple_max_N = tr.ripple_max;
+      q.tension_ripple_mean_N = tr.ripple_sum / static_cast<double>(tr.ripple_turns);
     }
   }
   // Bending at the surface over the wound wire, against the limits turn by

@@ -35,10 +35,14 @@ namespace cws {
 
 // The tension where a machine's load cell sits (after the nozzle), seen at
 // each accepted step: its extremes and the ripple (highest less lowest) of
-// each whole core turn [N].
+// each whole core turn [N]. The list holds the turns its storage, reserved
+// at the start for the scene's turns, has room for (a cell that winds on
+// allocates nothing for it); the largest and the mean cover every turn.
 struct TensionTrace {
   double peak = 0.0, low = 0.0;
   std::vector<double> ripple_per_turn;
+  double ripple_max = 0.0, ripple_sum = 0.0;
+  long ripple_turns = 0;
   bool seen = false;
   int turn = 0;  // the core turn under way
   double turn_max = 0.0, turn_min = 0.0;

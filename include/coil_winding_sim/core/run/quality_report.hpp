@@ -45,8 +45,9 @@ struct QualityReport {
   double fill_factor = std::numeric_limits<double>::quiet_NaN();
   // The tension where a machine's load cell sits, after the nozzle (the
   // port's segment; Supply::trace): its highest and lowest over the run,
-  // and the ripple (highest less lowest) of each whole core turn, with its
-  // largest and its mean [N]. NaN and empty without a supply.
+  // and the ripple (highest less lowest) of each whole core turn (the
+  // turns planned, and more while there is room), with its largest and its
+  // mean over every turn [N]. NaN and empty without a supply.
   double tension_peak_N = std::numeric_limits<double>::quiet_NaN();
   double tension_low_N = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> tension_ripple_per_turn_N;
