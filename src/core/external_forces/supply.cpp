@@ -37,7 +37,8 @@ Supply::Supply(const WireConstants& c, const Scene& s, const RotatingCore* core)
     tensioner_.emplace(s.supply.tensioner, s.wire.stretch.elastic_rigidity, setpoint_);
   }
   machine_ = tensioner_ || nozzle_exponent_ > 0.0;
-  // A ripple per turn of the run (turns beyond it grow the list).
+  // Room for a ripple per turn of the run (turns beyond it count in the
+  // largest and the mean only).
   const double turns = s.process.duration ? 0.0 : s.process.turns;
   trace_.ripple_per_turn.reserve(static_cast<std::size_t>(std::min(1.5 * turns, 1.0e6)) + 64);
   for (const CylinderParams& cyl : s.core.cylinders) {
