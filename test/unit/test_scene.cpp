@@ -272,6 +272,14 @@ TEST_F(SceneFiles, RefusesUnknownKeys) {
   expectRefused("solver:\n  rtol: 1e-6\n  order: 5\n", {}, "solver.order", "unknown key");
 }
 
+TEST_F(SceneFiles, RefusesRemovedKeysSayingWhatReplacedThem) {
+  // In a file and as an override: the key named, and what stands in its place.
+  expectRefused("solver:\n  strike_speed: 2.0\n", {}, "solver.strike_speed",
+                "was removed: a landing counts as a strike from 1 m/s");
+  expectRefused("", {"solver.line_search_halvings=3"}, "solver.line_search_halvings",
+                "was removed: a Newton step that does not lower the residual is halved up to five");
+}
+
 TEST_F(SceneFiles, RefusesWrongTypes) {
   expectRefused("wire:\n  diameter: thick\n", {}, "wire.diameter", "number");
   expectRefused("wire:\n  diameter: {value: 1e-3}\n", {}, "wire.diameter", "number");

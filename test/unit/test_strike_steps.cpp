@@ -73,7 +73,7 @@ TEST(StrikeSteps, FollowTheCoreStrikingTheFreeSpan) {
   EXPECT_EQ(strikeWindows(plain), 0);
 }
 
-// At 600 rpm no landing comes near solver.strike_speed (the core's corners
+// At 600 rpm no landing comes near the strike speed of 1 m/s (the core's corners
 // move at 0.8 m/s): the key changes nothing, to the bit.
 TEST(StrikeSteps, SlowCoresTakeTheSameSteps) {
   const cws::Simulation plain = run(600, 0.0, {"solver.integrator=bdf2", "solver.strike_step=0"});

@@ -38,6 +38,7 @@ void mergeChecked(YAML::Node base, const YAML::Node& user, const std::string& pr
     const std::string path = join(prefix, printable(key));
     const YAML::Node& cbase = base;
     if (!cbase[key]) {
+      if (const char* why = removedSceneKey(path)) throw SceneError(path, why);
       std::string known;
       for (const auto& b : cbase) known += (known.empty() ? "" : ", ") + b.first.Scalar();
       throw SceneError(path, "unknown key (" + (prefix.empty() ? std::string("a scene") : prefix) +

@@ -296,7 +296,7 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     // step follows (docs/MODEL.md, "Steps through a struck span").
     bool struck = false;
     if (p_.strike_step > 0.0 && t + h > strike_until_) {
-      struck = model_->spanLandingSpeed(kStrikeGap) >= p_.strike_speed;
+      struck = model_->spanLandingSpeed(kStrikeGap) >= kStrikeSpeed;
       if (struck && h > (1.0 + kLandStretch) * p_.strike_step) {
         ++counts_.rejected;
         h_ = std::max(p_.strike_step, 0.125 * h);

@@ -4,7 +4,7 @@
 // the full steps taken with it update it, where the problem keeps secant
 // steps: secant_steps.hpp), a
 // backtracking line search on the residual's norm (halving up to
-// solver.line_search_halvings times), convergence when the step is below the
+// five times), convergence when the step is below the
 // tolerance or the residual's work over it below the energy tolerance, and flag
 // rounds: after a converged solve the effects recheck their frozen flags
 // (contact, stick, slip, hysteresis lines) and a change solves again with a
@@ -49,10 +49,10 @@ struct NewtonSettings {
   double flag_check_tol = 0.0;      // [m]; 0: flags rechecked only at convergence
   int return_mapping_round = 1000;  // the first round that return-maps (beyond flag_rounds: none)
   // The scene's (solver.newton_tol, newton_energy_tol, newton_max_iterations,
-  // flag_rounds, line_search_halvings, flag_check_tol, return_mapping_round).
+  // flag_rounds, flag_check_tol, return_mapping_round); five halvings.
   static NewtonSettings of(const SolverParams& s) {
-    return {s.newton_tol,           s.newton_energy_tol, s.newton_max_iterations, s.flag_rounds,
-            s.line_search_halvings, s.flag_check_tol,    s.return_mapping_round};
+    return {s.newton_tol,     s.newton_energy_tol,   s.newton_max_iterations, s.flag_rounds, 5,
+            s.flag_check_tol, s.return_mapping_round};
   }
 };
 

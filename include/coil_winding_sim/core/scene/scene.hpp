@@ -181,13 +181,12 @@ struct SolverParams {
   // Struck spans (docs/MODEL.md, "Steps through a struck span"): where the
   // core strikes the free span, a point of it landing at least
   // kStrikeGap points beyond the wound wire at a speed relative to the core
-  // of at least strike_speed [m/s], the Newton steps go down to strike_step
+  // of at least ImplicitStepper::kStrikeSpeed, the Newton steps go down to strike_step
   // [s] and stay there for strike_window [s] (strike_step 0: never; at or
   // above implicit_step: no shorter steps). On by default: it puts the
   // paper's 1200 rpm cases within 2 % in bulging of the explicit model.
   double strike_step = 1.0e-6;
   double strike_window = 1.5e-4;
-  double strike_speed = 1.0;
   // generalized_alpha: the spectral radius at infinite frequency [-], in
   // [0, 1] (1: no numerical damping; 0: the most).
   double rho_infinity = 0.8;
@@ -199,7 +198,6 @@ struct SolverParams {
   double newton_energy_tol = 0.0;
   int newton_max_iterations = 30;
   int flag_rounds = 8;
-  int line_search_halvings = 5;  // of a Newton step that does not lower the residual
   // A solve whose Newton step falls below this [m] rechecks its flags before
   // it converges to newton_tol (0: only at convergence).
   double flag_check_tol = 3.0e-7;

@@ -93,4 +93,9 @@ const std::vector<SceneKey>& sceneKeys();
 // The key named `name` (dotted), or nullptr.
 const SceneKey* findSceneKey(const std::string& name);
 
+// Why the key named `name` (dotted) is no longer a scene key and what
+// took its place, or nullptr: a scene file that sets it is refused with
+// this.
+const char* removedSceneKey(const std::string& name);
+
 }  // namespace cws

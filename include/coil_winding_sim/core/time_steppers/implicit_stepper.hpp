@@ -49,6 +49,10 @@ class ImplicitStepper : public TimeStepper {
   // A span counts as struck where a point at least this many points beyond
   // the wound wire lands (solver.strike_step).
   static constexpr int kStrikeGap = 3;
+  // ... and lands at this speed relative to the core or faster [m/s]
+  // (docs/MODEL.md, "Steps through a struck span"; the scene key
+  // solver.strike_speed until issue 61).
+  static constexpr double kStrikeSpeed = 1.0;
   // The explicit fallback's stretch of simulated time [s].
   static constexpr double kFallbackStretch = 1e-3;
   ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme);
