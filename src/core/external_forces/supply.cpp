@@ -68,13 +68,14 @@ void Supply::updatePortTension() {
 
 void Supply::afterStep(double t, double fed_length_m, double measured_N, double core_turns) {
   trace_.note(core_turns, measured_N);
-  if (!machine_ || !(t > fed_t_s_)) return;
+  // The last step's end: the newest draw-in sample (the start: none).
+  const double t_last = fed_samples_ > 0 ? fed_at_t_[fed_newest_] : 0.0;
+  const double fed_last = fed_samples_ > 0 ? fed_at_m_[fed_newest_] : 0.0;
+  if (!machine_ || !(t > t_last)) return;
   // The draw-in speed over the step, held while the tensioner follows it;
   // the port's tension pulled through the step (tension_) did the work.
   draw_in_ = drawInSpeed(t, fed_length_m);
-  port_work_ += tension_ * (fed_length_m - fed_m_) * (1.0 + strain_);
-  fed_m_ = fed_length_m;
-  fed_t_s_ = t;
+  port_work_ += tension_ * (fed_length_m - fed_last) * (1.0 + strain_);
   if (tensioner_) tensioner_->advance(t, draw_in_);
   updatePortTension();
 }
@@ -138,11 +139,11 @@ MachineEnergy Supply::machineEnergy() const {
 }
 
 void Supply::appendHistory(std::vector<double>& out) const {
-  out.insert(out.end(), {fed_m_, fed_t_s_, draw_in_, port_work_, trace_.peak, trace_.low,
-                         trace_.seen ? 1.0 : 0.0, static_cast<double>(trace_.turn), trace_.turn_max,
-                         trace_.turn_min, trace_.ripple_max, trace_.ripple_sum,
-                         static_cast<double>(trace_.ripple_turns),
-                         static_cast<double>(trace_.ripple_per_turn.size())});
+  out.insert(out.end(),
+             {draw_in_, port_work_, trace_.peak, trace_.low, trace_.seen ? 1.0 : 0.0,
+              static_cast<double>(trace_.turn), trace_.turn_max, trace_.turn_min, trace_.ripple_max,
+              trace_.ripple_sum, static_cast<double>(trace_.ripple_turns),
+              static_cast<double>(trace_.ripple_per_turn.size())});
   out.insert(out.end(), trace_.ripple_per_turn.begin(), trace_.ripple_per_turn.end());
   if (tensioner_) {
     double v[Tensioner::kValues];
@@ -160,8 +161,6 @@ void Supply::appendHistory(std::vector<double>& out) const {
 }
 
 void Supply::restoreHistory(HistoryReader& in) {
-  fed_m_ = in.next();
-  fed_t_s_ = in.next();
   draw_in_ = in.next();
   port_work_ = in.next();
   trace_.peak = in.next();

@@ -80,10 +80,18 @@ std::vector<double> crossoverPerLayer(const WireModel& m, const Scene& s, const 
 }
 }  // namespace
 
+namespace {
+// The bare conductor: its nominal diameter, or the wire's where none is
+// given (paper_table_1, a bare wire) [m].
+double bareDiameter(const Scene& s) {
+  return s.wire.nominal_diameter > 0.0 ? s.wire.nominal_diameter : s.wire.diameter;
+}
+}  // namespace
+
 double enamelRisk(const WireModel& m, const Scene& s, int w) {
   if (s.wire.insulation_grade <= 0) return 0.0;
   const WireConstants& c = m.constants();
-  const double bare = s.wire.nominal_diameter > 0.0 ? s.wire.nominal_diameter : s.wire.diameter;
+  const double bare = bareDiameter(s);
   const double bending = wirePoint(m, w).curvature_1pm * 0.5 * bare;
   const int j = w - c.retired - 1;  // the live segment ending at the point
   const double axial = j >= 0 && j + 1 < c.n ? m.stretching().strain(m.committed(), j) : 0.0;
@@ -96,9 +104,7 @@ double enamelRisk(const WireModel& m, const Scene& s, int w) {
 
 QualityReport reportQuality(const WireModel& m, const Scene& s, const CoilReport& coil) {
   QualityReport q;
-  // The bare conductor: its nominal diameter, or the wire's where none is
-  // given (paper_table_1, a bare wire).
-  const double bare = s.wire.nominal_diameter > 0.0 ? s.wire.nominal_diameter : s.wire.diameter;
+  const double bare = bareDiameter(s);
   const bool enamelled = s.wire.insulation_grade > 0;
   if (enamelled) {
     q.bending_limit = mandrelBendingLimit(bare);

@@ -120,10 +120,10 @@ class Supply : public SinkEffect<Supply>, public EffectHistory {
   double strain_;    // [-]
   // The dancer (supply.tensioner.kind dancer), and the nozzle's capstan.
   std::optional<Tensioner> tensioner_;
-  double nozzle_exponent_ = 0.0;                        // mu theta [-]
-  double stick_speed_;                                  // [m/s] (contact.stick_speed)
-  bool machine_ = false;                                // a dancer or a nozzle with friction
-  double fed_m_ = 0.0, fed_t_s_ = 0.0, draw_in_ = 0.0;  // last step's [m], [s], [m/s]
+  double nozzle_exponent_ = 0.0;  // mu theta [-]
+  double stick_speed_;            // [m/s] (contact.stick_speed)
+  bool machine_ = false;          // a dancer or a nozzle with friction
+  double draw_in_ = 0.0;          // over the last step [m/s]
   // The wire drawn in at past steps, t [s] and length [m], newest last: the
   // draw-in speed is taken over the passage of a segment through the port,
   // since within it the discrete wire's last point moves unevenly (as a
