@@ -63,49 +63,6 @@ Eigen::Vector3d Contact::friction(int i, const Eigen::Vector3d& p_world,
   return (-p_.kinetic_friction * normal_force / speed) * vh_world;
 }
 
-void Contact::addExplicit(double t, const WireKinematics& k, WireForces& f) const {
-  geometry_.place(t);
-  geometry_.syncCarriedWire();
-  Touch touches[kMaxSlots];
-  for (int i = c_.first; i < c_.n; ++i) {
-    const Eigen::Vector3d p = k.p_world.col(i);
-    if (!geometry_.touchAll(i, p, &surface_[i * slots_], touches)) continue;
-    const Eigen::Vector3d u = core_.velocityWorld(t, p);
-    const Eigen::Vector3d v_rel = k.v_world.col(i) - u;
-    for (int s = 0; s < slots_; ++s) {
-      const Touch& c = touches[s];
-      if (c.surface < 0) continue;
-      const Eigen::Vector3d& n = c.n_world;
-      const double normal = normalForce(c.h, v_rel.dot(n));
-      Eigen::Vector3d f_c = normal * n;
-      if (c_normal_ > 0.0) {
-        // The dashpot's part (with the spring's where it would pull)
-        // dissipates, as friction does.
-        const Eigen::Vector3d f_d = (normal - p_.stiffness * c.h) * n;
-        f.power_dissipated += f_d.dot(u);
-        f.f_dissipative_world.col(i) += f_d;
-      }
-      if (friction_) {
-        const Eigen::Vector3d vh = v_rel - v_rel.dot(n) * n;
-        const int x = i * slots_ + s;
-        bool slipping;
-        const Eigen::Vector3d f_t =
-            elastic_slip_
-                ? returnToCone<3>(slipTrial(x, p, vh, n), slipLimit(x, c.surface, normal)).force
-                : friction(x, p, vh, n, normal, slipping);
-        f_c += f_t;
-        // Friction power -f_t . (v - u), counted as dissipated (also what a
-        // stick spring holds; f_t is tangential, so f_t . vh = f_t . (v - u)).
-        f.power_dissipated += f_t.dot(u);
-        f.f_dissipative_world.col(i) += f_t;
-      }
-      f.f_world.col(i) += f_c;
-      // The moving surface does work on the wire.
-      f.power_external += f_c.dot(u);
-    }
-  }
-}
-
 void Contact::commitAt(double t, const WireKinematics& k) {
   deepest_in_wire_ = WireDepth();
   geometry_.place(t);

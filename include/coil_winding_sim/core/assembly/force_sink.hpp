@@ -58,11 +58,23 @@
 //   returnMapping()            the laws' lines decided at every evaluation
 //                              (explicit steps; a Newton solve's last
 //                              rounds), else frozen within the solve
+// A law against the moving core (contact, contact.hpp), on every sink:
+//   kFlagsFrozen               as flagsFrozen(), known when compiled
+//   carried()                  Newton sinks: the scheme velocity of the
+//                              core's material (one_leg_step.hpp)
+//   dt()                       Newton sinks: the step's length [s]
+//   slideAxis()                the one axis a sliding point turns about
+//                              (the plane's normal), or nullptr (3-D)
+//   addPointForce(i, f, f_dissipative)
+//                              as above, in the plane too
+//   addDissipation(i, f_dissipative)
+//                              a part of a force already added, booked as
+//                              dissipation [N]
+//   addPower(dissipated, external)
+//                              power the law books itself [W]: dissipated,
+//                              and done by the moving surface
 // SinkEffect<Law> (force_effect.hpp) turns a class with `template <class
 // Sink> void law(Sink&) const` into a ForceEffect of all three integrators.
-// An effect whose law is not yet written on the sink (contact) reads the
-// sink's own state and writes its own mapping: kinematics()/forces(),
-// state()/assembly().
 #pragma once
 
 #include <Eigen/Core>
@@ -97,8 +109,6 @@ class ExplicitSink {
   void addForce(int i, const Vec& f) { f_.f_world.col(i) += f; }
   void addStiffness(int, int, const Mat&) {}
   bool returnMapping() const { return true; }
-  const WireKinematics& kinematics() const { return k_; }
-  WireForces& forces() { return f_; }
 
   void addPointForce(int i, const Eigen::Vector3d& f, ForcePower power) {
     f_.f_world.col(i) += f;
@@ -111,11 +121,20 @@ class ExplicitSink {
   }
 
   bool jacobian() const { return false; }
-  bool flagsFrozen() const { return false; }
+  static constexpr bool kFlagsFrozen = false;
+  bool flagsFrozen() const { return kFlagsFrozen; }
   double velocityGain() const { return 0.0; }
   void addPointForce(int i, const Eigen::Vector3d& f, const Eigen::Vector3d& f_dissipative) {
     f_.f_world.col(i) += f;
     f_.f_dissipative_world.col(i) += f_dissipative;
+  }
+  void addDissipation(int i, const Eigen::Vector3d& f_dissipative) {
+    f_.f_dissipative_world.col(i) += f_dissipative;
+  }
+  const Eigen::Vector3d* slideAxis() const { return nullptr; }
+  void addPower(double dissipated, double external) {
+    f_.power_dissipated += dissipated;
+    f_.power_external += external;
   }
   void addPairCoupling(int, int, double, const Eigen::Matrix3d&) {}
 
@@ -173,8 +192,24 @@ class PlanarSink {
   void addForce(int i, const Vec& f) { a_.addForce(i, f); }
   void addStiffness(int i, int j, const Mat& k) { a_.addStiffness(i, j, k); }
   bool returnMapping() const { return s_.return_mapping; }
-  const PlanarState& state() const { return s_; }
-  PlanarAssembly& assembly() { return a_; }
+
+  static constexpr bool kFlagsFrozen = true;
+  bool flagsFrozen() const { return kFlagsFrozen; }
+  const CarriedRate& carried() const { return s_.carried; }
+  double dt() const { return s_.dt; }
+  const Eigen::Vector3d* slideAxis() const { return &s_.plane.n_world; }
+  void addPointForce(int i, const Eigen::Vector3d& f_world,
+                     const Eigen::Vector3d& f_dissipative_world) {
+    a_.addForce(i, s_.plane.vectorToPlane(f_world));
+    a_.f_dissipative.col(i) += s_.plane.vectorToPlane(f_dissipative_world);
+  }
+  void addDissipation(int i, const Eigen::Vector3d& f_dissipative_world) {
+    a_.f_dissipative.col(i) += s_.plane.vectorToPlane(f_dissipative_world);
+  }
+  void addPower(double dissipated, double external) {
+    a_.power_dissipated += dissipated;
+    a_.power_external += external;
+  }
 
   // World to plane: f = E^T f_world, K = E^T K_world E (nothing along the
   // normal moves a planar wire).
@@ -293,8 +328,9 @@ class SpatialSink {
   void addForce(int i, const Vec& f) { a_.addForce(i, f); }
   void addStiffness(int i, int j, const Mat& k) { a_.addStiffnessPP(i, j, k); }
   bool returnMapping() const { return s_.return_mapping; }
-  const SpatialState& state() const { return s_; }
-  SpatialAssembly& assembly() { return a_; }
+  const CarriedRate& carried() const { return s_.carried; }
+  double dt() const { return s_.dt; }
+  const Eigen::Vector3d* slideAxis() const { return nullptr; }
 
   void addPointForce(int i, const Eigen::Vector3d& f, ForcePower power) {
     a_.addForce(i, f);
@@ -309,11 +345,19 @@ class SpatialSink {
   }
 
   bool jacobian() const { return a_.wantsJacobian(); }
-  bool flagsFrozen() const { return true; }
+  static constexpr bool kFlagsFrozen = true;
+  bool flagsFrozen() const { return kFlagsFrozen; }
   double velocityGain() const { return s_.alpha; }
   void addPointForce(int i, const Eigen::Vector3d& f, const Eigen::Vector3d& f_dissipative) {
     a_.addForce(i, f);
     a_.f_dissipative.col(i) += f_dissipative;
+  }
+  void addDissipation(int i, const Eigen::Vector3d& f_dissipative) {
+    a_.f_dissipative.col(i) += f_dissipative;
+  }
+  void addPower(double dissipated, double external) {
+    a_.power_dissipated += dissipated;
+    a_.power_external += external;
   }
   // (The matrix holds -dF/dx: the pair's block in delta is -df.)
   void addPairCoupling(int a, int m, double t, const Eigen::Matrix3d& df) {

@@ -31,16 +31,17 @@ class Contact : public ForceEffect, public EffectHistory {
     p_.static_friction = mu_static;
     p_.kinetic_friction = mu_kinetic;
   }
-  // The law is written per formulation: explicit (contact.cpp), planar
-  // (contact_planar.cpp) and 3-D (contact_spatial.cpp).
-  void addForces(ExplicitSink& s) const override { addExplicit(s.t(), s.kinematics(), s.forces()); }
-  void addForces(PlanarSink& s) const override { addPlanar(s.state(), s.assembly()); }
-  void addForces(SpatialSink& s) const override { addSpatial(s.state(), s.assembly()); }
+  // The law, written once on the sink (contact_law.cpp).
+  void addForces(ExplicitSink& s) const override { law(s); }
+  void addForces(PlanarSink& s) const override { law(s); }
+  void addForces(SpatialSink& s) const override { law(s); }
   // Newton steps: the surface each point touches, stick (with its anchor)
-  // or slip (with its direction) stay frozen within one solve (elastic
-  // slip: the return map decides stick and slip at every evaluation). In
-  // 3-D kinetic friction follows the trial sliding velocity (a floor of the
-  // speed it is divided by, for a scene with no stick speed [m/s]).
+  // or slip stay frozen within one solve, set and rechecked per
+  // formulation (contact_flags_planar.cpp, contact_flags_spatial.cpp;
+  // elastic slip: the return map decides stick and slip at every
+  // evaluation). Kinetic friction follows the trial sliding velocity (a
+  // floor of the speed it is divided by, for a scene with no stick speed
+  // [m/s]).
   static constexpr double kTinySlidingSpeed = 1e-12;
   void beginStep(const NewtonView& s0) override {
     if (s0.planar()) {
@@ -175,9 +176,8 @@ class Contact : public ForceEffect, public EffectHistory {
   int skipPoints() const { return geometry_.skipPoints(); }
 
  private:
-  void addExplicit(double t, const WireKinematics& k, WireForces& f) const;
-  void addPlanar(const PlanarState& s, PlanarAssembly& a) const;
-  void addSpatial(const SpatialState& s, SpatialAssembly& a) const;
+  template <class Sink>
+  void law(Sink& s) const;
   void beginPlanar(const PlanarState& s0);
   bool recheckPlanar(const PlanarState& s);
   void beginSpatial(const SpatialState& s0);
@@ -213,8 +213,6 @@ class Contact : public ForceEffect, public EffectHistory {
 
   // Velocity of the core material at plane point x [m/s].
   Eigen::Vector2d planarSurfaceVelocity(const PlanarState& s, const Eigen::Vector2d& x) const;
-  // Its gradient d u / d x in the plane [1/s].
-  Eigen::Matrix2d planarCarriedGradient(const PlanarState& s) const;
 
   // Sums the carried points' penetration again from the first one on.
   void forgetCarriedSums();
