@@ -35,7 +35,6 @@ struct TwoLawProblem {
     dx = -r / factored_slope;
     return std::abs(dx);
   }
-  double directionWork() const { return std::abs(r * dx); }
   void keepStart() { x_kept = x; }
   void returnMapping(bool) {}
   bool costlyFactor() const { return costly; }
@@ -159,7 +158,6 @@ struct KinkedLawProblem {
     dx = -r / factored_slope;
     return std::abs(dx);
   }
-  double directionWork() const { return std::abs(r * dx); }
   void keepStart() { x_kept = x; }
   void moveAlong(double s) { x = x_kept + s * dx; }
   void forgetSteps() {}
@@ -214,83 +212,6 @@ TEST(NewtonIteration, ReturnMappedRoundsCrossTheKinksWithinOneSolve) {
   ASSERT_TRUE(st0.converged);
   EXPECT_EQ(st0.flag_rounds, 0);
   EXPECT_NEAR(q.x, 2.0, 1e-12);
-}
-
-// Two rows, a stiff one (k = 1e8 N/m, as a segment's axial spring) and a
-// soft one (k = 3e4 N/m, as a point's transverse motion), each with a cubic
-// term that doubles its slope at the start, solved by modified Newton (a
-// factorization serves while it contracts):
-//   r_i(x) = k_i (x_i - a_i) + c_i (x_i - a_i)^3,  root x_i = a_i.
-// With an energy tolerance E the solve ends where sum |r_i dx_i| < E, so
-// each row stands within about sqrt(E / k_i) of its root once that step is
-// taken; it takes fewer iterations than the step tolerance alone, and the
-// forces are evaluated again at the end state.
-struct StiffAndSoftRows {
-  static constexpr double k[2] = {1e8, 3e4}, c[2] = {3e13, 2.5e9}, a[2] = {1e-3, 2e-3};
-  double x[2] = {0.0, 0.0}, x_kept[2] = {0.0, 0.0}, dx[2] = {0.0, 0.0};
-  double r[2] = {0.0, 0.0}, slope[2] = {0.0, 0.0}, factored[2] = {0.0, 0.0};
-  double evaluated_at[2] = {-1.0, -1.0};  // the state of the last evaluation
-
-  double residual(bool jacobian, int /*top*/ = -1) {
-    double norm = 0.0;
-    for (int i = 0; i < 2; ++i) {
-      const double e = x[i] - a[i];
-      r[i] = k[i] * e + c[i] * e * e * e;
-      if (jacobian) slope[i] = k[i] + 3.0 * c[i] * e * e;
-      evaluated_at[i] = x[i];
-      norm = std::max(norm, std::abs(r[i]));
-    }
-    return norm;
-  }
-  bool factor() {
-    std::copy(slope, slope + 2, factored);
-    return true;
-  }
-  int changedTop() const { return -1; }
-  double direction() {
-    for (int i = 0; i < 2; ++i) dx[i] = -r[i] / factored[i];
-    return std::max(std::abs(dx[0]), std::abs(dx[1]));
-  }
-  double directionWork() const { return std::abs(r[0] * dx[0]) + std::abs(r[1] * dx[1]); }
-  void keepStart() { std::copy(x, x + 2, x_kept); }
-  void returnMapping(bool) {}
-  bool costlyFactor() const { return false; }
-  void moveAlong(double s) {
-    for (int i = 0; i < 2; ++i) x[i] = x_kept[i] + s * dx[i];
-  }
-  void forgetSteps() {}
-  bool keepStep() { return true; }
-  bool recheckFlags() { return false; }
-};
-
-cws::NewtonStats solveRows(double energy_tol, StiffAndSoftRows& p) {
-  cws::NewtonSettings s;
-  s.tol = 1e-12;
-  s.energy_tol = energy_tol;
-  s.max_iterations = 200;
-  bool have_factor = false;
-  return cws::newtonSolve(p, s, have_factor);
-}
-
-TEST(NewtonIteration, AnEnergyToleranceStopsEachRowWithinItsOwnBound) {
-  StiffAndSoftRows by_step, by_energy;
-  const cws::NewtonStats st_step = solveRows(0.0, by_step);
-  const double energy_tol = 1e-8;  // [J]
-  const cws::NewtonStats st_energy = solveRows(energy_tol, by_energy);
-  ASSERT_TRUE(st_step.converged);
-  ASSERT_TRUE(st_energy.converged);
-  for (int i = 0; i < 2; ++i) {
-    EXPECT_NEAR(by_step.x[i], StiffAndSoftRows::a[i], 1e-11);
-    // Within sqrt(E / k) of the root: 1e-8 m for the stiff row, 5.8e-7 m
-    // for the soft one.
-    const double bound = std::sqrt(energy_tol / StiffAndSoftRows::k[i]);
-    EXPECT_LT(std::abs(by_energy.x[i] - StiffAndSoftRows::a[i]), bound) << "row " << i;
-    // The forces were evaluated at the state the solve ends in.
-    EXPECT_EQ(by_energy.evaluated_at[i], by_energy.x[i]) << "row " << i;
-  }
-  // The soft row is not driven to the step tolerance.
-  EXPECT_GT(std::abs(by_energy.x[1] - StiffAndSoftRows::a[1]), 1e-11);
-  EXPECT_LT(st_energy.iterations, st_step.iterations);
 }
 
 }  // namespace

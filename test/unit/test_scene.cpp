@@ -278,6 +278,14 @@ TEST_F(SceneFiles, RefusesRemovedKeysSayingWhatReplacedThem) {
                 "was removed: a landing counts as a strike from 1 m/s");
   expectRefused("", {"solver.line_search_halvings=3"}, "solver.line_search_halvings",
                 "was removed: a Newton step that does not lower the residual is halved up to five");
+  // Every key that went names itself and says it was removed, never
+  // "unknown key".
+  for (const char* key : {"solver.flag_rounds=3", "solver.flag_check_tol=1e-5",
+                          "solver.return_mapping_round=1", "solver.predictor_tol=1e-3",
+                          "solver.strike_window=1e-4", "solver.newton_energy_tol=3e-8"}) {
+    const std::string name = std::string(key).substr(0, std::string(key).find('='));
+    expectRefused("", {key}, name, "was removed: ");
+  }
 }
 
 TEST_F(SceneFiles, RefusesWrongTypes) {

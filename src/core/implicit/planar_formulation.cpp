@@ -213,14 +213,6 @@ double PlanarFormulation::direction() {
   return dx_.head(2 * (state_.n - state_.first)).lpNorm<Eigen::Infinity>();
 }
 
-double PlanarFormulation::directionWork() const {
-  // Point by point: the residual the direction was solved for.
-  double work = 0.0;
-  for (int o = 0; o < 2 * (state_.n - state_.first); o += 2)
-    work += std::abs(dx_.segment<2>(o).dot(r_.segment<2>(o)));
-  return work;
-}
-
 void PlanarFormulation::keepStart() {
   const int f = state_.first, m = state_.n - f;
   x_try_.middleCols(f, m) = state_.x.middleCols(f, m);
@@ -246,9 +238,8 @@ void PlanarFormulation::store(double h, Eigen::VectorXd& y) {
   const PlaneBasis& pl = state_.plane;
   const int f = state_.first, n = state_.n;
   // Bookkeeping with a converged solve's last evaluation: within newton_tol
-  // of the end state (a last step below it is not evaluated again; one
-  // that solver.newton_energy_tol ended is), with the flags
-  // it kept, so its forces and powers are at hand.
+  // of the end state (a last step below it is not evaluated again), with
+  // the flags it kept, so its forces and powers are at hand.
   double work = assembly_.power_external, dissipated = assembly_.power_dissipated;
   for (int i = f; i < n; ++i) {
     work += assembly_.f_work.col(i).dot(state_.v.col(i));

@@ -232,18 +232,6 @@ double SpatialFormulation::direction() {
   return step;
 }
 
-double SpatialFormulation::directionWork() const {
-  // Forces on positions, moments on rotations (the residual the direction
-  // was solved for).
-  double work = 0.0;
-  for (int i = state_.first; i < state_.n; ++i) {
-    const int p = assembly_.pRow(i), q = assembly_.qRow(i);
-    work += std::abs(dx_.segment<3>(p).dot(r_.segment<3>(p))) +
-            std::abs(dx_.segment<3>(q).dot(r_.segment<3>(q)));
-  }
-  return work;
-}
-
 void SpatialFormulation::keepStart() {
   const int f = state_.first, m = state_.n - f;
   x_try_.block(0, f, 3, m) = state_.p.middleCols(f, m);
@@ -288,7 +276,7 @@ void SpatialFormulation::store(double h, Eigen::VectorXd& y) {
   const int f = state_.first, n = state_.n;
   // Bookkeeping with the converged solve's last evaluation (within
   // newton_tol of the end state: a last step below it is not evaluated
-  // again; one that solver.newton_energy_tol ended is).
+  // again).
   double work = assembly_.power_external, dissipated = assembly_.power_dissipated;
   for (int i = f; i < n; ++i) {
     work += assembly_.f_work.col(i).dot(state_.v.col(i)) +

@@ -25,11 +25,8 @@ std::vector<IntegratorInfo> registry() {
       "linearly implicit Rosenbrock-W, banded Jacobian; stiff scenes without friction", adaptive)
       .error_controlled = true;
   // The Newton-step methods' keys (generalized_alpha adds rho_infinity).
-  const std::vector<const char*> newton = {
-      "implicit_step",     "steps_per_revolution",  "newton_tol",
-      "newton_energy_tol", "newton_max_iterations", "flag_rounds",
-      "flag_check_tol",    "return_mapping_round",  "predictor_tol",
-      "min_step"};
+  const std::vector<const char*> newton = {"implicit_step", "steps_per_revolution", "newton_tol",
+                                           "newton_max_iterations", "min_step"};
   std::vector<const char*> alpha = newton;
   alpha.insert(alpha.begin() + 2, "rho_infinity");
   const std::size_t first_newton = r.size();

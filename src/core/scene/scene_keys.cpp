@@ -216,30 +216,14 @@ std::vector<SceneKey> declareKeys() {
       key<&S::solver, &Solver::strike_step>(
           "solver.strike_step", "s", kNonNegative,
           "Newton steps where the core strikes the free span (0: no such steps)"),
-      key<&S::solver, &Solver::strike_window>("solver.strike_window", "s", kPositive,
-                                              "how long the steps stay at strike_step"),
       key<&S::solver, &Solver::rho_infinity>("solver.rho_infinity", "-", kNonNegative,
                                              "generalized_alpha: spectral radius at infinite "
                                              "frequency, 0 to 1"),
       key<&S::solver, &Solver::newton_tol>("solver.newton_tol", "m", kPositive,
                                            "Newton's bound on the largest position update"),
-      key<&S::solver, &Solver::newton_energy_tol>("solver.newton_energy_tol", "J", kNonNegative,
-                                                  "Newton also converges where the residual's "
-                                                  "work over a step is below this (0: off)"),
       key<&S::solver, &Solver::newton_max_iterations>("solver.newton_max_iterations", "-",
                                                       count(1000, 1),
                                                       "Newton iterations before a retry at 1/4"),
-      key<&S::solver, &Solver::flag_rounds>("solver.flag_rounds", "-", count(100),
-                                            "solves again after a contact/stick/slip change"),
-      key<&S::solver, &Solver::flag_check_tol>("solver.flag_check_tol", "m", kNonNegative,
-                                               "a solve's step this small rechecks its flags "
-                                               "before converging (0: off)"),
-      key<&S::solver, &Solver::return_mapping_round>("solver.return_mapping_round", "-", count(100),
-                                                     "from this flag round on, the laws' "
-                                                     "lines return-mapped within the solve"),
-      key<&S::solver, &Solver::predictor_tol>("solver.predictor_tol", "m", kPositive,
-                                              "a step whose points end farther than this from "
-                                              "the predictor is retried at 1/4"),
       key<&S::solver, &Solver::carry_stuck_wire>("solver.carry_stuck_wire", "", kAny,
                                                  "stuck wound wire moves rigidly with the core"),
 
@@ -387,6 +371,25 @@ const char* removedSceneKey(const std::string& name) {
       {"solver.line_search_halvings",
        "was removed: a Newton step that does not lower the residual is halved up to five "
        "times (docs/MODEL.md, \"Implicit integration of planar scenes\")"},
+      {"solver.flag_rounds",
+       "was removed: a Newton step is solved again after a contact, stick or slip change up "
+       "to eight times (docs/MODEL.md, \"Implicit integration of planar scenes\")"},
+      {"solver.flag_check_tol",
+       "was removed: a solve whose Newton step falls below 3e-7 m rechecks its flags before "
+       "it converges (docs/MODEL.md, \"Implicit integration of planar scenes\")"},
+      {"solver.return_mapping_round",
+       "was removed: from a step's second flag round on, the solve return-maps the "
+       "hysteresis lines (docs/MODEL.md, \"Implicit integration of planar scenes\")"},
+      {"solver.strike_window",
+       "was removed: the steps stay at solver.strike_step for 1.5e-4 s after a strike "
+       "(docs/MODEL.md, \"Steps through a struck span\")"},
+      {"solver.newton_energy_tol",
+       "was removed: a Newton solve converges when no point moves more than solver.newton_tol "
+       "(the energy tolerance's figures: "
+       "docs/history/2026-12-06-newton-energy-tolerance-figures.md)"},
+      {"solver.predictor_tol",
+       "was removed: a step whose solution lies farther than 1e-4 m from its predictor is "
+       "retried at a quarter (docs/MODEL.md, \"Implicit integration of planar scenes\")"},
   };
   for (const Removed& r : kRemoved) {
     if (name == r.name) return r.why;

@@ -248,11 +248,11 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     newton_.line_searches += st.line_searches;
     newton_.factorizations += st.factorizations;
     if (st.return_mapped) ++newton_.return_mapped_solves;
-    // A solution farther from the predictor than solver.predictor_tol: the
+    // A solution farther from the predictor than kPredictorTol: the
     // step is too long for what happens within it (the distance estimates
     // its local error, as variable-step BDF codes take it). Frozen flags
     // that still change after the last round say the same.
-    const bool accurate = st.converged && f.largestMoveFrom(guess_) <= p_.predictor_tol;
+    const bool accurate = st.converged && f.largestMoveFrom(guess_) <= kPredictorTol;
     if (st.converged && !accurate) ++newton_.predictor_retries;
     if (!accurate) {
       ++counts_.rejected;
@@ -271,11 +271,11 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
       if (h_ < p_.min_step) {
         std::ostringstream msg;
         if (st.converged) {
-          msg << "the step's solution lay farther than solver.predictor_tol = " << p_.predictor_tol
+          msg << "the step's solution lay farther than " << kPredictorTol
               << " m from its predictor at t = " << t << " s even at a step of " << h << " s with "
               << name()
               << ": the scene is beyond what the implicit step can follow; use rkf45 or "
-                 "symplectic_euler, or raise solver.predictor_tol";
+                 "symplectic_euler, or lower solver.min_step";
         } else {
           msg << "Newton's method did not converge at t = " << t << " s even at a step of " << h
               << " s with " << name()
@@ -331,7 +331,7 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     t = clipped ? t_limit : t + h;
     h_last_ = h;
     if (struck) {
-      strike_until_ = t + p_.strike_window;
+      strike_until_ = t + kStrikeWindow;
       ++newton_.strike_windows;
     }
     sys.acceptStep(t, y);

@@ -125,7 +125,7 @@ struct PlanarState {
   // curvature vector kappa n_material.
   Eigen::Vector3d n_material = Eigen::Vector3d::UnitX();
   PlaneBasis plane;
-  // The solve's last rounds (solver.return_mapping_round): each two-line
+  // The solve's last rounds (NewtonSettings::return_mapping_round): each two-line
   // law takes the line its strain lies on at every evaluation.
   bool return_mapping = false;
 

@@ -38,7 +38,7 @@ struct SpatialState {
   // The highest point whose blocks a flag recheck changed (-1: none): the
   // factorization is made again from there to the first point only.
   mutable int changed_top = -1;
-  // The solve's last rounds (solver.return_mapping_round): each two-line
+  // The solve's last rounds (NewtonSettings::return_mapping_round): each two-line
   // law takes the line its strain lies on at every evaluation.
   bool return_mapping = false;
 

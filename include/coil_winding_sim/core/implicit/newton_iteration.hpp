@@ -41,18 +41,20 @@ struct FactorKey {
 };
 
 struct NewtonSettings {
-  double tol = 1e-9;        // [m]
-  double energy_tol = 0.0;  // [J]; 0: the step's size alone decides
+  double tol = 1e-9;  // [m]
   int max_iterations = 30;
   int flag_rounds = 4;
   int line_search_halvings = 5;
   double flag_check_tol = 0.0;      // [m]; 0: flags rechecked only at convergence
   int return_mapping_round = 1000;  // the first round that return-maps (beyond flag_rounds: none)
-  // The scene's (solver.newton_tol, newton_energy_tol, newton_max_iterations,
-  // flag_rounds, flag_check_tol, return_mapping_round); five halvings.
+  // The scene's (solver.newton_tol, newton_max_iterations) and the Newton
+  // steps' constants: eight flag
+  // rounds, five halvings, flags rechecked early below 3e-7 m, the laws'
+  // lines return-mapped from round 2 on (the scene keys solver.flag_rounds,
+  // flag_check_tol and return_mapping_round until issue 61; docs/MODEL.md,
+  // "Implicit integration of planar scenes").
   static NewtonSettings of(const SolverParams& s) {
-    return {s.newton_tol,     s.newton_energy_tol,   s.newton_max_iterations, s.flag_rounds, 5,
-            s.flag_check_tol, s.return_mapping_round};
+    return {s.newton_tol, s.newton_max_iterations, 8, 5, 3.0e-7, 2};
   }
 };
 
@@ -71,8 +73,6 @@ constexpr double kCostlyContraction = 0.8;
 //                                   it was assembled up to a point, only there)
 //   int changedTop()                the highest point the last recheck changed
 //   double direction()              the Newton direction; its size [m]
-//   double directionWork()          the residual's work over that direction,
-//                                   sum |r . dx| over positions and rotations [J]
 //   void keepStart()                remembers the present iterate
 //   void moveAlong(double s)        iterate = kept + s direction (rates too)
 //   void forgetSteps()              the steps taken no longer update the
@@ -136,19 +136,6 @@ NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor) 
       // (a changed flag starts a new round with an evaluation of its own).
       if (step < c.tol) {
         p.moveAlong(1.0);
-        converged = true;
-        break;
-      }
-      // A step over which the residual does less work than the energy
-      // tolerance ends it too. The work is about k dx^2 for a row of
-      // stiffness k: at 3e-8 J an axial row (EA / l, about 1e8 N/m) moves
-      // by about 2e-8 m, a transverse one (the tension over l plus the
-      // inertia, about 3e4 N/m at 1e-4 s) by up to about 1e-6 m (0.001 d),
-      // far below any shape the run reports. The step is taken and the forces
-      // evaluated again there: the bookkeeping uses the end state's.
-      if (c.energy_tol > 0.0 && p.directionWork() < c.energy_tol) {
-        p.moveAlong(1.0);
-        p.residual(false);
         converged = true;
         break;
       }

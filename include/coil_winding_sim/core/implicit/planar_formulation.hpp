@@ -10,7 +10,7 @@
 // The frames' rotational inertia enters with each frame's angle gradient
 // taken at the step's start. Contact, stick and slip flags stay frozen
 // within one Newton solve and are rechecked after it; the step is solved
-// again with the new flags up to solver.flag_rounds times.
+// again with the new flags up to NewtonSettings::flag_rounds times.
 #pragma once
 
 #include <Eigen/Core>
@@ -81,7 +81,6 @@ class PlanarFormulation : public NewtonFormulation {
   friend NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor);
   bool factor();
   double direction();
-  double directionWork() const;
   void keepStart();
   void moveAlong(double s);
   // (No secant updates in the plane.)

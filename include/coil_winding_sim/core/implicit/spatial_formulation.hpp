@@ -70,7 +70,6 @@ class SpatialFormulation : public NewtonFormulation {
   friend NewtonStats newtonSolve(Problem& p, const NewtonSettings& c, bool& have_factor);
   bool factor();
   double direction();
-  double directionWork() const;
   void keepStart();
   void moveAlong(double s);
   void forgetSteps() { secant_.clear(); }

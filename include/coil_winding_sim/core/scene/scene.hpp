@@ -182,31 +182,16 @@ struct SolverParams {
   // core strikes the free span, a point of it landing at least
   // kStrikeGap points beyond the wound wire at a speed relative to the core
   // of at least ImplicitStepper::kStrikeSpeed, the Newton steps go down to strike_step
-  // [s] and stay there for strike_window [s] (strike_step 0: never; at or
-  // above implicit_step: no shorter steps). On by default: it puts the
-  // paper's 1200 rpm cases within 2 % in bulging of the explicit model.
+  // [s] and stay there for ImplicitStepper::kStrikeWindow (strike_step 0:
+  // never; at or above implicit_step: no shorter steps). On by default: it
+  // puts the paper's 1200 rpm cases within 2 % in bulging of the explicit
+  // model.
   double strike_step = 1.0e-6;
-  double strike_window = 1.5e-4;
   // generalized_alpha: the spectral radius at infinite frequency [-], in
   // [0, 1] (1: no numerical damping; 0: the most).
   double rho_infinity = 0.8;
   double newton_tol = 1.0e-8;
-  // A solve also converges where the residual's work over its last step,
-  // sum |r . dx| over the points' positions and rotations, is below this
-  // [J] (0: only newton_tol, the default). The step is taken and its forces
-  // evaluated again, so the energy booked is that of the end state.
-  double newton_energy_tol = 0.0;
   int newton_max_iterations = 30;
-  int flag_rounds = 8;
-  // A solve whose Newton step falls below this [m] rechecks its flags before
-  // it converges to newton_tol (0: only at convergence).
-  double flag_check_tol = 3.0e-7;
-  // From this flag round on, a solve return-maps the laws' lines (beyond
-  // flag_rounds: never).
-  int return_mapping_round = 2;
-  // A step whose solution lies farther than this from the predictor x0 + h
-  // v0 + h^2 / 2 a0 [m] is retried at a quarter.
-  double predictor_tol = 1.0e-4;
   // Wound wire held by static friction moves rigidly with the core and leaves
   // the integrated system (with contact, friction and start.frame core;
   // elsewhere it has no effect).

@@ -18,7 +18,7 @@
 // a step in which the core strikes the free span (a point of it lands well
 // beyond the wound wire, fast) is redone in steps of an eighth until one of
 // strike_step takes the landing, and the steps stay there for
-// solver.strike_window (docs/MODEL.md, "Steps through a struck span").
+// kStrikeWindow (docs/MODEL.md, "Steps through a struck span").
 // Progress is guaranteed: where the retried step would fall below
 // solver.min_step, a stretch of kFallbackStretch of symplectic Euler steps
 // at the explicit safe step (solver.fixed_step as resolved) carries the run
@@ -53,6 +53,15 @@ class ImplicitStepper : public TimeStepper {
   // (docs/MODEL.md, "Steps through a struck span"; the scene key
   // solver.strike_speed until issue 61).
   static constexpr double kStrikeSpeed = 1.0;
+  // ... and the steps stay at solver.strike_step for this long after it
+  // [s]: the wave the strike sends along the span needs them (1e-4 s left
+  // 0.0107 d at 1200 rpm; the scene key solver.strike_window until issue
+  // 61).
+  static constexpr double kStrikeWindow = 1.5e-4;
+  // A step whose solution lies farther than this from the predictor x0 + h
+  // v0 + h^2 / 2 a0 [m] is retried at a quarter (the scene key
+  // solver.predictor_tol until issue 61).
+  static constexpr double kPredictorTol = 1.0e-4;
   // The explicit fallback's stretch of simulated time [s].
   static constexpr double kFallbackStretch = 1e-3;
   ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme);

@@ -22,8 +22,8 @@ struct NewtonCounts {
   long flag_rounds = 0;           // solves repeated after a contact, stick or slip flag changed
   long line_searches = 0;         // halved Newton steps
   long retried_steps = 0;         // steps retried smaller (not converged, or beyond predictor_tol)
-  long predictor_retries = 0;     // of them: converged, but beyond solver.predictor_tol
-  long return_mapped_solves = 0;  // solves that reached solver.return_mapping_round
+  long predictor_retries = 0;     // of them: converged, but beyond the predictor's bound
+  long return_mapped_solves = 0;  // solves that reached the return-mapping round
   long strike_windows = 0;  // stretches of strike steps after a struck span (solver.strike_step)
   long fallback_stretches = 0;    // stretches of explicit steps where Newton could not go on
   long fallback_steps = 0;        // explicit steps in them
