@@ -21,7 +21,7 @@ def main():
     out = sys.argv[1]
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
     colours = {"rkf45": "tab:blue", "symplectic_euler": "tab:orange",
-               "symplectic_euler+carry": "tab:green", "rosenbrock2": "tab:red",
+               "symplectic_euler+carry": "tab:green",
                "implicit_euler+carry": "tab:purple", "bdf2+carry": "tab:brown",
                # not a method: the paper's undamped springs against the reference model
                "model:damping_ratio=0": "0.5"}

@@ -50,7 +50,7 @@ run_case paper_implicit_euler --scene @S/default.yaml --set solver.integrator=im
   --set process.turns=0.5
 run_case paper_symplectic --scene @S/default.yaml --set solver.integrator=symplectic_euler \
   --set process.turns=0.2
-run_case paper_alpha_damped --scene @S/default.yaml --set solver.integrator=generalized_alpha \
+run_case paper_damped --scene @S/default.yaml --set solver.integrator=bdf2 \
   --set physics.damping=true --set damping.translational=1 --set damping.rotational=1e-6
 run_case paper_bdf2_gravity --scene @S/default.yaml --set solver.integrator=bdf2 \
   --set physics.gravity=true

@@ -58,8 +58,7 @@ A run counts as **stable** when it reaches its end time and
   1 % of max(|work done|, kinetic + elastic + dissipated) (the table's
   "energy error", with its sign: negative is energy lost). For the
   numerically dissipative methods (`implicit_euler`, `bdf2`: L-stable, they
-  remove the energy of motion their step does not resolve;
-  `generalized_alpha` damps the highest frequencies) energy lost is
+  remove the energy of motion their step does not resolve) energy lost is
   their numerical dissipation, reported as its own term
   (`numerical_dissipation_J` in summary.json), and only energy created
   counts against the 1 %. Each term is
@@ -114,9 +113,8 @@ std::string writeStabilityReport(const std::string& dir, const std::vector<Stabi
      << "Base scene: the package's default scene (the paper's case in its planar form, 30 N) "
         "with 2 mm segments at 1200 rpm (`--set wire.segment_length=2e-3 --set "
         "process.core_speed_rpm=1200`), carried wire on. Each case changes what its column "
-        "says. symplectic_euler steps at a quarter of the case's l / c; rkf45 and rosenbrock2 "
-        "use the scene's tolerances (rtol 1e-6, atol 1e-11); implicit_euler, bdf2 and "
-        "generalized_alpha take "
+        "says. symplectic_euler steps at a quarter of the case's l / c; rkf45 "
+        "uses the scene's tolerances (rtol 1e-6, atol 1e-11); implicit_euler and bdf2 take "
         "Newton steps of solver.implicit_step (1e-4 s), the first ones smaller (a run starts "
         "at 1/64 of it). Wall-time budget per run: "
      << info.budget_s << " s. Machine: " << machine() << "; "

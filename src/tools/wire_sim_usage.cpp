@@ -30,7 +30,7 @@ const char* const kWireSimUsage =
     "Without --scene the package's default scene is used; --out defaults to out/run\n"
     "(out/study for study). run --error-estimate runs the scene a second time refined\n"
     "(bdf2, implicit_euler: a quarter of the step, the difference x 4/3; explicit fixed\n"
-    "steps: half the step; rkf45, rosenbrock2: a tenth of the tolerances) and reports the\n"
+    "steps: half the step; rkf45: a tenth of the tolerances) and reports the\n"
     "estimated error in shape and bulging beside both wall times (summary.json).\n"
     "study runs the paper's 2 x 2 case study (600/1200 rpm x 30/70 N, 1 3/4 turns) as a\n"
     "sweep (N processes at once, default 2, or on Slurm) and writes tables of the results.\n"

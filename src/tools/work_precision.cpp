@@ -120,15 +120,6 @@ int runWorkPrecision(const std::string& scene_path, const std::vector<std::strin
     r.name = "model_damping0_h" + std::string(h);
     runs.push_back(r);
   }
-  // The implicit method over tolerances. It gives up where its step falls
-  // 20x below the explicit method's (solver.min_step), or stays below l / c
-  // (the simulation's collapse detection): slower than that, it has lost its
-  // purpose.
-  for (const char* tol : {"1e-7", "1e-8", "1e-9"}) {
-    runs.push_back(
-        make("rosenbrock2", std::string("atol") + tol,
-             {"solver.rtol=1e-3", std::string("solver.atol=") + tol, "solver.min_step=5e-9"}));
-  }
   // The Newton-step methods over steps from 1e-6 to 1e-3 s,
   // with the wound wire carried (their intended use).
   for (const cws::IntegratorInfo& info : cws::integrators()) {

@@ -75,9 +75,6 @@ TEST(Allocation, StepsAllocateNothing) { expectStepsAllocateNothing("symplectic_
 TEST(Allocation, CommandedPortStepsAllocateNothing) {
   expectStepsAllocateNothing("symplectic_euler", 20000, true);
 }
-
-// Jacobian builds, refactorizations and rejected steps included.
-TEST(Allocation, ImplicitStepsAllocateNothing) { expectStepsAllocateNothing("rosenbrock2", 3000); }
 #endif
 
 #ifdef CWS_SOURCE_DIR

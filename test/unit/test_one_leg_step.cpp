@@ -30,14 +30,14 @@ cws::OneLegStep schemeStep(double t1, double h, double h_prev, bool bdf2) {
   cws::OneLegStep s;
   s.t1 = t1;
   s.t_past[0] = t1 - h;
-  s.alpha = s.kappa = 1.0 / h;
+  s.alpha = 1.0 / h;
   if (bdf2) {
     const double r = h / h_prev;
     s.past = 2;
     s.t_past[1] = t1 - h - h_prev;
     s.w_past[0] = (1.0 + r) * (1.0 + r) / (1.0 + 2.0 * r);
     s.w_past[1] = -r * r / (1.0 + 2.0 * r);
-    s.alpha = s.kappa = (1.0 + 2.0 * r) / ((1.0 + r) * h);
+    s.alpha = (1.0 + 2.0 * r) / ((1.0 + r) * h);
   }
   return s;
 }

@@ -286,6 +286,13 @@ TEST_F(SceneFiles, RefusesRemovedKeysSayingWhatReplacedThem) {
     const std::string name = std::string(key).substr(0, std::string(key).find('='));
     expectRefused("", {key}, name, "was removed: ");
   }
+  // An integrator that went, and the key that went with it.
+  expectRefused("", {"solver.integrator=rosenbrock2"}, "solver.integrator",
+                "'rosenbrock2' was removed: ");
+  expectRefused("solver:\n  integrator: generalized_alpha\n", {}, "solver.integrator",
+                "'generalized_alpha' was removed: ");
+  expectRefused("", {"solver.rho_infinity=0.5"}, "solver.rho_infinity",
+                "was removed with the integrator generalized_alpha");
 }
 
 TEST_F(SceneFiles, RefusesWrongTypes) {

@@ -26,9 +26,8 @@ const CarriedRate& CarriedMotion::trial(const OneLegStep& step) {
   for (int j = 0; j < step.past; ++j) {
     theta_past[j] = angles_.at(step.t_past[j], core_->angle(step.t_past[j]));
   }
-  trial_ =
-      CarriedRate::scheme(step, core_->originWorld(), core_->axisWorld(), core_->angle(step.t1),
-                          core_->omega(step.t1), theta_past, core_->omega(step.t_past[0]));
+  trial_ = CarriedRate::scheme(step, core_->originWorld(), core_->axisWorld(),
+                               core_->angle(step.t1), core_->omega(step.t1), theta_past);
   t_trial_ = step.t1;
   return trial_;
 }

@@ -134,16 +134,16 @@ const PlanarAssembly& PlanarFormulation::assemble(bool jacobian) {
 double PlanarFormulation::residual(bool jacobian, int /*top_point*/) {
   assemble(jacobian);
   const int f = state_.first, n = state_.n;
-  const double a = kappa_;
+  const double a = alpha_;
   const Eigen::VectorXd& force = assembly_.forces();
   const int unknowns = assembly_.unknowns();
-  // Point inertia M a = kappa M (v - v_hat), minus the forces.
+  // Point inertia M a = alpha M (v - v_hat), minus the forces.
   for (int i = f; i < n; ++i) {
     const int o = assembly_.dof(i);
     r_.segment<2>(o) = a * point_mass_ * (state_.v.col(i) - v_hat_.col(i)) - force.segment<2>(o);
   }
   if (multiplier_) r_[unknowns - 1] = force[unknowns - 1];
-  // Frame inertia: I kappa (omega - omega_hat) g on both points of the
+  // Frame inertia: I alpha (omega - omega_hat) g on both points of the
   // segment, omega = g . (v_i - v_{i-1}) with g from the step's start.
   for (int i = f; i < n; ++i) {
     const Eigen::Vector2d g = frame_gradient_.col(i);
@@ -178,11 +178,9 @@ double PlanarFormulation::residual(bool jacobian, int /*top_point*/) {
 NewtonStats PlanarFormulation::solve(const OneLegStep& step, const Eigen::MatrixXd& x_hat,
                                      const Eigen::MatrixXd& v_hat, const Eigen::MatrixXd& x_guess) {
   const int f = state_.first, n = state_.n, m = n - f;
-  const double t1 = step.t1, alpha = step.alpha, kappa = step.kappa;
+  const double t1 = step.t1, alpha = step.alpha;
   state_.carried = carried_.trial(step);
-  solved_ = step;
   alpha_ = alpha;
-  kappa_ = kappa;
   state_.alpha = alpha;
   state_.t = t1;
   state_.dt = t1 - step.t_past[0];
@@ -193,7 +191,7 @@ NewtonStats PlanarFormulation::solve(const OneLegStep& step, const Eigen::Matrix
   placeBoundary(t1);
   state_.x.middleCols(f, m) = x_guess.middleCols(f, m);
   updateVelocities();
-  if (!(factored_ == FactorKey{alpha, kappa, f, n})) have_factor_ = false;
+  if (!(factored_ == FactorKey{alpha, f, n})) have_factor_ = false;
   return newtonSolve(*this, newton_, have_factor_);
 }
 
@@ -202,7 +200,7 @@ int PlanarFormulation::changedTop() const { return -1; }
 
 bool PlanarFormulation::factor() {
   if (!assembly_.matrix().factor()) return false;
-  factored_ = {alpha_, kappa_, state_.first, state_.n};
+  factored_ = {alpha_, state_.first, state_.n};
   return true;
 }
 
@@ -248,7 +246,9 @@ void PlanarFormulation::store(double h, Eigen::VectorXd& y) {
   // The clamp (or the carried wire) works on the integrated wire.
   work -= assembly_.boundary_force.dot(state_.plane.vectorToPlane(v_boundary_world_)) +
           assembly_.boundary_torque * state_.boundary_omega;
-  booking_.book(solved_, h, work, dissipated, y[0], y[1]);
+  // The step's work and dissipation [J]: h times its end powers.
+  y[0] += h * work;
+  y[1] += h * dissipated;
   for (int i = f; i < n; ++i) {
     const int o = model_.stateOffsetOf(i);
     y.segment<3>(o) = pl.toWorld(state_.x.col(i));

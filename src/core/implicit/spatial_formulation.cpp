@@ -114,7 +114,7 @@ double SpatialFormulation::residual(bool jacobian, int top_point) {
   // highest changed point where the last one was of this system: those rows
   // are not assembled.
   const bool partial = jacobian && top_point >= state_.first &&
-                       factored_ == FactorKey{alpha_, kappa_, state_.first, state_.n} &&
+                       factored_ == FactorKey{alpha_, state_.first, state_.n} &&
                        assembly_.matrix().keepsFactorsFrom(
                            top_point - state_.first,
                            SpatialAssembly::unknownsFor(state_.first, state_.n, port_), port_);
@@ -123,17 +123,17 @@ double SpatialFormulation::residual(bool jacobian, int top_point) {
   const Eigen::VectorXd& force = assembly_.forces();
   const int unknowns = assembly_.unknowns();
   double norm = 0.0;
-  // Inertia kappa M (v - v_hat) minus the forces; the constraint rows as
+  // Inertia alpha M (v - v_hat) minus the forces; the constraint rows as
   // assembled. The norm weighs a quaternion row [N m] by 1 / l.
   for (int i = f; i < n; ++i) {
     const int mu = assembly_.muRow(i), p = assembly_.pRow(i), q = assembly_.qRow(i);
     r_.segment<2>(mu) = force.segment<2>(mu);
     r_.segment<3>(p) =
-        kappa_ * point_mass_ * (state_.v.col(i) - v_hat_.block<3, 1>(0, i)) - force.segment<3>(p);
+        alpha_ * point_mass_ * (state_.v.col(i) - v_hat_.block<3, 1>(0, i)) - force.segment<3>(p);
     // The frame's rows: the quaternion's inertia, projected on its tangent
     // space as the forces are (their radial part kept for the Jacobian).
     const Eigen::Vector4d inertia_q =
-        kappa_ * quat_mass_ * (state_.qd.col(i) - v_hat_.block<4, 1>(3, i));
+        alpha_ * quat_mass_ * (state_.qd.col(i) - v_hat_.block<4, 1>(3, i));
     r_.segment<3>(q) = assembly_.frameBasis(i).transpose() * inertia_q - force.segment<3>(q);
     radial_r_[i] = state_.q.col(i).dot(inertia_q) - assembly_.radialForce(i);
     norm = std::max({norm, r_.segment<3>(p).lpNorm<Eigen::Infinity>(),
@@ -149,7 +149,7 @@ double SpatialFormulation::residual(bool jacobian, int top_point) {
     // Inertia; on a frame's rows B^T M B = M / 4 with B = dq/dtheta, and the
     // curvature of q(theta) against the residual's radial part: d^2 q /
     // dtheta^2 = -q / 4 (what the unit norm's multiplier gave before).
-    const double mp = kappa_ * alpha_ * point_mass_, mq = 0.25 * kappa_ * alpha_ * quat_mass_;
+    const double mp = alpha_ * alpha_ * point_mass_, mq = 0.25 * alpha_ * alpha_ * quat_mass_;
     for (int i = f; i < std::min(n, assembly_.jacobianTop() + 1); ++i) {
       for (int a = 0; a < 3; ++a) m.at(assembly_.pRow(i) + a, assembly_.pRow(i) + a) += mp;
       const double dq = mq - 0.25 * radial_r_[i];
@@ -163,11 +163,9 @@ NewtonStats SpatialFormulation::solve(const OneLegStep& step, const Eigen::Matri
                                       const Eigen::MatrixXd& v_hat,
                                       const Eigen::MatrixXd& x_guess) {
   const int f = state_.first, n = state_.n, m = n - f;
-  const double t1 = step.t1, alpha = step.alpha, kappa = step.kappa;
+  const double t1 = step.t1, alpha = step.alpha;
   state_.carried = carried_.trial(step);
-  solved_ = step;
   alpha_ = alpha;
-  kappa_ = kappa;
   state_.alpha = alpha;
   state_.t = t1;
   state_.dt = t1 - step.t_past[0];
@@ -196,7 +194,7 @@ NewtonStats SpatialFormulation::solve(const OneLegStep& step, const Eigen::Matri
     weight_.segment<3>(row + SpatialAssembly::kP).setConstant(1.0);
   }
   weight_.segment<2>(SpatialAssembly::kPerPoint * m).setZero();
-  if (!(factored_ == FactorKey{alpha, kappa, f, n})) have_factor_ = false;
+  if (!(factored_ == FactorKey{alpha, f, n})) have_factor_ = false;
   return newtonSolve(*this, newton_, have_factor_);
 }
 
@@ -209,7 +207,7 @@ bool SpatialFormulation::factor() {
   const int top = assembly_.jacobianTop();
   const bool ok = top < state_.n - 1 ? m.factorFrom(top - state_.first) : m.factor();
   if (!ok || !couplings_.factor(assembly_)) return false;
-  factored_ = {alpha_, kappa_, state_.first, state_.n};
+  factored_ = {alpha_, state_.first, state_.n};
   return true;
 }
 
@@ -287,7 +285,9 @@ void SpatialFormulation::store(double h, Eigen::VectorXd& y) {
   // The clamp (or the carried wire) works on the integrated wire.
   work -= assembly_.boundary_force.dot(v_boundary_exact_) +
           assembly_.boundary_fq.dot(qd_boundary_exact_);
-  booking_.book(solved_, h, work, dissipated, y[0], y[1]);
+  // The step's work and dissipation [J]: h times its end powers.
+  y[0] += h * work;
+  y[1] += h * dissipated;
   for (int i = f; i < n; ++i) {
     const int o = model_.stateOffsetOf(i);
     y.segment<3>(o) = state_.p.col(i);

@@ -94,7 +94,6 @@ Scene refinedScene(const Scene& scene, std::string& refinement) {
     s.solver.atol *= 0.1;
     refinement = "solver.rtol and solver.atol / 10";
   }
-  if (info && info->estimate_caveat) refinement += std::string("; ") + info->estimate_caveat;
   return s;
 }
 

@@ -121,8 +121,9 @@ std::string withinRamp(const Scene& s, const std::string& what, const std::strin
          "the core in "
       << RotatingCore::kInstantRamp_s
       << " s; core.max_angular_acceleration sets other ramps): " << method
-      << " cannot follow it; use symplectic_euler or rkf45, or lower "
-         "core.max_angular_acceleration and set core.start_at_speed: false";
+      << " cannot follow it; use "
+      << (method == "rkf45" ? "symplectic_euler" : "symplectic_euler or rkf45")
+      << ", or lower core.max_angular_acceleration and set core.start_at_speed: false";
   return msg.str();
 }
 

@@ -21,28 +21,16 @@ std::vector<IntegratorInfo> registry() {
   row(r, "symplectic_euler", "fixed-step semi-implicit Euler below the explicit limit l / c",
       {"fixed_step", "baumgarte_nu"})
       .explicit_fixed_step = true;
-  row(r, "rosenbrock2",
-      "linearly implicit Rosenbrock-W, banded Jacobian; stiff scenes without friction", adaptive)
-      .error_controlled = true;
-  // The Newton-step methods' keys (generalized_alpha adds rho_infinity).
+  // The Newton-step methods' keys.
   const std::vector<const char*> newton = {"implicit_step", "steps_per_revolution", "newton_tol",
                                            "newton_max_iterations", "min_step"};
-  std::vector<const char*> alpha = newton;
-  alpha.insert(alpha.begin() + 2, "rho_infinity");
   const std::size_t first_newton = r.size();
   row(r, "implicit_euler", "backward Euler with Newton steps (first order, L-stable)", newton);
   row(r, "bdf2", "variable-step BDF2 with Newton steps (second order, L-stable)", newton);
-  row(r, "generalized_alpha",
-      "generalized-alpha with Newton steps (second order, high frequencies damped to "
-      "rho_infinity)",
-      alpha);
   for (std::size_t k = first_newton; k < r.size(); ++k) {
     r[k].newton_steps = true;
     r[k].numerically_dissipative = true;
   }
-  r.back().estimate_caveat =
-      "not calibrated for generalized_alpha: 0.2 to 5 times its true error on the five "
-      "accuracy cases (docs/PERFORMANCE.md)";
   return r;
 }
 }  // namespace

@@ -178,16 +178,6 @@ void dampingRatioInRange(const Scene& s) {
   }
 }
 
-// generalized_alpha's spectral radius: 1 leaves the highest frequencies
-// undamped, 0 removes them in one step; beyond [0, 1] the scheme is
-// unstable.
-void rhoInfinityInRange(const Scene& s) {
-  if (s.solver.rho_infinity > 1.0) {
-    throw SceneError("solver.rho_infinity",
-                     fmt(s.solver.rho_infinity) + " is above 1 (the scheme would be unstable)");
-  }
-}
-
 void coreFitsEffects(const Scene& s) {
   if (s.core.hull_faces && s.core.cylinders.size() < 2) {
     throw SceneError("core.hull_faces", "needs at least two core.cylinders");
@@ -425,7 +415,6 @@ const CrossRule kCrossRules[] = {
      [](const Scene& s) { plasticNotAboveElastic(s.wire.torsion, "wire.torsion"); }},
     {"contact.kinetic_friction", kineticNotAboveStatic},
     {"contact.damping_ratio", dampingRatioInRange},
-    {"solver.rho_infinity", rhoInfinityInRange},
     {"process.layers", traverseFits},
     {"physics.planar", flangesFit},
     {"physics.planar", wireContactFits},

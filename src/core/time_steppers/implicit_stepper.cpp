@@ -30,55 +30,6 @@ ImplicitStepper::ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme s
   x_hat_.setZero(xr, points);
   v_hat_.setZero(vr, points);
   guess_.setZero(xr, points);
-  if (scheme_ == Scheme::kGeneralizedAlpha) {
-    v_hat_prev_.setZero(vr, points);
-    a_pseudo_prev_.setZero(vr, points);
-    acc0_.setZero(vr, points);
-    a_pseudo0_.setZero(vr, points);
-  }
-}
-
-void ImplicitStepper::generalizedAlpha(double h, int first, int n, const Eigen::MatrixXd& x0,
-                                       const Eigen::MatrixXd& v0, OneLegStep& step) {
-  const int m = n - first, xr = static_cast<int>(x0.rows());
-  const double rho = p_.rho_infinity;
-  const double am = (2.0 * rho - 1.0) / (rho + 1.0), af = rho / (rho + 1.0);
-  const double gamma = 0.5 + af - am, beta = 0.25 * (gamma + 0.5) * (gamma + 0.5);
-  // The acceleration at the step's start (the last step's end) and the
-  // pseudo-acceleration, from that step's velocity update; points drawn in
-  // since start from rest, a step after backward Euler from a = acc.
-  acc0_.middleCols(first, m).setZero();
-  a_pseudo0_.middleCols(first, m).setZero();
-  const int k = std::min(n, n_prev_) - first;
-  if (k > 0) {
-    acc0_.middleCols(first, k) =
-        kappa_prev_ * (v0.middleCols(first, k) - v_hat_prev_.middleCols(first, k));
-    if (prev_alpha_step_) {
-      a_pseudo0_.middleCols(first, k) =
-          (v0.middleCols(first, k) - v_prev_.middleCols(first, k) -
-           h_prev_ * (1.0 - gamma_prev_) * a_pseudo_prev_.middleCols(first, k)) /
-          (gamma_prev_ * h_prev_);
-    } else {
-      a_pseudo0_.middleCols(first, k) = acc0_.middleCols(first, k);
-    }
-  }
-  // x1 = x0 + h v0 + h^2 ((1/2 - beta) a0 + beta a1), v1 = v0 + h ((1 -
-  // gamma) a0 + gamma a1), (1 - am) a1 + am a0 = (1 - af) acc1 + af acc0:
-  // the one-leg form's alpha, kappa, x_hat and v_hat.
-  step.past = 1;
-  step.w_past[0] = 1.0;
-  step.w_rate = h - beta * h / gamma;
-  step.w_acc = h * h * (0.5 - beta) - (beta * h * h / gamma) * (1.0 - gamma);
-  step.alpha = gamma / (beta * h);
-  step.w_power_prev = af;
-  step.kappa = (1.0 - am) / (h * gamma * (1.0 - af));
-  x_hat_.middleCols(first, m) = x0.middleCols(first, m) + step.w_rate * v0.block(0, first, xr, m) +
-                                step.w_acc * a_pseudo0_.block(0, first, xr, m);
-  v_hat_.middleCols(first, m) =
-      v0.middleCols(first, m) + h * (1.0 - gamma) * a_pseudo0_.middleCols(first, m) +
-      (h * gamma / (1.0 - am)) *
-          (af * acc0_.middleCols(first, m) - am * a_pseudo0_.middleCols(first, m));
-  gamma_prev_ = gamma;
 }
 
 void ImplicitStepper::restore(double next_step, double last_step, const StepCounts& counts) {
@@ -128,10 +79,6 @@ void ImplicitStepper::retirePast(int k) {
   for (int i = first_prev_; i < n_prev_; ++i) {
     x_prev_.col(i - k) = x_prev_.col(i);
     v_prev_.col(i - k) = v_prev_.col(i);
-    if (scheme_ == Scheme::kGeneralizedAlpha) {
-      v_hat_prev_.col(i - k) = v_hat_prev_.col(i);
-      a_pseudo_prev_.col(i - k) = a_pseudo_prev_.col(i);
-    }
   }
   first_prev_ -= k;
   n_prev_ -= k;
@@ -196,14 +143,8 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     // where the step grows more than twofold (variable-step BDF2 is
     // zero-stable only for r < 1 + sqrt(2): after a step clipped at a ramp's
     // end, r can reach 1e5).
-    // Generalized-alpha only at a step as long as the last one: its
-    // pseudo-acceleration and its booked power (PowerBooking) are that
-    // step's. The steps that grow back after a start or a retry are BDF2's.
     const bool restart = !have_prev_;
-    const bool alpha_step =
-        scheme_ == Scheme::kGeneralizedAlpha && have_prev_ && std::abs(h - h_prev_) <= 1e-9 * h;
-    const bool bdf2 =
-        scheme_ != Scheme::kBackwardEuler && !alpha_step && have_prev_ && h <= 2.0 * h_prev_;
+    const bool bdf2 = scheme_ == Scheme::kBdf2 && have_prev_ && h <= 2.0 * h_prev_;
     // Points drawn in since the last step have no past: extrapolate back.
     if (have_prev_) {
       for (int i = n_prev_; i < n; ++i) {
@@ -240,8 +181,7 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
       guess_.middleCols(first, m) +=
           (0.5 * h * h / h_prev_) * (v0.block(0, first, xr, m) - v_prev_.block(0, first, xr, m));
     }
-    step.alpha = step.kappa = alpha;
-    if (alpha_step) generalizedAlpha(h, first, n, x0, v0, step);
+    step.alpha = alpha;
     const NewtonStats st = f.solve(step, x_hat_, v_hat_, guess_);
     newton_.iterations += st.iterations;
     newton_.flag_rounds += st.flag_rounds;
@@ -307,12 +247,6 @@ void ImplicitStepper::step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double
     }
     // Keep this step's start as the past of the next one (the integrated
     // points; a point the core releases restarts the method above).
-    if (scheme_ == Scheme::kGeneralizedAlpha) {
-      v_hat_prev_.middleCols(first, m) = v_hat_.middleCols(first, m);
-      a_pseudo_prev_.middleCols(first, m) = a_pseudo0_.middleCols(first, m);
-      kappa_prev_ = step.kappa;
-      prev_alpha_step_ = alpha_step;
-    }
     x_prev_.middleCols(first, m) = x0.middleCols(first, m);
     v_prev_.middleCols(first, m) = v0.middleCols(first, m);
     n_prev_ = n;

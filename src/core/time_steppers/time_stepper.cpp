@@ -6,7 +6,6 @@
 
 #include "coil_winding_sim/core/time_steppers/implicit_stepper.hpp"
 #include "coil_winding_sim/core/time_steppers/rkf45.hpp"
-#include "coil_winding_sim/core/time_steppers/rosenbrock2.hpp"
 #include "coil_winding_sim/core/time_steppers/symplectic_euler.hpp"
 
 namespace cws {
@@ -39,14 +38,10 @@ std::unique_ptr<TimeStepper> makeTimeStepper(const SolverParams& p, OdeSystem& s
   const std::string& name = p.integrator;
   if (name == "rkf45") return std::make_unique<Rkf45>(p, sys.capacity());
   if (name == "symplectic_euler") return std::make_unique<SymplecticEuler>(p, sys.capacity());
-  if (name == "rosenbrock2") return std::make_unique<Rosenbrock2>(p, sys);
   using Scheme = ImplicitStepper::Scheme;
   if (name == "implicit_euler")
     return std::make_unique<ImplicitStepper>(p, sys, Scheme::kBackwardEuler);
   if (name == "bdf2") return std::make_unique<ImplicitStepper>(p, sys, Scheme::kBdf2);
-  if (name == "generalized_alpha") {
-    return std::make_unique<ImplicitStepper>(p, sys, Scheme::kGeneralizedAlpha);
-  }
   throw std::invalid_argument("unknown integrator '" + name + "'");
 }
 

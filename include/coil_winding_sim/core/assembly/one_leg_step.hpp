@@ -30,41 +30,11 @@ struct OneLegStep {
   static constexpr int kMaxPast = 2;
   double t1 = 0.0;     // the step's end [s]
   double alpha = 0.0;  // d v / d x [1/s]
-  double kappa = 0.0;  // d a / d v [1/s]
   // x_hat = sum_j w[j] x(t_past[j]) over the committed past (weights sum
-  // to 1), plus w_rate v(t_past[0]) + w_acc a(t_past[0]) (generalized-alpha:
-  // the start's velocity and pseudo-acceleration).
+  // to 1).
   int past = 1;
   double t_past[kMaxPast] = {0.0, 0.0};  // [s]
   double w_past[kMaxPast] = {1.0, 0.0};
-  double w_rate = 0.0;  // [s]
-  double w_acc = 0.0;   // [s^2]
-  // The weight of the last step's power in this step's work and
-  // dissipation (generalized-alpha: alpha_f; 0: this step's end power).
-  double w_power_prev = 0.0;
-};
-
-// The work and dissipation a Newton step books: h times its power at the
-// point where the scheme balances the forces. Generalized-alpha blends
-// the end forces with the last step's as (1 - alpha_f) F1 + alpha_f F0, so
-// its power is blended alike; booked at the end power alone, a force that
-// rings from step to step (a clamp jerked at t = 0) booked up to 1.7 % of
-// the work as energy created (docs/history/2026-11-27-dashpot-energy-booking.md).
-class PowerBooking {
- public:
-  // Adds the step's work and dissipation [J] to `work` and `dissipated`
-  // from its end powers [W] (the last accepted step's are kept).
-  void book(const OneLegStep& step, double h, double work_power, double dissipated_power,
-            double& work, double& dissipated) {
-    const double w = step.w_power_prev;
-    work += h * ((1.0 - w) * work_power + w * last_[0]);
-    dissipated += h * ((1.0 - w) * dissipated_power + w * last_[1]);
-    last_[0] = work_power;
-    last_[1] = dissipated_power;
-  }
-
- private:
-  double last_[2] = {0.0, 0.0};  // the last accepted step's end powers [W]
 };
 
 // The scheme velocity of the core's material (see above).
@@ -100,12 +70,10 @@ struct CarriedRate {
 
   // The scheme's: the core turned by theta_past[j] - theta1 [rad] about
   // axis_world at the past times of `step`, turning at omega1 [rad/s] at
-  // its end and omega0 [rad/s] at its start (for the start's velocity and
-  // acceleration terms: omega0 a x r and -omega0^2 r_perp, the core's
-  // angular acceleration left out).
+  // its end.
   static CarriedRate scheme(const OneLegStep& step, const Eigen::Vector3d& origin_world,
                             const Eigen::Vector3d& axis_world, double theta1, double omega1,
-                            const double* theta_past, double omega0 = 0.0) {
+                            const double* theta_past) {
     CarriedRate c;
     c.omega_exact = omega1;
     c.origin_world = origin_world;
@@ -119,21 +87,6 @@ struct CarriedRate {
       const double s = std::sin(0.5 * turn);
       q += step.w_past[j] * Eigen::Vector4d(std::cos(0.5 * turn), s * axis_world.x(),
                                             s * axis_world.y(), s * axis_world.z());
-    }
-    if (step.w_rate != 0.0 || step.w_acc != 0.0) {
-      const Eigen::Matrix3d cross = quat::skew(axis_world);
-      const double turn = theta_past[0] - theta1;
-      m += (step.w_rate * omega0 * cross + step.w_acc * omega0 * omega0 * cross * cross) *
-           Eigen::AngleAxisd(turn, axis_world).toRotationMatrix();
-      // A carried frame: q(t0) = Q0 q, dq/dt = (omega0 / 2) (0, a) Q0 q,
-      // d2q/dt2 = -(omega0^2 / 4) Q0 q.
-      const double s0 = std::sin(0.5 * turn);
-      const Eigen::Quaterniond q0(std::cos(0.5 * turn), s0 * axis_world.x(), s0 * axis_world.y(),
-                                  s0 * axis_world.z());
-      const Eigen::Quaterniond aq0 =
-          Eigen::Quaterniond(0.0, axis_world.x(), axis_world.y(), axis_world.z()) * q0;
-      q += -step.w_acc * 0.25 * omega0 * omega0 * Eigen::Vector4d(q0.w(), q0.x(), q0.y(), q0.z()) +
-           step.w_rate * 0.5 * omega0 * Eigen::Vector4d(aq0.w(), aq0.x(), aq0.y(), aq0.z());
     }
     c.g_world = step.alpha * (Eigen::Matrix3d::Identity() - m);
     c.q_past = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);  // not unit: a combination

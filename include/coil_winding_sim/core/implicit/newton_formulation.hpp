@@ -1,7 +1,7 @@
 // What an implicit time stepper (ImplicitStepper) needs of a formulation of
 // the wire: the committed configuration and velocities of the integrated
 // points, one Newton solve of a one-leg scheme
-//   v = alpha (x - x_hat),   kappa M (v - v_hat) = F(x, v)
+//   v = alpha (x - x_hat),   alpha M (v - v_hat) = F(x, v)
 // and the solution written back into the model's state. The planar
 // formulation (positions in the plane) and the 3-D one (positions and
 // quaternions with the frame constraints) implement it.

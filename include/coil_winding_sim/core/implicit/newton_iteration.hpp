@@ -33,10 +33,10 @@ namespace cws {
 // What a factorization was made for: a later solve of the same system size
 // and scheme coefficients may start from it (modified Newton).
 struct FactorKey {
-  double alpha = 0.0, kappa = 0.0;  // [1/s]
+  double alpha = 0.0;  // [1/s]
   int first = -1, n = -1;
   bool operator==(const FactorKey& o) const {
-    return alpha == o.alpha && kappa == o.kappa && first == o.first && n == o.n;
+    return alpha == o.alpha && first == o.first && n == o.n;
   }
 };
 

@@ -109,9 +109,7 @@ class PlanarFormulation : public NewtonFormulation {
   Eigen::Matrix2Xd frame_gradient_;  // d phi_i / d d_{i-1} at the step's start
   Eigen::VectorXd r_, dx_;
   double lambda_try_ = 0.0;
-  double alpha_ = 0.0, kappa_ = 0.0;
-  OneLegStep solved_;  // the last solve's step, for its booking
-  PowerBooking booking_;
+  double alpha_ = 0.0;
   // The scheme velocity of the core's material (the surface friction sees).
   CarriedMotion carried_;
   double lambda_accepted_ = 0.0;  // port multiplier of the last accepted step [N]

@@ -105,9 +105,7 @@ class SpatialFormulation : public NewtonFormulation {
   // (l / 2)^2 for a rotation [rad] (the step's measure), 0 for a multiplier.
   SecantSteps secant_;
   Eigen::VectorXd weight_;
-  double alpha_ = 0.0, kappa_ = 0.0;
-  OneLegStep solved_;  // the last solve's step, for its booking
-  PowerBooking booking_;
+  double alpha_ = 0.0;
   // The scheme velocity of the core's material (the surface friction sees),
   // and the prescribed point's exact rates.
   CarriedMotion carried_;

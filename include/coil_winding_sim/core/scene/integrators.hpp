@@ -32,10 +32,6 @@ struct IntegratorInfo {
   // dissipation is reported as its own term; the energy balance then
   // bounds only energy the method creates.
   bool numerically_dissipative = false;
-  // What --error-estimate's refinement is known to get wrong with this
-  // method, said beside the estimate (null: within a factor of 2 of the
-  // true error where measured).
-  const char* estimate_caveat = nullptr;
 };
 
 // All integrators, in the order messages list them.

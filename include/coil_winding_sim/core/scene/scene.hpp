@@ -17,8 +17,7 @@
 namespace cws {
 
 // The most mass points a scene may ask for. Storage grows with the points
-// (about 25 kB per point with rosenbrock2's banded Jacobian, 2.5 kB with
-// rkf45), so validateScene refuses more instead of exhausting memory.
+// (a few kB per point), so validateScene refuses more instead of exhausting memory.
 constexpr int kMaxScenePoints = 100000;
 // The live points a job's estimate asks for at most where buried wire
 // retires from the live arrays (Scene::carriesWoundWire,
@@ -158,7 +157,7 @@ struct ProcessParams {
 };
 
 struct SolverParams {
-  // rkf45 | symplectic_euler | rosenbrock2 | implicit_euler | bdf2
+  // rkf45 | symplectic_euler | implicit_euler | bdf2
   std::string integrator = "rkf45";
   double rtol = 1.0e-6;          // relative tolerance [-]
   double atol = 1.0e-11;         // absolute tolerance on positions [m]
@@ -169,7 +168,7 @@ struct SolverParams {
   // fraction of the scene's explicit stability limit (fixedStep()).
   std::optional<double> fixed_step;
   double baumgarte_nu = 5000.0;  // constraint stabilization nu [1/s], eq. (6)
-  // Implicit integrators (implicit_euler, bdf2, generalized_alpha): the
+  // Implicit integrators (implicit_euler, bdf2): the
   // longest step [s], and the steps per core revolution at the core's speed
   // [-] (the step is at most one revolution over this: at 300, shorter
   // than implicit_step above 2,000 rpm only; 0: steps of implicit_step at
@@ -187,9 +186,6 @@ struct SolverParams {
   // puts the paper's 1200 rpm cases within 2 % in bulging of the explicit
   // model.
   double strike_step = 1.0e-6;
-  // generalized_alpha: the spectral radius at infinite frequency [-], in
-  // [0, 1] (1: no numerical damping; 0: the most).
-  double rho_infinity = 0.8;
   double newton_tol = 1.0e-8;
   int newton_max_iterations = 30;
   // Wound wire held by static friction moves rigidly with the core and leaves

@@ -97,5 +97,8 @@ const SceneKey* findSceneKey(const std::string& name);
 // took its place, or nullptr: a scene file that sets it is refused with
 // this.
 const char* removedSceneKey(const std::string& name);
+// The same for a value of a word key that went (an integrator): why, or
+// nullptr.
+const char* removedSceneWord(const std::string& key, const std::string& value);
 
 }  // namespace cws

@@ -1,12 +1,8 @@
 // Implicit steps over a NewtonFormulation (the planar wire's reduced
 // coordinates, or the 3-D wire with its frame constraints): backward Euler
-// (implicit_euler), first order and L-stable, the variable-step BDF2
-// (bdf2), second order and L-stable, and generalized-alpha
-// (generalized_alpha; Arnold and Brüls 2007: the forces at the step's end,
-// a pseudo-acceleration carrying the damping), second order, damping the
-// highest frequencies to solver.rho_infinity and the slow ones hardly at
-// all. All solve
-//   v = alpha (x - x_hat),   kappa M (v - v_hat) = F(x, v)
+// (implicit_euler), first order and L-stable, and the variable-step BDF2
+// (bdf2), second order and L-stable. Both solve
+//   v = alpha (x - x_hat),   alpha M (v - v_hat) = F(x, v)
 // with Newton's method at every step of solver.implicit_step, or of one
 // revolution of the core over solver.steps_per_revolution where that is
 // shorter (limitStep: the step follows the process); a step whose
@@ -36,7 +32,7 @@ namespace cws {
 
 class ImplicitStepper : public TimeStepper {
  public:
-  enum class Scheme { kBackwardEuler, kBdf2, kGeneralizedAlpha };
+  enum class Scheme { kBackwardEuler, kBdf2 };
   // A limit this close to t (relative to max(1 s, |t|)) counts as reached.
   static constexpr double kLandRounding = 1e-12;
   // A step may be this much longer to land on the limit.
@@ -66,11 +62,7 @@ class ImplicitStepper : public TimeStepper {
   static constexpr double kFallbackStretch = 1e-3;
   ImplicitStepper(const SolverParams& p, OdeSystem& sys, Scheme scheme);
 
-  const char* name() const override {
-    return scheme_ == Scheme::kBdf2               ? "bdf2"
-           : scheme_ == Scheme::kGeneralizedAlpha ? "generalized_alpha"
-                                                  : "implicit_euler";
-  }
+  const char* name() const override { return scheme_ == Scheme::kBdf2 ? "bdf2" : "implicit_euler"; }
   double collapseRatio() const override { return 0.0; }
   void step(OdeSystem& sys, double& t, Eigen::VectorXd& y, double t_limit) override;
   double nextStep() const override { return h_; }
@@ -114,17 +106,6 @@ class ImplicitStepper : public TimeStepper {
   // Moves the past of the last step to the live arrays' numbering after k
   // points retired from their front.
   void retirePast(int k);
-  // Generalized-alpha: the last accepted step's v_hat and kappa (its end's
-  // acceleration is kappa (v - v_hat)), the pseudo-acceleration at its
-  // start and its gamma; the present step's acceleration and
-  // pseudo-acceleration at its start (rate rows, per point).
-  Eigen::MatrixXd v_hat_prev_, a_pseudo_prev_, acc0_, a_pseudo0_;
-  double kappa_prev_ = 0.0, gamma_prev_ = 0.0;
-  bool prev_alpha_step_ = false;  // the last accepted step was a generalized-alpha one
-  // Fills step, x_hat_ and v_hat_ for a generalized-alpha step of h [s]
-  // from the committed x0, v0 (columns first..n-1).
-  void generalizedAlpha(double h, int first, int n, const Eigen::MatrixXd& x0,
-                        const Eigen::MatrixXd& v0, OneLegStep& step);
   // Steps through a struck span: they stay at solver.strike_step until this
   // time [s].
   double strike_until_ = -1.0;
