@@ -27,7 +27,7 @@ struct IntegratorInfo {
   // Newton steps of solver.implicit_step over a NewtonFormulation (planar
   // scenes in reduced coordinates, 3-D scenes with the frame constraints).
   bool newton_steps = false;
-  // Numerically dissipative (L-stable, or damping the highest frequencies):
+  // Numerically dissipative (L-stable):
   // it removes energy of motion its step does not resolve. That numerical
   // dissipation is reported as its own term; the energy balance then
   // bounds only energy the method creates.
