@@ -68,20 +68,67 @@ bool PairCouplingSolve::factor(SpatialAssembly& a) {
     for (int q = 0; q < m_; ++q) s_.block<3, 3>(3 * q, 3 * p) = pairs_[q].k * relative(a, q, w);
     s_.block<3, 3>(3 * p, 3 * p) += Eigen::Matrix3d::Identity();
   }
-  // Its LU with partial pivoting, in place.
-  for (int c = 0; c < cols; ++c) {
-    int best = c;
-    for (int r = c + 1; r < cols; ++r) {
-      if (std::abs(s_(r, c)) > std::abs(s_(best, c))) best = r;
+  return factorSmall(cols);
+}
+
+bool PairCouplingSolve::factorSmall(int n) {
+  // S's LU with partial pivoting, in place, by panels of kPanel columns
+  // (LAPACK's getrf, right-looking): the panel is factored on its own, its
+  // rows of U are solved for, and the rest of S is updated by the panel's
+  // rank-kPanel product, row by row, while those rows of U stay in cache.
+  // Updating the rest at every column instead streamed all of S through
+  // memory 3 m times: at 250 pairs (750 unknowns, 4.5 MB) that was most of
+  // a step's time (docs/history/2026-12-07-friction-decided-at-commits.md).
+  // Whole rows are swapped, so the factors and pivots are getrf's.
+  for (int k0 = 0; k0 < n; k0 += kPanel) {
+    const int k1 = std::min(n, k0 + kPanel), rest = n - k1;
+    for (int c = k0; c < k1; ++c) {
+      int best = c;
+      for (int r = c + 1; r < n; ++r) {
+        if (std::abs(s_(r, c)) > std::abs(s_(best, c))) best = r;
+      }
+      if (!(std::abs(s_(best, c)) > 0.0) || !std::isfinite(s_(best, c))) return false;
+      pivot_[c] = best;
+      if (best != c) s_.row(c).head(n).swap(s_.row(best).head(n));
+      const int width = k1 - c - 1;
+      for (int r = c + 1; r < n; ++r) {
+        const double f = s_(r, c) / s_(c, c);
+        s_(r, c) = f;
+        if (f != 0.0 && width > 0)
+          s_.row(r).segment(c + 1, width) -= f * s_.row(c).segment(c + 1, width);
+      }
     }
-    if (!(std::abs(s_(best, c)) > 0.0) || !std::isfinite(s_(best, c))) return false;
-    pivot_[c] = best;
-    if (best != c) s_.row(c).head(cols).swap(s_.row(best).head(cols));
-    const int rest = cols - c - 1;
-    for (int r = c + 1; r < cols; ++r) {
-      const double f = s_(r, c) / s_(c, c);
-      s_(r, c) = f;
-      if (f != 0.0) s_.row(r).segment(c + 1, rest) -= f * s_.row(c).segment(c + 1, rest);
+    if (rest == 0) break;
+    // U's rows of the panel: L11^-1 A12 (L11 unit lower triangular).
+    for (int c = k0; c < k1; ++c) {
+      for (int r = c + 1; r < k1; ++r) {
+        const double f = s_(r, c);
+        if (f != 0.0) s_.row(r).segment(k1, rest) -= f * s_.row(c).segment(k1, rest);
+      }
+    }
+    // A22 -= L21 U12, four rows at a time (each row of U12 read once for
+    // four: the rows stay in L1, U12 in L2).
+    int r = k1;
+    for (; r + 4 <= n; r += 4) {
+      double* a0 = &s_(r, k1);
+      double* a1 = &s_(r + 1, k1);
+      double* a2 = &s_(r + 2, k1);
+      double* a3 = &s_(r + 3, k1);
+      for (int c = k0; c < k1; ++c) {
+        const double f0 = s_(r, c), f1 = s_(r + 1, c), f2 = s_(r + 2, c), f3 = s_(r + 3, c);
+        const double* u = &s_(c, k1);
+        for (int j = 0; j < rest; ++j) {
+          const double uj = u[j];
+          a0[j] -= f0 * uj;
+          a1[j] -= f1 * uj;
+          a2[j] -= f2 * uj;
+          a3[j] -= f3 * uj;
+        }
+      }
+    }
+    for (; r < n; ++r) {
+      auto row = s_.row(r).segment(k1, rest);
+      for (int c = k0; c < k1; ++c) row -= s_(r, c) * s_.row(c).segment(k1, rest);
     }
   }
   return true;

@@ -42,6 +42,11 @@ class PairCouplingSolve {
   template <class V, class Z>
   void scatter(const SpatialAssembly& a, int p, const Z& z, V& v) const;
 
+  // The LU of S's first n rows and columns in place (pivot_); false if
+  // singular.
+  static constexpr int kPanel = 32;
+  bool factorSmall(int n);
+
   // Storage for systems of `unknowns` unknowns and `pairs` pairs at least
   // (twice what it holds, where that is more).
   void grow(int unknowns, int pairs);
