@@ -38,6 +38,7 @@ Contact::Contact(const WireConstants& c, const Scene& s, const RotatingCore& cor
   const std::size_t span_slots =
       static_cast<std::size_t>(std::min(c_.capacity, kReservedSpan)) * slots_;
   trial_anchor_core_.assign(span_slots, Eigen::Vector3d::Zero());
+  trial_slip_world_.assign(span_slots, Eigen::Vector3d::Zero());
   recheck_touches_.assign(span_slots, Touch());
 }
 

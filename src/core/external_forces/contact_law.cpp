@@ -10,8 +10,8 @@
 //                    converged solve (contact_flags_planar.cpp,
 //                    contact_flags_spatial.cpp).
 // Kinetic friction opposes the sliding velocity as it is; a 3-D Newton
-// step regularizes it below the stick speed (Contact::slidingDirection),
-// and a planar one keeps its sign frozen. A planar sink
+// step divides it by at least the stick speed, where a converged solve
+// sticks the point, and a planar one keeps its sign frozen. A planar sink
 // maps the world's forces and blocks to the plane.
 #include <algorithm>
 #include <cmath>
@@ -183,17 +183,20 @@ void Contact::law(Sink& s) const {
         } else if (slipping) {
           // Slip in a 3-D Newton step: mu_d N against vh, u = G (p - o) the
           // core's; with its derivatives in p (through N, n and u) and v.
-          // The direction is regularized below the stick speed
-          // (slidingDirection); a point sliding that slowly sticks at the
-          // step's commit, as in an explicit step (commitAt).
+          // Below the stick speed the direction vh / |vh| is replaced by
+          // vh / stick_speed: a converged solve with a point sliding that
+          // slowly sticks it (the recheck), so no accepted step uses that
+          // part, and Newton does not chase the kink of vh / |vh| at rest.
+          const double speed = vh.norm();
           // (Without static friction nothing sticks: the law is kept whole.)
           const double floor = p_.static_friction > 0.0 ? p_.stick_speed : 0.0;
-          const SlidingDirection slide = slidingDirection(vh, floor);
-          ft = -p_.kinetic_friction * normal * slide.dir;
+          const double scale = std::max({speed, floor, kTinySlidingSpeed});
+          const Eigen::Vector3d dir = vh / scale;
+          ft = -p_.kinetic_friction * normal * dir;
           if (jacobian) {
-            kp += -p_.kinetic_friction * (slide.dir * dnormal_dp + normal * slide.d_dir * dvhDp());
-            s.addPointDamping(
-                i, -p_.kinetic_friction * (normal * slide.d_dir * pn + slide.dir * dnormal_dv));
+            const Eigen::Matrix3d proj = (speed >= scale ? id - dir * dir.transpose() : id) / scale;
+            kp += -p_.kinetic_friction * (dir * dnormal_dp + normal * proj * dvhDp());
+            s.addPointDamping(i, -p_.kinetic_friction * (normal * proj * pn + dir * dnormal_dv));
           }
         }
       }

@@ -57,12 +57,13 @@ FreeWireContact::PairForce FreeWireContact::pairForce(const Geometry& g, const E
   const double normal = law.force;
   out.f = normal * n;
   out.f_dissipative = (normal - contact_.stiffness() * out.h) * n;
-  // Kinetic friction against the sliding velocity (regularized below
+  // Kinetic friction against the sliding velocity (viscous below
   // floor_speed).
   const double mu = contact_.kineticFriction();
   const Eigen::Vector3d vh = r_v - vn * n;
-  const Contact::SlidingDirection slide = Contact::slidingDirection(vh, floor_speed);
-  const Eigen::Vector3d& e = slide.dir;
+  const double speed = vh.norm();
+  const double scale = std::max({speed, floor_speed, Contact::kTinySlidingSpeed});
+  const Eigen::Vector3d e = vh / scale;
   if (mu > 0.0) {
     out.f -= mu * normal * e;
     out.f_dissipative -= mu * normal * e;
@@ -81,7 +82,8 @@ FreeWireContact::PairForce FreeWireContact::pairForce(const Geometry& g, const E
   out.df = n * dnormal + normal * dn;
   if (mu > 0.0) {
     const Eigen::Matrix3d dvh = alpha * (id - n * n.transpose()) - n * r_dn - vn * dn;
-    out.df -= mu * (e * dnormal + normal * slide.d_dir * dvh);
+    const Eigen::Matrix3d proj = (speed >= scale ? id - e * e.transpose() : id) / scale;
+    out.df -= mu * (e * dnormal + normal * proj * dvh);
   }
   return out;
 }
@@ -90,8 +92,8 @@ template <class Sink>
 void FreeWireContact::law(Sink& s) const {
   const bool frozen = s.flagsFrozen(), jacobian = s.jacobian();
   const double alpha = s.velocityGain();
-  // Newton steps regularize friction below stick_speed (viscous there);
-  // explicit ones take the sliding direction as it is.
+  // Newton steps divide friction by at least stick_speed (viscous below
+  // it); explicit ones take the sliding direction as it is.
   const double floor_speed = frozen ? contact_.stickSpeed() : 0.0;
   const auto p = [&s](int i) -> Eigen::Vector3d { return s.p(i); };
   for (const Pair& pair : pairs_) {

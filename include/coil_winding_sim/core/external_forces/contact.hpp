@@ -11,7 +11,6 @@
 #pragma once
 
 #include <algorithm>
-#include <cmath>
 #include <cstdlib>
 #include <limits>
 #include <vector>
@@ -44,27 +43,6 @@ class Contact : public ForceEffect, public EffectHistory {
   // floor of the speed it is divided by, for a scene with no stick speed
   // [m/s]).
   static constexpr double kTinySlidingSpeed = 1e-12;
-  // Kinetic friction's direction in a 3-D Newton step, mu_d N times
-  //   dir = vh / sqrt(|vh|^2 + v_f^2)
-  // against the sliding velocity vh [m/s], with its derivative d dir / d vh
-  // = (I - dir dir^T) / sqrt(|vh|^2 + v_f^2) [s/m]. Below the floor v_f
-  // (contact.stick_speed where the wire can stick) the friction is viscous,
-  // so that Newton does not chase the kink of vh / |vh| at rest; the
-  // regularization is smooth across v_f, so that it does not chase the
-  // kink of vh / max(|vh|, v_f) there either, where the wire creeps along
-  // wound wire (docs/history/2026-12-07-friction-decided-at-commits.md).
-  // v_f = 0: mu_d N against vh / |vh| as it is.
-  struct SlidingDirection {
-    Eigen::Vector3d dir;
-    Eigen::Matrix3d d_dir;  // [s/m]
-  };
-  static SlidingDirection slidingDirection(const Eigen::Vector3d& vh, double floor) {
-    const double speed = vh.norm();
-    const double scale =
-        std::max(floor > 0.0 ? std::sqrt(speed * speed + floor * floor) : speed, kTinySlidingSpeed);
-    const Eigen::Vector3d dir = vh / scale;
-    return {dir, (Eigen::Matrix3d::Identity() - dir * dir.transpose()) / scale};
-  }
   void beginStep(const NewtonView& s0) override {
     if (s0.planar()) {
       beginPlanar(*s0.planar());
@@ -270,22 +248,25 @@ class Contact : public ForceEffect, public EffectHistory {
   int carried_summed_ = 1;
   double carried_max_penetration_ = 0.0, carried_elastic_ = 0.0;
   // Implicit steps' trial flags (capacity, per slot): surface, stick, anchor (core
-  // frame) and the plane's slip direction (+1 / -1 along the surface tangent
-  // n x normal). The anchors are kept per slot of the integrated span (index
-  // (i - first) * slots_ + slot), as recheck_touches_: sized for
-  // kReservedSpan points, grown on demand (growSpan), as the Newton system
-  // is (issue 57: storage for 100,000 points).
+  // frame) and slip direction (+1 / -1 along the surface tangent n x normal).
   std::vector<int> trial_surface_;
   std::vector<char> trial_stuck_;
-  std::vector<Eigen::Vector3d> trial_anchor_core_;
+  std::vector<Eigen::Vector3d> trial_anchor_core_;  // per slot of the integrated span, as below
   std::vector<signed char> trial_sign_;
+  // 3-D: the world direction a slipping point slid in at the step's start,
+  // or in which it began to slip (unit; zero: none yet). Per slot of the
+  // integrated span (index (i - first) * slots_ + slot), as
+  // recheck_touches_: sized for kReservedSpan points, grown on demand
+  // (growSpan), as the Newton system is (issue 57: storage for 100,000
+  // points).
+  std::vector<Eigen::Vector3d> trial_slip_world_;
   static constexpr int kReservedSpan = 1024;
   template <class T>
   void growSpan(std::vector<T>& v, int points) const {
     const std::size_t need = static_cast<std::size_t>(points) * slots_;
     if (v.size() < need) v.resize(std::max(need, 2 * v.size()));
   }
-  // The plane: how often a slot's stick broke within the present step.
+  // How often a slot's stick broke within the present step.
   std::vector<signed char> trial_releases_;
   // 3-D: how often a slot's surface changed within the present step; from
   // kMaxSwitches on, the slot's law is clipped and a loss is no change

@@ -19,11 +19,10 @@
 // - Kinetic friction mu_d N against the relative sliding velocity. Two
 //   free segments do not stick: a stick spring needs an anchor that moves
 //   with one of them, and once the core carries one, the carried-wire
-//   contact (with stick) takes the pair over. An implicit step regularizes
-//   it below contact.stick_speed (viscous there, Contact::slidingDirection,
-//   so that Newton does not chase the kink at rest); the explicit methods
-//   take the direction as it is (a bounded force: a viscous law that stiff
-//   would hold their step).
+//   contact (with stick) takes the pair over. An implicit step divides by
+//   at least contact.stick_speed (viscous below it, so that Newton does not
+//   chase the kink at rest); the explicit methods take the direction as it
+//   is (a bounded force: a viscous law that stiff would hold their step).
 // - Candidates come from a neighbour list with a skin (as molecular
 //   dynamics keeps its Verlet lists): the pairs within 2 d, built anew at a
 //   commit once a point has moved r / 2 since the last build, or the
@@ -115,8 +114,8 @@ class FreeWireContact : public ForceEffect, public EffectHistory {
   // The force on point a at the pair's geometry and relative velocity
   // r_v = v_a - (1 - t) v_m - t v_m+1; with jacobian, df = dF / d p_a
   // where the velocities follow the positions as v = alpha (x - x_hat).
-  // Friction is regularized below floor_speed [m/s] (Contact::
-  // slidingDirection; 0: the Coulomb direction, zero at rest).
+  // Friction is divided by at least floor_speed [m/s] (0: the Coulomb
+  // direction, zero at rest).
   struct PairForce {
     Eigen::Vector3d f, f_dissipative;
     Eigen::Matrix3d df;
