@@ -257,6 +257,35 @@ TEST(Carry, TakesOnWireAtRestUnderNewtonStepsAtHighSpeed) {
   EXPECT_LT(integrated, 60);
 }
 
+// Robustness coil 23 (issue 57: 84.6 N, 1230 rpm, four layers, undamped
+// contact). After the span strikes the wound wire, the first integrated
+// point, held by the boundary point, slips at step after step. Until
+// 2026-12-07 each such slip released one stuck group further back
+// (CarriedWire::decide), through wire that stayed stuck: 124-171
+// integrated points, the last two turns lying side by side in 33-128 pairs
+// of free segments, a stretch at 0.036 of real time. A group now goes
+// only where its static friction cannot hold the tension difference across
+// the boundary (here 0.01-7 N against 1.5-100 N); the release after a
+// tension jump, which it cannot hold, is ReleasedWhenTheWireSlips above.
+TEST(Carry, AStrikeDoesNotReleaseStuckTurns) {
+  const std::string two_layers = std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml";
+  cws::Simulation sim(cws::loadScene(
+      two_layers,
+      {"process.tension=84.6", "process.core_speed_rpm=1230", "process.traverse_pitch=0.001121",
+       "process.winding_width=0.0191", "process.layers=4", "process.turns=50.4",
+       "contact.static_friction=0.292", "contact.kinetic_friction=0.216", "contact.damping_ratio=0",
+       "physics.flanges=true", "core.flange_height=0.004098"}));
+  runTo(sim, 2.38);
+  int widest = 0;
+  while (sim.time() < 2.46) {
+    sim.step(2.46);
+    widest = std::max(widest, sim.model().constants().n - 1 - sim.model().carriedPoints());
+  }
+  std::printf("robustness coil 23, 2.38-2.46 s: at most %d points integrated\n", widest);
+  // The free span (about 30 points) and the last turn (about 65).
+  EXPECT_LT(widest, 100);
+}
+
 // The core's work on the wire it carries while it speeds up: the explicit
 // model books it as the carried points' power, a Newton step from their
 // kinetic energy before and after the step (WireModel::

@@ -1,18 +1,49 @@
 // What the core carries (CarriedWire::decide): wound wire at rest on the
 // core is taken on, up to the last stuck group of points but one; wound
-// wire that slips is released back to the stuck group before it.
+// wire that slips is released back to the stuck group before it, at the
+// boundary only where the carried group behind cannot hold the tension.
 #include <algorithm>
 #include <cmath>
 
 #include "coil_winding_sim/core/external_forces/contact.hpp"
+#include "coil_winding_sim/core/inner_forces/stretching.hpp"
 #include "coil_winding_sim/core/machine/rotating_core.hpp"
 #include "coil_winding_sim/core/model/carried_wire.hpp"
 
 namespace cws {
 
-CarriedWire::Decision CarriedWire::decide(const Contact& contact, const RotatingCore& core,
-                                          const WireConstants& c, const WireKinematics& k,
-                                          double t) const {
+namespace {
+
+// Does the carried wire from point `from` to the boundary point (c.first -
+// 1) hold, by static friction, the tension difference across the
+// boundary: the live segment's axial force less that of the carried
+// segment behind it (from its frozen length)? Its points' normal forces
+// are those of the surfaces they touched when taken on (their poses on
+// them have not changed since).
+bool groupHolds(const CarriedWire& carried, const Contact& contact, const Stretching& stretching,
+                const WireConstants& c, const WireKinematics& k, int from) {
+  const int b = c.first - 1;
+  if (b < 2 || from > b) return false;
+  const double l = c.segment_length;
+  const double strain = ((carried.positionCore(b) - carried.positionCore(b - 1)).norm() - l) / l;
+  const double difference =
+      stretching.axialForce(k, b) - stretching.axialForceAtStrain(strain, b - 1);
+  double capacity = 0.0;
+  for (int j = std::max(from, 1); j <= b; ++j) {
+    double normal = 0.0;
+    for (int s = 0; s < contact.slots(); ++s)
+      if (contact.surface(j, s) >= 0)
+        normal = std::max(normal, contact.stiffness() * contact.penetration(j, s));
+    capacity += contact.staticFriction() * normal;
+  }
+  return std::abs(difference) <= capacity;
+}
+
+}  // namespace
+
+CarriedWire::Decision CarriedWire::decide(const Contact& contact, const Stretching* stretching,
+                                          const RotatingCore& core, const WireConstants& c,
+                                          const WireKinematics& k, double t) const {
   // Stuck groups: runs of points held by static friction. The core carries
   // wound wire at most up to the start of the last group but one; that
   // group and the wire after it stay integrated.
@@ -36,7 +67,14 @@ CarriedWire::Decision CarriedWire::decide(const Contact& contact, const Rotating
   const int limit = std::min(prev_start, c.n - 2);
   // Release: wound wire before that limit slips on the core (in contact,
   // not stuck). The tension behind it changes, so the wire back to the
-  // stuck group before the slipping point is integrated again.
+  // stuck group before the slipping point is integrated again. The first
+  // integrated point is held by the boundary point, which the core moves
+  // rigidly: its slip releases that group only where the group's static
+  // friction cannot hold the tension difference across the boundary
+  // (groupHolds), as in the full model it would then slide too. (Counted
+  // always, it released one stuck group further back at every step after
+  // a strike, through turns of wound wire that stayed stuck: docs/MODEL.md,
+  // "Carried wire".)
   for (int i = c.first; i < limit; ++i) {
     if (contact.inContact(i) && !contact.resting(i)) {
       int r = i;
@@ -44,6 +82,9 @@ CarriedWire::Decision CarriedWire::decide(const Contact& contact, const Rotating
       // On a long group (a drum, a layer on a layer) no further back than
       // half a turn.
       r = std::max(r, halfTurnBehind(core, c, k, t, i, r));
+      if (i == c.first && stretching &&
+          groupHolds(*this, contact, *stretching, c, k, std::max(r, 1)))
+        continue;
       return {std::min(c.first, r), true};
     }
   }

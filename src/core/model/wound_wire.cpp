@@ -31,7 +31,8 @@ void WireModel::placeCarried(double t, int i, Eigen::VectorXd& y) {
 }
 
 void WireModel::updateCarried(double t, Eigen::VectorXd& y) {
-  const CarriedWire::Decision d = carried_.decide(*contact_, *core_, c_, committed_, t);
+  const CarriedWire::Decision d =
+      carried_.decide(*contact_, stretching_, *core_, c_, committed_, t);
   if (d.release) {
     // Released points are integrated again from their rigid poses now.
     if (d.first < c_.first) placeCarriedWire(y);

@@ -173,6 +173,7 @@ class Contact : public ForceEffect, public EffectHistory {
   // points next to a point along the wire that never count as touching it.
   double stiffness() const { return p_.stiffness; }
   double kineticFriction() const { return friction_ ? p_.kinetic_friction : 0.0; }
+  double staticFriction() const { return friction_ ? p_.static_friction : 0.0; }  // mu_s
   int skipPoints() const { return geometry_.skipPoints(); }
 
  private:

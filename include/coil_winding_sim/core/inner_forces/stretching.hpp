@@ -41,6 +41,9 @@ class Stretching : public SinkEffect<Stretching>, public EffectHistory {
   // Axial strain [-] and axial force [N] (tension positive) of segment j.
   double strain(const WireKinematics& k, int j) const;
   double axialForce(const WireKinematics& k, int j) const;
+  // Axial force [N] of segment j at strain x [-] from its committed yield
+  // state (a carried segment's, from its frozen length).
+  double axialForceAtStrain(double x, int j) const { return stressOf(x, j); }
   // Work [J] that stretches a virgin segment to strain x.
   double virginWork(double x) const;
   // Permanent strain of segment j [-] (0 when elastic).

@@ -18,6 +18,7 @@ namespace cws {
 class Contact;
 class CoreSection;
 class RotatingCore;
+class Stretching;
 
 class CarriedWire {
  public:
@@ -69,8 +70,10 @@ class CarriedWire {
     int first;
     bool release;
   };
-  Decision decide(const Contact& contact, const RotatingCore& core, const WireConstants& c,
-                  const WireKinematics& k, double t) const;
+  // (stretching: the axial law, for the tension the carried wire holds at
+  // the boundary; null: none known.)
+  Decision decide(const Contact& contact, const Stretching* stretching, const RotatingCore& core,
+                  const WireConstants& c, const WireKinematics& k, double t) const;
 
  private:
   // The first point, going back from point `from` to `down_to`, where the
