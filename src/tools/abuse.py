@@ -43,6 +43,17 @@ CASES = [
         "refused: the bobbin holds 3 layers (75 turns)",
     ),
     (
+        "over_the_rim",
+        "a 26 mm traverse stroke past flanges 20 mm apart and 1 mm high (25 turns, one layer)",
+        [
+            "process.layers=1",
+            "process.turns=25",
+            "core.flange_height=0.001",
+            "core.flange_spacing=0.02",
+        ],
+        "stops: wire went over the second flange",
+    ),
+    (
         "core_reversed",
         "the core reversed for a turn at t = 1 s (2 s in all)",
         [

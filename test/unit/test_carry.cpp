@@ -259,14 +259,15 @@ TEST(Carry, TakesOnWireAtRestUnderNewtonStepsAtHighSpeed) {
 
 // Robustness coil 23 (issue 57: 84.6 N, 1230 rpm, four layers, undamped
 // contact). After the span strikes the wound wire, the first integrated
-// point, held by the boundary point, slips at step after step. Until
+// points, held by the boundary point, slip at step after step. Until
 // 2026-12-07 each such slip released one stuck group further back
 // (CarriedWire::decide), through wire that stayed stuck: 124-171
 // integrated points, the last two turns lying side by side in 33-128 pairs
-// of free segments, a stretch at 0.036 of real time. A group now goes
-// only where its static friction cannot hold the tension difference across
-// the boundary (here 0.01-7 N against 1.5-100 N); the release after a
-// tension jump, which it cannot hold, is ReleasedWhenTheWireSlips above.
+// of free segments, a stretch at 0.036 of real time. Carried wire now goes
+// only where its group's static friction cannot hold the tension
+// difference across the boundary (here 0.01-7 N against 1.5-100 N); the
+// release after a tension jump, which it cannot hold, is
+// ReleasedWhenTheWireSlips above.
 TEST(Carry, AStrikeDoesNotReleaseStuckTurns) {
   const std::string two_layers = std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml";
   cws::Simulation sim(cws::loadScene(

@@ -134,6 +134,40 @@ TEST(Flanges, PushIntoTheWindingByThePenaltyLaw) {
   EXPECT_EQ(b.f.f_world.col(1).norm(), 0.0);
 }
 
+// How far wire lies outside the winding, beyond a flange's face: the axial
+// distance past the nearer face, and its distance from the axis against
+// the flanges' reach (swept radius + core.flange_height).
+TEST(Flanges, TellHowFarAPointLiesOutsideTheWinding) {
+  const double width = 4e-3;  // [m]
+  const cws::Scene s = flangeScene(width);
+  const cws::RotatingCore core(s.core, 0.0);
+  Bench b(s, 2, 1);
+  const cws::Contact contact(b.c, s, core);
+  const cws::ContactGeometry& g = contact.geometry();
+  const Eigen::Vector3d axis = s.core.axis_world.normalized();
+  const double at0 = firstFlangeAt(s), at1 = at0 + width;
+  const double swept = sweptRadius(s);
+  const Eigen::Vector3d far = s.core.position_world + Eigen::Vector3d(swept + 2e-3, 0.0, 0.0);
+  auto at = [&](double axial) { return Eigen::Vector3d(far + (axial - far.dot(axis)) * axis); };
+  cws::ContactGeometry::FlangeSide side = g.flangeSide(at(at0 - 1.5e-3));
+  EXPECT_EQ(side.flange, 0);
+  EXPECT_NEAR(side.outside_m, 1.5e-3, 1e-12);
+  EXPECT_NEAR(side.from_axis_m, swept + 2e-3, 1e-12);
+  EXPECT_NEAR(side.reach_m, swept + s.core.flange_height, 1e-12);
+  side = g.flangeSide(at(at1 + 0.7e-3));
+  EXPECT_EQ(side.flange, 1);
+  EXPECT_NEAR(side.outside_m, 0.7e-3, 1e-12);
+  // Between the faces: minus the distance to the nearer one.
+  side = g.flangeSide(at(at0 + 1e-3));
+  EXPECT_EQ(side.flange, 0);
+  EXPECT_NEAR(side.outside_m, -1e-3, 1e-12);
+  // Without flanges there is no side.
+  const cws::Scene none = cws::loadScene(k3d, {});
+  Bench bn(none, 2, 1);
+  const cws::Contact plain(bn.c, none, core);
+  EXPECT_EQ(plain.geometry().flangeSide(at(at0 - 1.5e-3)).flange, -1);
+}
+
 // In a Newton solve the flange a recheck found stays frozen: it pushes k h
 // along the axis while the point lies within the flange's reach, and not
 // at all once the point is beyond it, where the explicit steps find no

@@ -70,6 +70,22 @@ ContactGeometry::ContactGeometry(const WireConstants& c, const Scene& s, const R
   }
 }
 
+ContactGeometry::FlangeSide ContactGeometry::flangeSide(const Eigen::Vector3d& p_world) const {
+  FlangeSide out;
+  if (flange_at_.empty()) return out;
+  const Eigen::Vector3d& a = core_.axisWorld();
+  const Eigen::Vector3d r = p_world - core_.originWorld();
+  const double along = r.dot(a);
+  out.outside_m = -std::numeric_limits<double>::infinity();
+  for (std::size_t j = 0; j < flange_at_.size(); ++j) {
+    const double outside = -flange_side_[j] * (along - flange_at_[j]);
+    if (outside > out.outside_m) out = {outside, static_cast<int>(j), 0.0, 0.0};
+  }
+  out.from_axis_m = (r - along * a).norm();
+  out.reach_m = flange_radius_;
+  return out;
+}
+
 void ContactGeometry::forgetCarriedWire(int n) {
   if (!carried_p_core_) return;
   carried_index_.clear();

@@ -1,7 +1,7 @@
 // What the core carries (CarriedWire::decide): wound wire at rest on the
 // core is taken on, up to the last stuck group of points but one; wound
-// wire that slips is released back to the stuck group before it, at the
-// boundary only where the carried group behind cannot hold the tension.
+// wire that slips is released back to the stuck group before it where that
+// group cannot hold the tension difference across the boundary.
 #include <algorithm>
 #include <cmath>
 
@@ -67,14 +67,13 @@ CarriedWire::Decision CarriedWire::decide(const Contact& contact, const Stretchi
   const int limit = std::min(prev_start, c.n - 2);
   // Release: wound wire before that limit slips on the core (in contact,
   // not stuck). The tension behind it changes, so the wire back to the
-  // stuck group before the slipping point is integrated again. The first
-  // integrated point is held by the boundary point, which the core moves
-  // rigidly: its slip releases that group only where the group's static
-  // friction cannot hold the tension difference across the boundary
-  // (groupHolds), as in the full model it would then slide too. (Counted
-  // always, it released one stuck group further back at every step after
-  // a strike, through turns of wound wire that stayed stuck: docs/MODEL.md,
-  // "Carried wire".)
+  // stuck group before the slipping point is integrated again. Carried
+  // wire goes back only where that group's static friction cannot hold the
+  // tension difference across the boundary (groupHolds), as in the full
+  // model it would then slide too; the boundary point, which the core moves
+  // rigidly, holds the rest. (Released for every slip, it went one stuck
+  // group further back at every step after a strike, through turns of
+  // wound wire that stayed stuck: docs/MODEL.md, "Carried wire".)
   for (int i = c.first; i < limit; ++i) {
     if (contact.inContact(i) && !contact.resting(i)) {
       int r = i;
@@ -82,7 +81,7 @@ CarriedWire::Decision CarriedWire::decide(const Contact& contact, const Stretchi
       // On a long group (a drum, a layer on a layer) no further back than
       // half a turn.
       r = std::max(r, halfTurnBehind(core, c, k, t, i, r));
-      if (i == c.first && stretching &&
+      if (r < c.first && stretching &&
           groupHolds(*this, contact, *stretching, c, k, std::max(r, 1)))
         continue;
       return {std::min(c.first, r), true};

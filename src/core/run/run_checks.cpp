@@ -91,6 +91,35 @@ std::string wireThroughWire(const Scene& s, double t, const char* what, int poin
   return msg.str();
 }
 
+std::string overFlange(const Scene& s, double t, int point, int flange, double outside_m,
+                       double from_axis_m, double reach_m) {
+  const double d = s.wire.diameter;
+  const int layers = s.bobbinLayers();
+  std::ostringstream msg;
+  msg << "at t = " << t << " s wire went over the " << (flange == 0 ? "first" : "second")
+      << " flange: point " << point << " lies " << 1e3 * outside_m
+      << " mm beyond its face, outside the winding, " << 1e3 * from_axis_m
+      << " mm from the core axis (the flanges reach " << 1e3 * reach_m
+      << " mm: core.flange_height = " << s.core.flange_height << " m, which holds " << layers
+      << (layers == 1 ? " layer" : " layers") << " packed as closely as wire packs)";
+  // What laid it there, where the scene shows it.
+  const bool narrow =
+      s.core.flange_spacing > 0.0 && s.core.flange_spacing < s.process.winding_width;
+  const bool close = std::abs(s.process.traverse_pitch) < d;
+  if (narrow) {
+    msg << "; the traverse's stroke, process.winding_width = " << s.process.winding_width
+        << " m, runs past flanges core.flange_spacing = " << s.core.flange_spacing << " m apart";
+  }
+  if (close) {
+    msg << "; process.traverse_pitch = " << s.process.traverse_pitch
+        << " m, below the wire diameter " << d << " m, lays each turn partly onto the one before";
+  }
+  msg << ": raise core.flange_height or wind fewer turns";
+  if (narrow) msg << ", set core.flange_spacing to at least process.winding_width";
+  if (close) msg << ", or lay turns a wire diameter apart";
+  return msg.str();
+}
+
 std::string collapsed(const Scene& s, const std::string& method, long steps, double below_s,
                       double ratio, double since_s, double t, double h) {
   std::ostringstream msg;

@@ -208,6 +208,25 @@ void Simulation::step(double t_limit) {
         remedy::diverged(scene_, t_, max_residual_, stepper_->name(), stepper_->lastStep()), t_,
         ramp));
   }
+  // Wire whose centre lies beyond a flange's face, below its rim, has gone
+  // over the flange (or through it): there the face would pull it back
+  // through, and the model has nothing else to hold it. (Beyond the rim, a
+  // span from a port outside the flanges passes legitimately; the carried
+  // wire does not move.)
+  if (const Contact* contact = model_->contact()) {
+    const ContactGeometry& geometry = contact->geometry();
+    const WireConstants& c = model_->constants();
+    if (geometry.flangeSlot() >= 0) {
+      for (int i = std::max(c.first - 1, 1); i < c.n; ++i) {
+        const ContactGeometry::FlangeSide side =
+            geometry.flangeSide(y_.segment<3>(WireModel::stateOffset(i)));
+        if (side.outside_m > 0.0 && side.from_axis_m < side.reach_m) {
+          throw IntegrationError(remedy::overFlange(scene_, t_, i, side.flange, side.outside_m,
+                                                    side.from_axis_m, side.reach_m));
+        }
+      }
+    }
+  }
   // Wire deeper than its radius in other wire has passed into it: a sound
   // coil rests a few percent of the radius deep, and from there it would be
   // pushed out with energy the run never had.

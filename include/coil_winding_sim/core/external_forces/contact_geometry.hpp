@@ -91,6 +91,19 @@ class ContactGeometry {
   // (buried wire retired): hashed anew when next used; the first n points'
   // lists of nearby segments are dropped.
   void forgetCarriedWire(int n);
+  // Where a point at p_world lies against the flanges: how far outside the
+  // winding, beyond a flange's face [m] (at most 0 between them), which
+  // flange (0: the first), and its distance from the core axis [m] against
+  // the flanges' reach. Without flanges, flange -1. Wire outside and below
+  // the rim has gone over a flange, where nothing holds it (docs/MODEL.md,
+  // "Flanges").
+  struct FlangeSide {
+    double outside_m = 0.0;
+    int flange = -1;
+    double from_axis_m = 0.0;
+    double reach_m = 0.0;
+  };
+  FlangeSide flangeSide(const Eigen::Vector3d& p_world) const;
 
  private:
   // Is a point at r_world from the core's origin, `along` [m] along the

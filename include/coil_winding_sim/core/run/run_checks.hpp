@@ -56,6 +56,10 @@ std::string diverged(const Scene& s, double t, double residual, const std::strin
 // `what` ("wound wire", "free wire") at t [s].
 std::string wireThroughWire(const Scene& s, double t, const char* what, int point,
                             double depth_radii, int segment, const std::string& method);
+// Point `point` lies outside_m [m] beyond flange `flange` (0: the first),
+// from_axis_m [m] from the core axis against the flanges' reach_m, at t [s].
+std::string overFlange(const Scene& s, double t, int point, int flange, double outside_m,
+                       double from_axis_m, double reach_m);
 // `steps` accepted steps in a row below `below_s` [s] (`ratio` times the
 // explicit limit l / c) from since_s to t [s], the last h [s].
 std::string collapsed(const Scene& s, const std::string& method, long steps, double below_s,
