@@ -208,11 +208,11 @@ void Simulation::step(double t_limit) {
         remedy::diverged(scene_, t_, max_residual_, stepper_->name(), stepper_->lastStep()), t_,
         ramp));
   }
-  // Wire whose centre lies beyond a flange's face, below its rim, has gone
-  // over the flange (or through it): there the face would pull it back
-  // through, and the model has nothing else to hold it. (Beyond the rim, a
-  // span from a port outside the flanges passes legitimately; the carried
-  // wire does not move.)
+  // Wire wholly beyond a flange's face (its centre more than a radius
+  // out), below the rim, has gone over the flange (or through it), where
+  // the model has nothing to hold it. (Wire grazing the rim, and a span
+  // from a port outside the flanges passing beyond the rim, are not; the
+  // carried wire does not move.)
   if (const Contact* contact = model_->contact()) {
     const ContactGeometry& geometry = contact->geometry();
     const WireConstants& c = model_->constants();
@@ -220,7 +220,7 @@ void Simulation::step(double t_limit) {
       for (int i = std::max(c.first - 1, 1); i < c.n; ++i) {
         const ContactGeometry::FlangeSide side =
             geometry.flangeSide(y_.segment<3>(WireModel::stateOffset(i)));
-        if (side.outside_m > 0.0 && side.from_axis_m < side.reach_m) {
+        if (side.outside_m > c.radius && side.from_axis_m < side.reach_m) {
           throw IntegrationError(remedy::overFlange(scene_, t_, i, side.flange, side.outside_m,
                                                     side.from_axis_m, side.reach_m));
         }

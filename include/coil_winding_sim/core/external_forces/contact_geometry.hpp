@@ -94,9 +94,9 @@ class ContactGeometry {
   // Where a point at p_world lies against the flanges: how far outside the
   // winding, beyond a flange's face [m] (at most 0 between them), which
   // flange (0: the first), and its distance from the core axis [m] against
-  // the flanges' reach. Without flanges, flange -1. Wire outside and below
-  // the rim has gone over a flange, where nothing holds it (docs/MODEL.md,
-  // "Flanges").
+  // the flanges' reach. Without flanges, flange -1. Wire wholly outside,
+  // below the rim, has gone over a flange, where nothing holds it
+  // (docs/MODEL.md, "Flanges").
   struct FlangeSide {
     double outside_m = 0.0;
     int flange = -1;
