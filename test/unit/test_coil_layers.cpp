@@ -335,4 +335,33 @@ TEST(CoilLayers, OverAFlangeTheRunStopsAndNamesIt) {
   EXPECT_GT(sim.time(), 0.975);
   EXPECT_LT(sim.time(), 1.1);
 }
+
+// A coil wound above its flanges (case 21 of the robustness suite's seed 2
+// as drawn until issue 57: 11.6 N, 2,890 rpm, three layers at 0.93 d under
+// flanges of 3.23 mm, damped): its last turns stand 4.9 mm high. A flange
+// whose force ended at its radius dropped the wire resting on its edge at
+// once: 9.1 J of viscous dissipation against 3.5 J of work in the run, and
+// its last 0.01 s at 0.014 of real time. The rim pushes over the edge as
+// the face does up to it (Flanges.PushOffTheRimAndOffEitherFace): the
+// energy balances within a few percent of the work.
+TEST(CoilLayers, WireAboveTheFlangesRestsOnTheirRims) {
+  const std::string two_layers = std::string(CWS_SOURCE_DIR) + "/config/scenes/two_layers.yaml";
+  const cws::Scene s = cws::loadScene(
+      two_layers,
+      {"process.tension=11.6", "process.core_speed_rpm=2890", "process.traverse_pitch=0.00093",
+       "process.winding_width=0.013", "process.layers=3", "process.turns=38.71",
+       "contact.static_friction=0.177", "contact.kinetic_friction=0.158", "contact.damping_ratio=1",
+       "physics.flanges=true", "core.flange_height=0.003232"});
+  cws::Simulation sim(s);
+  const cws::CoilReport coil = windToTheEnd(sim);
+  ASSERT_GE(sim.time(), sim.endTime() * (1.0 - 1e-12)) << "stopped at t = " << sim.time();
+  ASSERT_TRUE(coil.valid);
+  const cws::BulgeReport b = cws::headlineBulging(sim.model(), s, &coil);
+  EXPECT_GT(b.build_up_m, s.core.flange_height + s.wire.diameter);  // above the rims
+  const cws::EnergyReport e = sim.energy();
+  EXPECT_LT(std::abs(e.imbalance()), 0.05 * e.work_done)
+      << "imbalance " << e.imbalance() << " J, work " << e.work_done << " J";
+  std::printf("above the rims: build-up %.3f mm, imbalance %.3g J of %.3g J, %.1f s wall\n",
+              1e3 * b.build_up_m, e.imbalance(), e.work_done, sim.wallTime());
+}
 #endif

@@ -134,6 +134,66 @@ TEST(Flanges, PushIntoTheWindingByThePenaltyLaw) {
   EXPECT_EQ(b.f.f_world.col(1).norm(), 0.0);
 }
 
+// A flange is a thin disc with a rim: beyond its radius R a point is
+// pushed off the rim's circle, k (r - |d|) along d / |d| with d from the
+// circle's nearest point (in the plane through the axis and the point), so
+// the force turns over the edge; within R, off the face it lies on, from
+// either side. The normal's derivative against central differences.
+TEST(Flanges, PushOffTheRimAndOffEitherFace) {
+  const double width = 4e-3;  // [m]
+  const cws::Scene s = flangeScene(width);
+  const cws::RotatingCore core(s.core, 0.0);
+  Bench b(s, 2, 1);
+  const cws::Contact contact(b.c, s, core);
+  const cws::ContactGeometry& g = contact.geometry();
+  g.place(0.0);
+  const Eigen::Vector3d axis = s.core.axis_world.normalized();
+  const double r = b.c.radius, at0 = firstFlangeAt(s);
+  const double rim = sweptRadius(s) + s.core.flange_height;
+  // A direction from the axis, at right angles to it.
+  const Eigen::Vector3d u =
+      (Eigen::Vector3d(1.0, 0.3, 0.0) - Eigen::Vector3d(1.0, 0.3, 0.0).dot(axis) * axis)
+          .normalized();
+  auto at = [&](double radial, double axial) {
+    return Eigen::Vector3d(s.core.position_world + radial * u + axial * axis);
+  };
+  const int first_flange = g.wireBase() - 2;  // surfaces: cylinders, faces, then the flanges
+  double depth;
+  Eigen::Vector3d n;
+  Eigen::Matrix3d dn;
+  // Above the rim by 0.2 mm and 0.1 mm into the winding side: from the
+  // circle, |d| = sqrt(0.2^2 + 0.1^2) mm.
+  const Eigen::Vector3d p = at(rim + 0.2e-3, at0 + 0.1e-3);
+  ASSERT_TRUE(g.spatialSurface(1, first_flange, p, n, depth, &dn));
+  const double dist = std::hypot(0.2e-3, 0.1e-3);
+  EXPECT_NEAR(depth, r - dist, 1e-12);
+  EXPECT_LT((n - (0.2e-3 * u + 0.1e-3 * axis) / dist).norm(), 1e-9);
+  // d normal / dp against central differences.
+  const double e = 1e-8;
+  for (int k = 0; k < 3; ++k) {
+    Eigen::Vector3d np, nm;
+    double hp, hm;
+    ASSERT_TRUE(
+        g.spatialSurface(1, first_flange, p + e * Eigen::Vector3d::Unit(k), np, hp, nullptr));
+    ASSERT_TRUE(
+        g.spatialSurface(1, first_flange, p - e * Eigen::Vector3d::Unit(k), nm, hm, nullptr));
+    EXPECT_LT(((np - nm) / (2.0 * e) - dn.col(k)).norm(), 1e-5 * dn.norm()) << "column " << k;
+  }
+  // touchAll finds the same.
+  cws::ContactGeometry::Touch touches[cws::ContactGeometry::kMaxSlots];
+  ASSERT_TRUE(g.touchAll(1, p, nullptr, touches));
+  EXPECT_EQ(touches[g.flangeSlot()].surface, first_flange);
+  EXPECT_NEAR(touches[g.flangeSlot()].h, r - dist, 1e-12);
+  // Within the radius, outside the winding 0.2 mm from the face: pushed
+  // outwards, r - 0.2 mm deep.
+  ASSERT_TRUE(g.spatialSurface(1, first_flange, at(rim - 1e-3, at0 - 0.2e-3), n, depth, &dn));
+  EXPECT_NEAR(depth, r - 0.2e-3, 1e-12);
+  EXPECT_LT((n + axis).norm(), 1e-12);
+  EXPECT_EQ(dn.norm(), 0.0);
+  // More than a wire radius beyond the rim: nothing.
+  EXPECT_FALSE(g.spatialSurface(1, first_flange, at(rim + 1.01 * r, at0), n, depth, &dn));
+}
+
 // How far wire lies outside the winding, beyond a flange's face: the axial
 // distance past the nearer face, and its distance from the axis against
 // the flanges' reach (swept radius + core.flange_height).

@@ -70,6 +70,38 @@ ContactGeometry::ContactGeometry(const WireConstants& c, const Scene& s, const R
   }
 }
 
+bool ContactGeometry::flangeDisc(int j, const Eigen::Vector3d& p_world, double& depth,
+                                 Eigen::Vector3d& n_world, Eigen::Matrix3d* dnormal) const {
+  const Eigen::Vector3d& a = core_.axisWorld();
+  const Eigen::Vector3d r = p_world - core_.originWorld();
+  const double off = r.dot(a) - flange_at_[j];  // [m] from the disc's plane
+  const Eigen::Vector3d rho = r - r.dot(a) * a;
+  const double rho_n = rho.norm();
+  if (rho_n <= flange_radius_) {
+    // The face the point lies on (in the plane: the winding's).
+    n_world = (off == 0.0 ? flange_side_[j] : (off > 0.0 ? 1.0 : -1.0)) * a;
+    depth = c_.radius - std::abs(off);
+    if (dnormal) dnormal->setZero();
+    return true;
+  }
+  if (rho_n > flange_radius_ + c_.radius) return false;
+  // The rim: from the circle's nearest point, radius R at u = rho / |rho|;
+  // the normal turns with u about the axis (t = a x u) and with d.
+  const Eigen::Vector3d u = rho / rho_n;
+  const Eigen::Vector3d d = (rho_n - flange_radius_) * u + off * a;
+  const double dist = d.norm();
+  if (dist == 0.0) return false;  // (the centre on the rim's circle: no normal)
+  n_world = d / dist;
+  depth = c_.radius - dist;
+  if (dnormal) {
+    const Eigen::Vector3d t = a.cross(u);
+    *dnormal = (Eigen::Matrix3d::Identity() - n_world * n_world.transpose() -
+                (flange_radius_ / rho_n) * t * t.transpose()) /
+               dist;
+  }
+  return true;
+}
+
 ContactGeometry::FlangeSide ContactGeometry::flangeSide(const Eigen::Vector3d& p_world) const {
   FlangeSide out;
   if (flange_at_.empty()) return out;
@@ -166,30 +198,26 @@ bool ContactGeometry::touchAll(int i, const Eigen::Vector3d& p_world, const int*
     const Eigen::Vector3d& a = core_.axisWorld();
     const Eigen::Vector3d r = p_world - core_.originWorld();
     const double radial2 = (r - r.dot(a) * a).squaredNorm();
-    const double reach = std::max({body_reach_, flange_radius_, carried_reach_});
+    const double reach = std::max(
+        {body_reach_, flange_radius_ + (flange_at_.empty() ? 0.0 : c_.radius), carried_reach_});
     if (radial2 > reach * reach) return false;
   }
   out[0].surface = touch(p_world, out[0].h, out[0].n_world);
   bool any = out[0].surface >= 0;
   if (flange_slot_ < 0 && wire_slot_ == slots_) return any;
-  const Eigen::Vector3d& a = core_.axisWorld();
   const Eigen::Vector3d r = p_world - core_.originWorld();
-  // Flanges: within a wire diameter of the winding's side, and within
-  // their reach from the axis.
+  // Flanges: the deeper of the two discs (faces and rims).
   if (flange_slot_ >= 0) {
-    const double along = r.dot(a);
-    if (withinFlangeReach(r, along)) {
-      Touch& t = out[flange_slot_];
-      t.h = 0.0;
-      for (std::size_t j = 0; j < flange_at_.size(); ++j) {
-        const double depth = c_.radius - flange_side_[j] * (along - flange_at_[j]);
-        if (depth > t.h && depth < 2.0 * c_.radius) {
-          t = Touch{static_cast<int>(radii_.size() + face_length_.size() + j), depth,
-                    flange_side_[j] * a};
-        }
+    Touch& t = out[flange_slot_];
+    t.h = 0.0;
+    for (std::size_t j = 0; j < flange_at_.size(); ++j) {
+      double depth;
+      Eigen::Vector3d n_world;
+      if (flangeDisc(static_cast<int>(j), p_world, depth, n_world, nullptr) && depth > t.h) {
+        t = Touch{static_cast<int>(radii_.size() + face_length_.size() + j), depth, n_world};
       }
-      any = any || t.surface >= 0;
     }
+    any = any || t.surface >= 0;
   }
   if (wire_slot_ == slots_) return any;
   Touch runs[kMaxRuns];
@@ -428,18 +456,11 @@ bool ContactGeometry::spatialSurface(int i, int surface, const Eigen::Vector3d& 
   if (dnormal) dnormal->setZero();
   const int f = surface - cylinders;
   if (f >= static_cast<int>(face_length_.size())) {
-    // A flange, normal to the core axis, as far from the axis as it
-    // reaches (as touchAll finds it): a point the face's force pushed
-    // beyond its reach would otherwise be pushed on by a face that touchAll
-    // no longer finds there, and the flag would change at every recheck.
-    const int j = f - static_cast<int>(face_length_.size());
-    const Eigen::Vector3d& a = core_.axisWorld();
-    const Eigen::Vector3d r = p_world - core_.originWorld();
-    const double along = r.dot(a);
-    if (!withinFlangeReach(r, along)) return false;
-    normal_world = flange_side_[j] * a;
-    depth = c_.radius - flange_side_[j] * (along - flange_at_[j]);
-    return true;
+    // A flange as touchAll finds it, face and rim: a flange that pushed as
+    // its whole plane moved a point beyond its reach, where touchAll found
+    // no flange, and the flag changed at every recheck.
+    return flangeDisc(f - static_cast<int>(face_length_.size()), p_world, depth, normal_world,
+                      dnormal);
   }
   normal_world = face_normal_world_[f];
   depth = c_.radius - (p_world - face_from_world_[f]).dot(normal_world);

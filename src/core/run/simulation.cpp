@@ -209,9 +209,9 @@ void Simulation::step(double t_limit) {
         ramp));
   }
   // Wire wholly beyond a flange's face (its centre more than a radius
-  // out), below the rim, has gone over the flange (or through it), where
-  // the model has nothing to hold it. (Wire grazing the rim, and a span
-  // from a port outside the flanges passing beyond the rim, are not; the
+  // out), below the rim, has gone over the flange (or through it): a scrap
+  // coil, which the run does not wind on. (Wire resting on the rim, and a
+  // span from a port outside the flanges passing beyond it, are not; the
   // carried wire does not move.)
   if (const Contact* contact = model_->contact()) {
     const ContactGeometry& geometry = contact->geometry();

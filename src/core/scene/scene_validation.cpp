@@ -105,8 +105,8 @@ void flangesFit(const Scene& s) {
   }
   // An over-full bobbin: its layers, packed as closely as wire packs
   // (orthocyclic, each layer in the grooves of the one below), rise above
-  // the flanges. Wire beyond a flange's rim would fall over it; the model
-  // has nothing there to hold it.
+  // the flanges. Wire above a flange's rim would fall over it, and wire
+  // beyond a face stops the run (a scrap coil).
   const int layers = s.plannedLayers();
   if (layers > 0) {
     const double d = s.wire.diameter;

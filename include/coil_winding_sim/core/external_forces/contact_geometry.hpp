@@ -95,8 +95,7 @@ class ContactGeometry {
   // winding, beyond a flange's face [m] (at most 0 between them), which
   // flange (0: the first), and its distance from the core axis [m] against
   // the flanges' reach. Without flanges, flange -1. Wire wholly outside,
-  // below the rim, has gone over a flange, where nothing holds it
-  // (docs/MODEL.md, "Flanges").
+  // below the rim, has gone over a flange (docs/MODEL.md, "Flanges").
   struct FlangeSide {
     double outside_m = 0.0;
     int flange = -1;
@@ -106,11 +105,15 @@ class ContactGeometry {
   FlangeSide flangeSide(const Eigen::Vector3d& p_world) const;
 
  private:
-  // Is a point at r_world from the core's origin, `along` [m] along the
-  // core axis, within the flanges' reach from the axis?
-  bool withinFlangeReach(const Eigen::Vector3d& r_world, double along) const {
-    return (r_world - along * core_.axisWorld()).norm() <= flange_radius_;
-  }
+  // Flange j, a thin disc turning with the core, against a point at
+  // p_world: the penetration [m], the outward normal and d normal / dp
+  // [1/m] where `dnormal` is given. Within the disc's radius the point is
+  // pushed off the face it lies on; beyond it, off the rim's circle along
+  // the line from the circle's nearest point, so that the force turns
+  // continuously over the edge. False: farther from the axis than a wire
+  // radius beyond the rim, where the flange cannot touch.
+  bool flangeDisc(int j, const Eigen::Vector3d& p_world, double& depth, Eigen::Vector3d& n_world,
+                  Eigen::Matrix3d* dnormal) const;
   // The carried wire's runs touching point i (core-frame position), deepest
   // first, at most kMaxRuns; returns how many.
   static constexpr int kMaxRuns = 8;
